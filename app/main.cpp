@@ -1,0 +1,195 @@
+// igacontact: isogeometric analysis of elastostatic contact between NURBS bodies.
+//   igacontact run FILE [--output DIR] [--set KEY=VALUE ...] [--quiet]   (short: igacontact FILE ...)
+//   igacontact check FILE [--set KEY=VALUE ...]
+//   igacontact --help | --version
+// Exit codes: 0 converged, 1 internal error, 2 bad input, 3 the nonlinear solve did not converge.
+#include <Teuchos_StackedTimer.hpp>
+#include <Teuchos_TimeMonitor.hpp>
+#include <Tpetra_Core.hpp>
+
+#include <cctype>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include "io/output.hpp"
+#include "model/problem.hpp"
+#include "solver/newton.hpp"
+
+namespace {
+
+const char* kUsage =
+    "usage: igacontact run FILE [--output DIR] [--set KEY=VALUE ...] [--quiet]\n"
+    "       igacontact FILE [...]            (short for run)\n"
+    "       igacontact check FILE [--set KEY=VALUE ...]\n"
+    "       igacontact --help | --version\n"
+    "\n"
+    "Solves the elastostatic contact problem of a YAML problem file (docs/problem-file.md) and\n"
+    "writes result.h5/result.xdmf (ParaView), summary.json and contact_<n>.csv into the output\n"
+    "directory (default out/<file stem>). --set overrides a problem-file key by its dotted path,\n"
+    "e.g. --set contact.0.penalty=1e7 --set bodies.0.refine.subdivide=[16,8].\n"
+    "Exit codes: 0 converged, 2 bad input, 3 not converged (last converged load step kept).\n";
+
+struct Args {
+  std::string command = "run", file, output;
+  std::vector<std::string> sets;
+  bool quiet = false;
+};
+
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+Args parse_args(int argc, char** argv) {
+  Args a;
+  int i = 1;
+  if (i < argc && (std::string(argv[i]) == "run" || std::string(argv[i]) == "check")) a.command = argv[i++];
+  for (; i < argc; ++i) {
+    const std::string s = argv[i];
+    auto value = [&](const char* opt) {
+      if (i + 1 >= argc) throw UsageError(std::string("option ") + opt + " needs a value");
+      return std::string(argv[++i]);
+    };
+    if (s == "--output" || s == "-o") a.output = value("--output");
+    else if (s == "--set") a.sets.push_back(value("--set"));
+    else if (s.rfind("--set=", 0) == 0) a.sets.push_back(s.substr(6));
+    else if (s.rfind("--output=", 0) == 0) a.output = s.substr(9);
+    else if (s == "--quiet" || s == "-q") a.quiet = true;
+    else if (!s.empty() && s[0] == '-') throw UsageError("unknown option '" + s + "'");
+    else if (a.file.empty()) a.file = s;
+    else throw UsageError("more than one problem file given ('" + a.file + "' and '" + s + "')");
+  }
+  if (a.file.empty()) throw UsageError("no problem file given");
+  if (a.command == "check" && !a.output.empty()) throw UsageError("check writes nothing; --output is not for it");
+  return a;
+}
+
+void describe(const iga::Problem& P, int ranks, std::ostream& os) {
+  long long dofs = 0;
+  os << "problem " << P.file << ": " << (P.analysis == iga::Analysis::PlaneStrain ? "plane strain" : "plane stress")
+     << ", " << P.load_steps << " load step(s)\n";
+  for (const auto& b : P.bodies) {
+    const auto& pt = b.patch;
+    dofs += 2LL * pt.cp.size();
+    os << "  body " << b.name << ": degree [" << pt.degree[0] << ", " << pt.degree[1] << "], "
+       << pt.element_spans(0).size() << " x " << pt.element_spans(1).size() << " elements, " << 2 * pt.cp.size()
+       << " dofs, E = " << b.E << ", nu = " << b.nu << "\n";
+  }
+  for (size_t k = 0; k < P.contact.size(); ++k) {
+    const auto& c = P.contact[k];
+    os << "  contact " << k << ": master " << P.bodies[c.master.body].name << "." << iga::side_name(c.master.side)
+       << ", slave " << P.bodies[c.slave.body].name << "." << iga::side_name(c.slave.side) << ", "
+       << iga::contact_method_name(c.method) << ", penalty " << c.penalty << "\n";
+  }
+  const char* lm[] = {"cg", "gmres", "direct"};
+  const char* pc[] = {"muelu", "ilut", "relaxation", "none"};
+  os << "  total " << dofs << " dofs on " << ranks << " rank(s); linear solver "
+     << lm[static_cast<int>(P.linear.method)];
+  if (P.linear.method != iga::LinearMethod::Direct) os << " + " << pc[static_cast<int>(P.linear.preconditioner)];
+  os << "\n";
+}
+
+int run(int argc, char** argv) {
+  auto comm = Tpetra::getDefaultComm();
+  const bool root = comm->getRank() == 0;
+  for (int i = 1; i < argc; ++i) {
+    const std::string s = argv[i];
+    if (s == "--help" || s == "-h") { if (root) std::cout << kUsage; return 0; }
+    if (s == "--version") { if (root) std::cout << "igacontact " << IGACONTACT_VERSION << "\n"; return 0; }
+  }
+  Args args;
+  try {
+    args = parse_args(argc, argv);
+  } catch (const UsageError& e) {
+    if (root) std::cerr << "igacontact: " << e.what() << "\n" << kUsage;
+    return 2;
+  }
+  iga::Problem P;
+  try {
+    Teuchos::TimeMonitor t(*Teuchos::TimeMonitor::getNewTimer("0) Read problem"));
+    P = iga::load_problem(args.file, args.sets);
+    if (P.linear.method == iga::LinearMethod::Direct && comm->getSize() > 1)
+      throw iga::InputError(args.file + ": solver.linear.method = direct: the direct solver (Amesos2 KLU2) runs on one rank only, this run has " +
+                            std::to_string(comm->getSize()) + "; use cg or gmres");
+  } catch (const iga::InputError& e) {
+    if (root) std::cerr << e.what() << "\n";
+    return 2;
+  }
+  if (args.command == "check") {
+    if (root) {
+      describe(P, comm->getSize(), std::cout);
+      std::cout << "check: OK\n";
+    }
+    return 0;
+  }
+  std::string dir = args.output;
+  if (dir.empty()) dir = P.output.directory;
+  if (dir.empty()) dir = "out/" + std::filesystem::path(args.file).stem().string();
+  if (root && !args.quiet) describe(P, comm->getSize(), std::cout);
+
+  Teuchos::RCP<iga::System> sys;
+  {
+    Teuchos::TimeMonitor t(*Teuchos::TimeMonitor::getNewTimer("1) Set-up: maps and patches"));
+    sys = Teuchos::rcp(new iga::System(P, comm));
+  }
+  const bool show = root && !args.quiet;
+  if (show) std::printf("%5s %4s %4s %12s %8s %8s %9s\n", "step", "aug", "it", "residual", "active", "lin.its", "seconds");
+  auto progress = [&](const iga::IterationLog& l) {
+    if (show) {
+      std::printf("%5d %4d %4d %12.3e %8d %8d %9.2f\n", l.step, l.augmentation, l.iteration, l.residual, l.active,
+                  l.linear_iterations, l.seconds);
+      std::fflush(stdout);
+    }
+  };
+  const iga::SolveResult res = iga::solve(*sys, progress);
+  nlohmann::json summary = iga::write_results(*sys, res, dir, args.file);
+
+  // timings: the slowest rank's time per stage
+  std::vector<std::string> names;
+  Teuchos::stat_map_type stats;
+  Teuchos::TimeMonitor::computeGlobalTimerStatistics(stats, names, comm.ptr(), Teuchos::Union);
+  size_t imax = 0;
+  for (size_t k = 0; k < names.size(); ++k)
+    if (names[k] == "MaxOverProcs") imax = k;
+  nlohmann::json timings = nlohmann::json::object();
+  for (const auto& kv : stats)
+    if (!kv.first.empty() && std::isdigit(static_cast<unsigned char>(kv.first[0])))  // our numbered stages
+      timings[kv.first] = kv.second[imax].first;
+  summary["timings"] = timings;
+  if (root) {
+    iga::write_file_atomic((std::filesystem::path(dir) / "summary.json").string(), summary.dump(2) + "\n");
+    if (!args.quiet) {
+      std::cout << "\nstage timings (seconds, slowest rank):\n";
+      for (const auto& kv : timings.items()) std::printf("  %-36s %10.4f\n", kv.key().c_str(), kv.value().get<double>());
+      std::cout << "\n";
+      for (const auto& c : summary["contact"])
+        std::cout << "contact " << c["slave"]["body"].get<std::string>() << " on " << c["master"]["body"].get<std::string>()
+                  << ": normal force " << c["normal_force"].get<double>() << ", max pressure "
+                  << c["max_pressure"].get<double>() << ", contact length " << c["contact_length"].get<double>()
+                  << ", max penetration " << c["max_penetration"].get<double>() << "\n";
+      std::cout << (res.converged ? "converged" : "NOT converged") << ": " << sys->num_dofs() << " dofs, "
+                << comm->getSize() << " rank(s), Newton iterations per step [";
+      for (size_t k = 0; k < res.newton_iterations.size(); ++k) std::cout << (k ? ", " : "") << res.newton_iterations[k];
+      std::cout << "], " << res.linear_iterations << " linear iterations; results in " << dir << "\n";
+    }
+    if (!res.converged) std::cerr << args.file << ": " << res.message << "\n";
+  }
+  return res.converged ? 0 : 3;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int code = 0;
+  {
+    Tpetra::ScopeGuard guard(&argc, &argv);
+    try {
+      code = run(argc, argv);
+    } catch (const std::exception& e) {
+      std::cerr << "igacontact: internal error: " << e.what() << "\n";
+      code = 1;
+    }
+  }
+  return code;
+}

@@ -1,0 +1,40 @@
+# Finds the Trilinos 13.2 stack (Kokkos, Tpetra, Belos, Ifpack2, Amesos2, MueLu), MPI,
+# parallel HDF5, yaml-cpp and nlohmann-json, and defines one interface target
+# `igacontact::stack` that carries all of it.
+#
+# Facts this relies on (Debian 12, measured):
+#  * Trilinos 13.2 has no Trilinos::all_libs target, so we link ${Trilinos_LIBRARIES}
+#    and ${Trilinos_TPL_LIBRARIES} by hand;
+#  * the Kokkos::kokkos target carries a wrong include path, so we add
+#    ${Trilinos_INCLUDE_DIRS} ourselves, as SYSTEM includes (silences their warnings);
+#  * C++20 breaks Teuchos headers: the caller sets C++17 without extensions first.
+#
+# IGACONTACT_TRILINOS_PREFIX (cache) points at another Trilinos 13.2 install, e.g. the
+# OpenMP build made by scripts/build-trilinos-openmp.sh; empty means the system one.
+
+set(IGACONTACT_TRILINOS_PREFIX "" CACHE PATH
+    "Prefix of a Trilinos 13.2 install to use instead of the system one (e.g. an OpenMP build)")
+if(IGACONTACT_TRILINOS_PREFIX)
+  list(PREPEND CMAKE_PREFIX_PATH "${IGACONTACT_TRILINOS_PREFIX}")
+  set(Trilinos_DIR "${IGACONTACT_TRILINOS_PREFIX}/lib/cmake/Trilinos" CACHE PATH "" FORCE)
+endif()
+
+find_package(MPI REQUIRED COMPONENTS CXX)
+find_package(Trilinos 13.2 REQUIRED COMPONENTS Tpetra Belos Ifpack2 Amesos2 MueLu)
+message(STATUS "Trilinos ${Trilinos_VERSION} from ${Trilinos_DIR}")
+
+set(HDF5_PREFER_PARALLEL ON)
+find_package(HDF5 REQUIRED COMPONENTS C)
+if(NOT HDF5_IS_PARALLEL)
+  message(WARNING "HDF5 is not the parallel build; install libhdf5-openmpi-dev")
+endif()
+find_package(yaml-cpp REQUIRED)
+find_package(nlohmann_json 3 REQUIRED)
+
+add_library(igacontact_stack INTERFACE)
+add_library(igacontact::stack ALIAS igacontact_stack)
+target_include_directories(igacontact_stack SYSTEM INTERFACE
+  ${Trilinos_INCLUDE_DIRS} ${Trilinos_TPL_INCLUDE_DIRS} ${HDF5_C_INCLUDE_DIRS})
+target_link_libraries(igacontact_stack INTERFACE
+  ${Trilinos_LIBRARIES} ${Trilinos_TPL_LIBRARIES} ${HDF5_C_LIBRARIES}
+  yaml-cpp nlohmann_json::nlohmann_json MPI::MPI_CXX)

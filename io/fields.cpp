@@ -1,0 +1,62 @@
+#include "io/fields.hpp"
+
+#include <cmath>
+
+namespace iga {
+
+double FieldPoint::von_mises() const {
+  return std::sqrt(0.5 * ((sxx - syy) * (sxx - syy) + (syy - szz) * (syy - szz) + (szz - sxx) * (szz - sxx)) +
+                   3.0 * sxy * sxy);
+}
+
+HostPatchData host_patch_data(const Patch& P) {
+  HostPatchData pd;
+  for (int d = 0; d < 2; ++d) {
+    pd.p[d] = P.degree[d];
+    pd.n[d] = P.ncp(d);
+    pd.ne[d] = static_cast<int>(P.element_spans(d).size());
+  }
+  pd.U0 = Kokkos::View<const double*, Kokkos::HostSpace>(P.knots[0].data(), P.knots[0].size());
+  pd.U1 = Kokkos::View<const double*, Kokkos::HostSpace>(P.knots[1].data(), P.knots[1].size());
+  pd.cp = Kokkos::View<const double* [3], Kokkos::HostSpace>(P.cp[0].data(), P.cp.size());
+  return pd;
+}
+
+BodyField::BodyField(const Problem& P, int body, std::vector<double> u)
+    : patch_(&P.bodies[body].patch),
+      pd_(host_patch_data(P.bodies[body].patch)),
+      stiff_(Material::plane(P.bodies[body].E, P.bodies[body].nu, P.analysis == Analysis::PlaneStrain, 1.0)),
+      plane_strain_(P.analysis == Analysis::PlaneStrain),
+      nu_(P.bodies[body].nu),
+      u_(std::move(u)) {}
+
+FieldPoint BodyField::eval(double u, double v, int s0, int s1) const {
+  if (s0 < 0) s0 = find_span(pd_.n[0], pd_.p[0], u, pd_.U0.data());
+  if (s1 < 0) s1 = find_span(pd_.n[1], pd_.p[1], v, pd_.U1.data());
+  FieldPoint f;
+  double g[2][2] = {{0, 0}, {0, 0}};
+  dispatch_degree(std::max(pd_.p[0], pd_.p[1]), [&](auto PP) {
+    constexpr int P = decltype(PP)::value;
+    double R[(P + 1) * (P + 1)], dR[(P + 1) * (P + 1)][2], x[2];
+    nurbs_grad<P>(pd_, s0, s1, u, v, R, dR, x);
+    f.x = x[0];
+    f.y = x[1];
+    for (int j = 0; j <= pd_.p[1]; ++j)
+      for (int i = 0; i <= pd_.p[0]; ++i) {
+        const int a = i + j * (pd_.p[0] + 1);
+        const int cp = s0 - pd_.p[0] + i + (s1 - pd_.p[1] + j) * pd_.n[0];
+        f.ux += R[a] * u_[2 * cp];
+        f.uy += R[a] * u_[2 * cp + 1];
+        for (int c = 0; c < 2; ++c)
+          for (int d = 0; d < 2; ++d) g[c][d] += dR[a][d] * u_[2 * cp + c];
+      }
+  });
+  const double e[3] = {g[0][0], g[1][1], g[0][1] + g[1][0]};
+  f.sxx = stiff_.D[0][0] * e[0] + stiff_.D[0][1] * e[1];
+  f.syy = stiff_.D[1][0] * e[0] + stiff_.D[1][1] * e[1];
+  f.sxy = stiff_.D[2][2] * e[2];
+  f.szz = plane_strain_ ? nu_ * (f.sxx + f.syy) : 0.0;
+  return f;
+}
+
+}  // namespace iga

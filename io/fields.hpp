@@ -1,0 +1,38 @@
+#pragma once
+// Displacement and stress of a body at parametric points, evaluated on the host with the
+// same basis code the kernels use. For output sampling, probes and error norms in tests.
+#include <array>
+#include <vector>
+
+#include "kernels/types.hpp"
+#include "model/problem.hpp"
+
+namespace iga {
+
+struct FieldPoint {
+  double x = 0, y = 0;                  // reference position
+  double ux = 0, uy = 0;
+  double sxx = 0, syy = 0, sxy = 0, szz = 0;
+  double von_mises() const;
+};
+
+class BodyField {
+ public:
+  /// `u` holds the body's control point displacements, 2 per control point.
+  BodyField(const Problem& P, int body, std::vector<double> u);
+  /// Field at (u, v) in the patch's knot range; (s0, s1) the spans to use (-1: find them).
+  FieldPoint eval(double u, double v, int s0 = -1, int s1 = -1) const;
+  const Patch& patch() const { return *patch_; }
+
+ private:
+  const Patch* patch_;
+  HostPatchData pd_;
+  Material stiff_;       // plane D without thickness
+  bool plane_strain_;
+  double nu_;
+  std::vector<double> u_;
+};
+
+HostPatchData host_patch_data(const Patch& P);
+
+}  // namespace iga

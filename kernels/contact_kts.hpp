@@ -1,0 +1,220 @@
+#pragma once
+// Knot-to-segment (KTS) frictionless contact: closest-point projection of the slave
+// quadrature points onto the master curve and their penalty / augmented-Lagrangian
+// contributions. One Kokkos::parallel_for over slave points for each stage.
+//
+// Kinematics (current configuration, x = X + u)
+//   slave point     x_s = sum_a N_a(xi_s) x_a              (slave boundary curve)
+//   master curve    rho(xi) = sum_b R_b(xi) x_b,  t = rho',  m = rho''
+//   projection      f(xi) = (x_s - rho(xi)) . t(xi) = 0, Newton: dxi = -f / f',
+//                   f' = -t.t + (x_s - rho) . m                        (report eq. 7-8)
+//   gap             g = (x_s - rho(xi_c)) . n, n the master's outward unit normal
+// Potential and pressure
+//   Pi_c = sum_q w_q 1/2 eps <-g_q>^2 (penalty), p = max(0, lambda - eps g) with the
+//   multiplier lambda = 0 (penalty) or held fixed between augmentations (ALM).
+// Variations, over the element dofs u_e = [slave a = 0..ps (x,y), master b = 0..pm (x,y)]
+//   N  = [N_a n ; -R_b n]    T = [N_a t ; -R_b t]    Nb = [0 ; R_b' n]
+//   delta g = N . delta u
+//   Delta delta g = G = -(n.m)/(a11 H) T T^T - (g/H) Nb Nb^T - (1/H)(T Nb^T + Nb T^T),
+//   a11 = t.t, H = a11 - g n.m            (moving projection point and normal included)
+// Contributions of an active point (lambda - eps g >= 0: touching counts)
+//   f_c += -p w N,     K_c += w (eps N N^T - p G)
+// w = Gauss weight x |dX_s/dxi| x thickness (reference slave measure).
+//
+// Search: master element boxes (convex hull of their current control points, so they hold
+// the curve) expanded by the largest box size go into a uniform grid; a slave point tests
+// only the elements of its cell. Cost per slave point: O(elements per cell) projections of
+// ~ 8 Newton steps, each ~ 30 (pm + 1) flops, independent of the number of master elements.
+#include <KokkosSparse_CrsMatrix.hpp>
+
+#include "kernels/boundary_load.hpp"
+#include "kernels/types.hpp"
+
+namespace iga {
+
+/// A boundary curve on the device with its current displacements.
+struct CurveData {
+  int p = 1, nb = 0, ne = 0;
+  int side = 0, orientation = 1;
+  Kokkos::View<double*, MemSpace> U;        // knots
+  Kokkos::View<int*, MemSpace> span;        // element spans
+  Kokkos::View<double* [2], MemSpace> X;    // reference control point positions
+  Kokkos::View<double*, MemSpace> w;        // weights
+  Kokkos::View<double* [2], MemSpace> u;    // current control point displacements
+  Kokkos::View<int*, MemSpace> lid;         // overlap cp LID for assembly, -1 if absent
+};
+
+/// Current control point positions of a curve, as curve_eval wants them.
+struct CurrentCP {
+  Kokkos::View<double* [2], MemSpace> X, u;
+  KOKKOS_INLINE_FUNCTION double operator()(int i, int c) const { return X(i, c) + u(i, c); }
+};
+
+/// Per slave point: reference data (fixed) and projection results (per iteration).
+struct SlavePoints {
+  Kokkos::View<double*, MemSpace> xi, weight;  // parameter, w = Gauss x |dX/dxi| x thickness
+  Kokkos::View<int*, MemSpace> span;           // slave element span
+  Kokkos::View<double*, MemSpace> lambda;      // ALM multiplier (0: penalty)
+  // results
+  Kokkos::View<int*, MemSpace> valid;          // 1: projection found on the master
+  Kokkos::View<int*, MemSpace> mspan;          // master span of the projection
+  Kokkos::View<double*, MemSpace> mxi, gap, pressure;
+  Kokkos::View<double* [2], MemSpace> x;       // current slave point
+  Kokkos::View<double* [2], MemSpace> normal;  // master outward normal at the projection
+};
+
+/// Search grid over master element boxes (built by build_search_grid).
+struct SearchGrid {
+  double x0 = 0, y0 = 0, h = 1;
+  int nx = 1, ny = 1;
+  Kokkos::View<int*, MemSpace> start;   // ncells + 1
+  Kokkos::View<int*, MemSpace> elems;   // element ids per cell
+};
+
+/// Closest point on the master curve to x within the element of span s: Newton on
+/// (x - rho) . rho' = 0 from the best of a few samples, clamped to the element.
+/// Returns the squared distance; xi, orthogonality residual |f| / (|x - rho| |t|) out.
+KOKKOS_INLINE_FUNCTION double project_on_element(const CurveData& m, int s, const double x[2], double& xi,
+                                                 double& ortho) {
+  const CurrentCP cp{m.X, m.u};
+  const double a = m.U(s), b = m.U(s + 1);
+  double R[3][kMaxBasis1D], r[2], t[2], dd[2];
+  double best = 1e300;
+  const int ns = 4;
+  for (int k = 0; k <= ns; ++k) {
+    const double s_xi = a + (b - a) * k / ns;
+    curve_eval(m.nb, m.p, m.U.data(), cp, m.w, s_xi, r, t, dd, R);
+    const double d2 = (x[0] - r[0]) * (x[0] - r[0]) + (x[1] - r[1]) * (x[1] - r[1]);
+    if (d2 < best) { best = d2; xi = s_xi; }
+  }
+  for (int it = 0; it < 50; ++it) {
+    curve_eval(m.nb, m.p, m.U.data(), cp, m.w, xi, r, t, dd, R);
+    const double dx = x[0] - r[0], dy = x[1] - r[1];
+    const double f = dx * t[0] + dy * t[1];
+    const double fp = -(t[0] * t[0] + t[1] * t[1]) + dx * dd[0] + dy * dd[1];
+    double step = fp != 0.0 ? -f / fp : 0.0;
+    // a non-descent step (f' >= 0 far from the curve) falls back to a gradient step
+    if (fp >= 0.0) step = f / (t[0] * t[0] + t[1] * t[1]);
+    double nxi = xi + step;
+    if (nxi < a) nxi = a;
+    if (nxi > b) nxi = b;
+    const double moved = kmath::fabs(nxi - xi);
+    xi = nxi;
+    if (moved <= 1e-15 * (b - a)) break;
+  }
+  curve_eval(m.nb, m.p, m.U.data(), cp, m.w, xi, r, t, dd, R);
+  const double dx = x[0] - r[0], dy = x[1] - r[1];
+  const double dist = kmath::sqrt(dx * dx + dy * dy), tl = kmath::sqrt(t[0] * t[0] + t[1] * t[1]);
+  ortho = dist > 0 ? kmath::fabs(dx * t[0] + dy * t[1]) / (dist * tl) : 0.0;
+  return dx * dx + dy * dy;
+}
+
+/// Slave point positions and projections onto the master (all slave points).
+struct ProjectSlavePoints {
+  CurveData s, m;
+  SlavePoints sp;
+  SearchGrid grid;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int i) const {
+    double R[3][kMaxBasis1D], x[2], t[2], dd[2];
+    curve_eval(s.nb, s.p, s.U.data(), CurrentCP{s.X, s.u}, s.w, sp.xi(i), x, t, dd, R);
+    sp.x(i, 0) = x[0];
+    sp.x(i, 1) = x[1];
+    sp.valid(i) = 0;
+    sp.gap(i) = 1e300;
+    sp.pressure(i) = 0;
+    const int cx = static_cast<int>(kmath::floor((x[0] - grid.x0) / grid.h));
+    const int cy = static_cast<int>(kmath::floor((x[1] - grid.y0) / grid.h));
+    if (cx < 0 || cy < 0 || cx >= grid.nx || cy >= grid.ny) return;
+    const int cell = cx + cy * grid.nx;
+    double best = 1e300, bxi = 0, bortho = 1;
+    int bspan = -1;
+    for (int k = grid.start(cell); k < grid.start(cell + 1); ++k) {
+      const int e = grid.elems(k);
+      double xi, ortho;
+      const double d2 = project_on_element(m, m.span(e), x, xi, ortho);
+      // prefer orthogonal projections; among those the nearest
+      const bool orth = ortho < 1e-8 || d2 == 0.0;
+      const bool borth = bortho < 1e-8 || best == 0.0;
+      if ((orth && !borth) || (orth == borth && d2 < best)) {
+        best = d2; bxi = xi; bspan = m.span(e); bortho = ortho;
+      }
+    }
+    if (bspan < 0) return;
+    // no orthogonal projection: beyond the master's ends, or at a kink; not in contact
+    if (!(bortho < 1e-8 || best == 0.0)) return;
+    curve_eval(m.nb, m.p, m.U.data(), CurrentCP{m.X, m.u}, m.w, bxi, x, t, dd, R);
+    double n[2];
+    side_normal(m.side, m.orientation, t, n);
+    sp.valid(i) = 1;
+    sp.mspan(i) = bspan;
+    sp.mxi(i) = bxi;
+    sp.normal(i, 0) = n[0];
+    sp.normal(i, 1) = n[1];
+    sp.gap(i) = (sp.x(i, 0) - x[0]) * n[0] + (sp.x(i, 1) - x[1]) * n[1];
+    const double pr = sp.lambda(i) - eps * sp.gap(i);
+    sp.pressure(i) = pr > 0 ? pr : 0.0;
+  }
+  double eps = 0;
+};
+
+/// Residual and consistent tangent of the active slave points [p_begin, p_end).
+/// Degree template P bounds both curves' degrees.
+template <int P, class LocalMatrix, class FView>
+struct AssembleKts {
+  CurveData s, m;
+  SlavePoints sp;
+  double eps = 0;
+  int p_begin = 0;
+  LocalMatrix K;
+  FView f;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
+    constexpr int MaxDof = 4 * (P + 1);
+    const int i = p_begin + k;
+    if (!sp.valid(i)) return;
+    const double g = sp.gap(i);
+    const double pr = sp.lambda(i) - eps * g;
+    if (pr < 0) return;
+    const double w = sp.weight(i);
+    // slave basis at xi_s
+    double Rs[3][kMaxBasis1D], Rm[3][kMaxBasis1D], xs[2], ts[2], dds[2], rho[2], t[2], mm[2];
+    const int ss = curve_eval(s.nb, s.p, s.U.data(), CurrentCP{s.X, s.u}, s.w, sp.xi(i), xs, ts, dds, Rs);
+    const int ms = curve_eval(m.nb, m.p, m.U.data(), CurrentCP{m.X, m.u}, m.w, sp.mxi(i), rho, t, mm, Rm);
+    const double n[2] = {sp.normal(i, 0), sp.normal(i, 1)};
+    const double a11 = t[0] * t[0] + t[1] * t[1];
+    const double nm = n[0] * mm[0] + n[1] * mm[1];
+    const double H = a11 - g * nm;
+    const int nds = 2 * (s.p + 1), nd = nds + 2 * (m.p + 1);
+    double N[MaxDof], T[MaxDof], Nb[MaxDof];
+    int lid[MaxDof];
+    for (int a = 0; a <= s.p; ++a)
+      for (int c = 0; c < 2; ++c) {
+        const int r = 2 * a + c;
+        N[r] = Rs[0][a] * n[c];
+        T[r] = Rs[0][a] * t[c];
+        Nb[r] = 0.0;
+        lid[r] = 2 * s.lid(ss - s.p + a) + c;
+      }
+    for (int b = 0; b <= m.p; ++b)
+      for (int c = 0; c < 2; ++c) {
+        const int r = nds + 2 * b + c;
+        N[r] = -Rm[0][b] * n[c];
+        T[r] = -Rm[0][b] * t[c];
+        Nb[r] = Rm[1][b] * n[c];
+        lid[r] = 2 * m.lid(ms - m.p + b) + c;
+      }
+    const double cTT = -nm / (a11 * H), cNN = -g / H, cTN = -1.0 / H;
+    double row[MaxDof];
+    for (int r = 0; r < nd; ++r) {
+      Kokkos::atomic_add(&f(lid[r]), -pr * w * N[r]);
+      for (int c = 0; c < nd; ++c) {
+        const double G = cTT * T[r] * T[c] + cNN * Nb[r] * Nb[c] + cTN * (T[r] * Nb[c] + Nb[r] * T[c]);
+        row[c] = w * (eps * N[r] * N[c] - pr * G);
+      }
+      K.sumIntoValues(lid[r], lid, nd, row, false, true);
+    }
+  }
+};
+
+}  // namespace iga

@@ -1,0 +1,287 @@
+#include "model/nurbs.hpp"
+
+#include <Teuchos_SerialDenseMatrix.hpp>
+#include <Teuchos_SerialDenseSolver.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "kernels/nurbs_basis.hpp"
+
+namespace iga {
+
+const char* side_name(Side s) {
+  switch (s) {
+    case Side::West: return "west";
+    case Side::East: return "east";
+    case Side::South: return "south";
+    case Side::North: return "north";
+  }
+  return "?";
+}
+
+bool parse_side(const std::string& name, Side& s) {
+  static const char* names[] = {"west", "east", "south", "north"};
+  for (int k = 0; k < 4; ++k)
+    if (name == names[k]) { s = static_cast<Side>(k); return true; }
+  return false;
+}
+
+std::vector<double> uniform_open_knots(int p, int n) {
+  std::vector<double> U(p + 1, 0.0);
+  for (int k = 1; k < n; ++k) U.push_back(static_cast<double>(k) / n);
+  U.insert(U.end(), p + 1, 1.0);
+  return U;
+}
+
+namespace {
+
+std::vector<int> nonempty_spans(const std::vector<double>& U, int p) {
+  std::vector<int> s;
+  const int nb = static_cast<int>(U.size()) - p - 1;
+  for (int k = p; k < nb; ++k)
+    if (U[k + 1] > U[k]) s.push_back(k);
+  return s;
+}
+
+// Homogeneous evaluation of a 1-D B-spline with homogeneous control points Pw at u.
+Point3 bspline_point(const std::vector<double>& U, int p, const std::vector<Point3>& Pw, double u) {
+  const int nb = static_cast<int>(Pw.size());
+  const int span = find_span(nb, p, u, U.data());
+  double ders[3][kMaxBasis1D];
+  bspline_ders(span, u, p, U.data(), 0, ders);
+  Point3 r{0, 0, 0};
+  for (int j = 0; j <= p; ++j)
+    for (int c = 0; c < 3; ++c) r[c] += ders[0][j] * Pw[span - p + j][c];
+  return r;
+}
+
+// Knot insertion of u once into (U, p, Pw) (homogeneous), Boehm's algorithm.
+void insert_1d(std::vector<double>& U, int p, std::vector<Point3>& Pw, double u) {
+  const int nb = static_cast<int>(Pw.size());
+  const int k = find_span(nb, p, u, U.data());
+  std::vector<Point3> Q(nb + 1);
+  for (int i = 0; i <= k - p; ++i) Q[i] = Pw[i];
+  for (int i = k; i < nb; ++i) Q[i + 1] = Pw[i];
+  for (int i = k - p + 1; i <= k; ++i) {
+    const double alpha = (u - U[i]) / (U[i + p] - U[i]);
+    for (int c = 0; c < 3; ++c) Q[i][c] = alpha * Pw[i][c] + (1.0 - alpha) * Pw[i - 1][c];
+  }
+  U.insert(U.begin() + k + 1, u);
+  Pw = std::move(Q);
+}
+
+// Degree elevation by t of (U, p, Pw) by interpolation at the Greville abscissae of the
+// elevated space. Returns the new knots; Pw and p are updated.
+std::vector<double> elevate_1d(const std::vector<double>& U, int& p, std::vector<Point3>& Pw, int t) {
+  std::vector<double> V;
+  // every distinct knot gets its multiplicity raised by t
+  for (size_t k = 0; k < U.size();) {
+    size_t m = k;
+    while (m < U.size() && U[m] == U[k]) ++m;
+    V.insert(V.end(), (m - k) + t, U[k]);
+    k = m;
+  }
+  const int q = p + t;
+  const int nb = static_cast<int>(V.size()) - q - 1;
+  Teuchos::SerialDenseMatrix<int, double> A(nb, nb);
+  Teuchos::SerialDenseMatrix<int, double> B(nb, 3), X(nb, 3);
+  for (int i = 0; i < nb; ++i) {
+    double g = 0;
+    for (int k = 1; k <= q; ++k) g += V[i + k];
+    g /= q;
+    const int span = find_span(nb, q, g, V.data());
+    double ders[3][kMaxBasis1D];
+    bspline_ders(span, g, q, V.data(), 0, ders);
+    for (int j = 0; j <= q; ++j) A(i, span - q + j) = ders[0][j];
+    const Point3 r = bspline_point(U, p, Pw, g);
+    for (int c = 0; c < 3; ++c) B(i, c) = r[c];
+  }
+  Teuchos::SerialDenseSolver<int, double> solver;
+  solver.setMatrix(Teuchos::rcpFromRef(A));
+  solver.setVectors(Teuchos::rcpFromRef(X), Teuchos::rcpFromRef(B));
+  solver.factorWithEquilibration(true);
+  if (solver.solve() != 0) throw std::runtime_error("degree elevation: singular collocation matrix");
+  Pw.assign(nb, Point3{0, 0, 0});
+  for (int i = 0; i < nb; ++i)
+    for (int c = 0; c < 3; ++c) Pw[i][c] = X(i, c);
+  p = q;
+  return V;
+}
+
+Point3 to_homogeneous(const Point3& P) { return {P[0] * P[2], P[1] * P[2], P[2]}; }
+Point3 from_homogeneous(const Point3& P) { return {P[0] / P[2], P[1] / P[2], P[2]}; }
+
+}  // namespace
+
+std::vector<int> Curve::element_spans() const { return nonempty_spans(knots, degree); }
+
+std::array<double, 2> Curve::eval(double u) const {
+  std::vector<Point3> Pw(cp.size());
+  std::transform(cp.begin(), cp.end(), Pw.begin(), to_homogeneous);
+  const Point3 r = bspline_point(knots, degree, Pw, u);
+  return {r[0] / r[2], r[1] / r[2]};
+}
+
+std::vector<int> Patch::element_spans(int d) const { return nonempty_spans(knots[d], degree[d]); }
+
+std::string Patch::validate() const {
+  std::ostringstream os;
+  for (int d = 0; d < 2; ++d) {
+    const int p = degree[d];
+    const auto& U = knots[d];
+    if (p < 1 || p > kMaxDegree) {
+      os << "degree[" << d << "] = " << p << " is outside 1.." << kMaxDegree;
+      return os.str();
+    }
+    if (static_cast<int>(U.size()) < 2 * (p + 1)) {
+      os << "knots[" << d << "] has " << U.size() << " entries, an open knot vector of degree " << p
+         << " needs at least " << 2 * (p + 1);
+      return os.str();
+    }
+    for (size_t k = 1; k < U.size(); ++k)
+      if (U[k] < U[k - 1]) {
+        os << "knots[" << d << "] is not non-decreasing at entry " << k << " (" << U[k - 1] << " > "
+           << U[k] << ")";
+        return os.str();
+      }
+    for (int k = 1; k <= p; ++k)
+      if (U[k] != U[0] || U[U.size() - 1 - k] != U.back()) {
+        os << "knots[" << d << "] is not open: the first and last " << p + 1
+           << " knots must be equal for degree " << p;
+        return os.str();
+      }
+    if (!(U.back() > U.front())) {
+      os << "knots[" << d << "] spans an empty interval";
+      return os.str();
+    }
+    for (size_t k = p + 1; k + p + 1 < U.size();) {
+      size_t m = k;
+      while (m < U.size() && U[m] == U[k]) ++m;
+      if (static_cast<int>(m - k) > p) {
+        os << "knots[" << d << "] repeats the interior knot " << U[k] << " " << (m - k)
+           << " times; at most " << p << " keep the patch continuous";
+        return os.str();
+      }
+      k = m;
+    }
+  }
+  const long expected = static_cast<long>(ncp(0)) * ncp(1);
+  if (static_cast<long>(cp.size()) != expected) {
+    os << "control_points has " << cp.size() << " points, degrees and knots need " << ncp(0) << " x "
+       << ncp(1) << " = " << expected;
+    return os.str();
+  }
+  for (size_t a = 0; a < cp.size(); ++a)
+    if (!(cp[a][2] > 0)) {
+      os << "control_points[" << a << "] has weight " << cp[a][2] << "; weights must be > 0";
+      return os.str();
+    }
+  return "";
+}
+
+std::array<double, 2> Patch::eval(double u, double v) const {
+  const int n0 = ncp(0), n1 = ncp(1);
+  const int s0 = find_span(n0, degree[0], u, knots[0].data());
+  const int s1 = find_span(n1, degree[1], v, knots[1].data());
+  double N[3][kMaxBasis1D], M[3][kMaxBasis1D];
+  bspline_ders(s0, u, degree[0], knots[0].data(), 0, N);
+  bspline_ders(s1, v, degree[1], knots[1].data(), 0, M);
+  double x = 0, y = 0, w = 0;
+  for (int j = 0; j <= degree[1]; ++j)
+    for (int i = 0; i <= degree[0]; ++i) {
+      const Point3& P = cp[index(s0 - degree[0] + i, s1 - degree[1] + j)];
+      const double b = N[0][i] * M[0][j] * P[2];
+      x += b * P[0]; y += b * P[1]; w += b;
+    }
+  return {x / w, y / w};
+}
+
+int Patch::orientation() const {
+  const double u = 0.5 * (knots[0].front() + knots[0].back());
+  const double v = 0.5 * (knots[1].front() + knots[1].back());
+  const double hu = 1e-6 * (knots[0].back() - knots[0].front());
+  const double hv = 1e-6 * (knots[1].back() - knots[1].front());
+  const auto a = eval(u + hu, v), b = eval(u - hu, v), c = eval(u, v + hv), d = eval(u, v - hv);
+  const double det = (a[0] - b[0]) * (c[1] - d[1]) - (a[1] - b[1]) * (c[0] - d[0]);
+  return det >= 0 ? 1 : -1;
+}
+
+namespace {
+// Applies a 1-D operation to every row (d = 0) or column (d = 1) of the homogeneous net.
+template <class Op>
+void apply_rows(Patch& P, int d, Op op) {
+  const int n0 = P.ncp(0), n1 = P.ncp(1);
+  const int nrows = d == 0 ? n1 : n0, nline = d == 0 ? n0 : n1;
+  std::vector<std::vector<Point3>> lines(nrows);
+  for (int r = 0; r < nrows; ++r) {
+    lines[r].resize(nline);
+    for (int k = 0; k < nline; ++k)
+      lines[r][k] = to_homogeneous(P.cp[d == 0 ? P.index(k, r) : P.index(r, k)]);
+  }
+  std::vector<double> newU;
+  int newp = P.degree[d];
+  for (int r = 0; r < nrows; ++r) {
+    std::vector<double> U = P.knots[d];
+    int p = P.degree[d];
+    op(U, p, lines[r]);
+    newU = U; newp = p;
+  }
+  P.knots[d] = newU;
+  P.degree[d] = newp;
+  const int m = static_cast<int>(lines[0].size());
+  P.cp.assign(static_cast<size_t>(m) * nrows, Point3{0, 0, 0});
+  for (int r = 0; r < nrows; ++r)
+    for (int k = 0; k < m; ++k)
+      P.cp[d == 0 ? P.index(k, r) : P.index(r, k)] = from_homogeneous(lines[r][k]);
+}
+}  // namespace
+
+void Patch::insert_knot(int d, double u) {
+  apply_rows(*this, d, [u](std::vector<double>& U, int& p, std::vector<Point3>& Pw) { insert_1d(U, p, Pw, u); });
+}
+
+void Patch::subdivide(int d, int n) {
+  if (n <= 1) return;
+  std::vector<double> newknots;
+  for (int s : element_spans(d)) {
+    const double a = knots[d][s], b = knots[d][s + 1];
+    for (int k = 1; k < n; ++k) newknots.push_back(a + (b - a) * k / n);
+  }
+  apply_rows(*this, d, [&](std::vector<double>& U, int& p, std::vector<Point3>& Pw) {
+    for (double u : newknots) insert_1d(U, p, Pw, u);
+  });
+}
+
+void Patch::elevate(int d, int t) {
+  if (t <= 0) return;
+  if (degree[d] + t > kMaxDegree)
+    throw std::runtime_error("degree elevation beyond the supported maximum degree " + std::to_string(kMaxDegree));
+  apply_rows(*this, d, [t](std::vector<double>& U, int& p, std::vector<Point3>& Pw) { U = elevate_1d(U, p, Pw, t); });
+}
+
+std::vector<int> Patch::side_indices(Side s) const {
+  std::vector<int> idx;
+  const int n0 = ncp(0), n1 = ncp(1);
+  switch (s) {
+    case Side::West: for (int j = 0; j < n1; ++j) idx.push_back(index(0, j)); break;
+    case Side::East: for (int j = 0; j < n1; ++j) idx.push_back(index(n0 - 1, j)); break;
+    case Side::South: for (int i = 0; i < n0; ++i) idx.push_back(index(i, 0)); break;
+    case Side::North: for (int i = 0; i < n0; ++i) idx.push_back(index(i, n1 - 1)); break;
+  }
+  return idx;
+}
+
+Curve Patch::side_curve(Side s) const {
+  Curve c;
+  const int d = (s == Side::West || s == Side::East) ? 1 : 0;
+  c.degree = degree[d];
+  c.knots = knots[d];
+  c.patch_index = side_indices(s);
+  for (int a : c.patch_index) c.cp.push_back(cp[a]);
+  return c;
+}
+
+}  // namespace iga

@@ -1,0 +1,556 @@
+#include "model/problem.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace iga {
+
+const char* contact_method_name(ContactMethod m) {
+  switch (m) {
+    case ContactMethod::KtsPenalty: return "kts_penalty";
+    case ContactMethod::KtsAlm: return "kts_alm";
+    case ContactMethod::MortarPenalty: return "mortar_penalty";
+    case ContactMethod::MortarAlm: return "mortar_alm";
+  }
+  return "?";
+}
+
+int Problem::find_body(const std::string& name) const {
+  for (size_t b = 0; b < bodies.size(); ++b)
+    if (bodies[b].name == name) return static_cast<int>(b);
+  return -1;
+}
+
+namespace {
+
+std::string one_line(const YAML::Node& n) {
+  if (!n.IsDefined() || n.IsNull()) return "null";
+  YAML::Emitter e;
+  e.SetMapFormat(YAML::Flow);
+  e.SetSeqFormat(YAML::Flow);
+  e << n;
+  std::string s = e.c_str();
+  for (char& c : s)
+    if (c == '\n') c = ' ';
+  if (s.size() > 80) s = s.substr(0, 77) + "...";
+  return s;
+}
+
+// Reads one YAML node tree with the file name and key path at hand for messages.
+struct Reader {
+  std::string file;
+
+  [[noreturn]] void fail(const std::string& key, const YAML::Node& n, const std::string& why) const {
+    std::ostringstream os;
+    os << file;
+    if (n.IsDefined() && n.Mark().line >= 0) os << ":" << n.Mark().line + 1;
+    os << ": " << key << " = " << one_line(n) << ": " << why;
+    throw InputError(os.str());
+  }
+  [[noreturn]] void missing(const std::string& key) const {
+    throw InputError(file + ": " + key + ": required key is missing");
+  }
+
+  void keys(const YAML::Node& n, const std::string& path, std::initializer_list<const char*> allowed) const {
+    if (!n.IsMap()) fail(path, n, "expected a mapping");
+    for (const auto& kv : n) {
+      const std::string k = kv.first.as<std::string>();
+      bool ok = false;
+      for (const char* a : allowed) ok = ok || k == a;
+      if (!ok) {
+        std::string list;
+        for (const char* a : allowed) list += std::string(list.empty() ? "" : ", ") + a;
+        fail(path.empty() ? k : path + "." + k, kv.second, "unknown key (allowed here: " + list + ")");
+      }
+    }
+  }
+
+  double number(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsScalar()) fail(key, n, "expected a number");
+    double v;
+    try { v = n.as<double>(); } catch (const YAML::Exception&) { fail(key, n, "expected a number"); }
+    if (!std::isfinite(v)) fail(key, n, "expected a finite number");
+    return v;
+  }
+  int integer(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsScalar()) fail(key, n, "expected an integer");
+    long v;
+    try { v = n.as<long>(); } catch (const YAML::Exception&) { fail(key, n, "expected an integer"); }
+    if (v < -1000000000L || v > 1000000000L) fail(key, n, "integer out of range");
+    return static_cast<int>(v);
+  }
+  std::string string(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsScalar()) fail(key, n, "expected a string");
+    return n.as<std::string>();
+  }
+  std::vector<double> numbers(const YAML::Node& n, const std::string& key, int size = -1) const {
+    if (!n.IsSequence()) fail(key, n, size > 0 ? "expected a list of " + std::to_string(size) + " numbers" : "expected a list of numbers");
+    if (size >= 0 && static_cast<int>(n.size()) != size)
+      fail(key, n, "expected a list of " + std::to_string(size) + " numbers");
+    std::vector<double> v;
+    for (size_t k = 0; k < n.size(); ++k) v.push_back(number(n[k], key + "[" + std::to_string(k) + "]"));
+    return v;
+  }
+  // An int or a pair [a, b].
+  std::array<int, 2> int_pair(const YAML::Node& n, const std::string& key) const {
+    if (n.IsScalar()) { const int a = integer(n, key); return {a, a}; }
+    if (!n.IsSequence() || n.size() != 2) fail(key, n, "expected an integer or a list of 2 integers");
+    return {integer(n[0], key + "[0]"), integer(n[1], key + "[1]")};
+  }
+  double positive(const YAML::Node& n, const std::string& key) const {
+    const double v = number(n, key);
+    if (!(v > 0)) fail(key, n, "must be > 0");
+    return v;
+  }
+};
+
+Patch read_nurbs(const Reader& R, const YAML::Node& n, const std::string& path) {
+  R.keys(n, path, {"degree", "knots", "control_points"});
+  Patch P;
+  if (!n["degree"]) R.missing(path + ".degree");
+  if (!n["knots"]) R.missing(path + ".knots");
+  if (!n["control_points"]) R.missing(path + ".control_points");
+  const YAML::Node deg = n["degree"];
+  if (!deg.IsSequence() || deg.size() != 2) R.fail(path + ".degree", deg, "expected [p_xi, p_eta]");
+  for (int d = 0; d < 2; ++d) P.degree[d] = R.integer(deg[d], path + ".degree[" + std::to_string(d) + "]");
+  const YAML::Node kn = n["knots"];
+  if (!kn.IsSequence() || kn.size() != 2) R.fail(path + ".knots", kn, "expected two knot vectors [[...], [...]]");
+  for (int d = 0; d < 2; ++d) P.knots[d] = R.numbers(kn[d], path + ".knots[" + std::to_string(d) + "]");
+  const YAML::Node cps = n["control_points"];
+  if (!cps.IsSequence()) R.fail(path + ".control_points", cps, "expected a list of [x, y, w]");
+  for (size_t a = 0; a < cps.size(); ++a) {
+    const std::string key = path + ".control_points[" + std::to_string(a) + "]";
+    if (!cps[a].IsSequence() || (cps[a].size() != 3 && cps[a].size() != 2))
+      R.fail(key, cps[a], "expected [x, y, w]");
+    const auto v = R.numbers(cps[a], key);
+    P.cp.push_back({v[0], v[1], v.size() == 3 ? v[2] : 1.0});
+  }
+  for (int d = 0; d < 2; ++d)
+    if (P.degree[d] < 1 || P.degree[d] > 5)
+      R.fail(path + ".degree[" + std::to_string(d) + "]", deg[d], "degree must be 1..5");
+  const std::string err = P.validate();
+  if (!err.empty()) {
+    // name the most specific key the message is about
+    std::string key = path;
+    YAML::Node at = n;
+    if (err.rfind("knots[0]", 0) == 0) { key += ".knots[0]"; at = kn[0]; }
+    else if (err.rfind("knots[1]", 0) == 0) { key += ".knots[1]"; at = kn[1]; }
+    else if (err.rfind("control_points[", 0) == 0) {
+      const size_t a = std::stoul(err.substr(15));
+      key += ".control_points[" + std::to_string(a) + "]"; at = cps[a];
+    } else if (err.rfind("control_points", 0) == 0) {
+      key += ".control_points"; 
+      throw InputError(R.file + ":" + std::to_string(cps.Mark().line + 1) + ": " + key + ": " + err);
+    }
+    R.fail(key, at, err);
+  }
+  return P;
+}
+
+Patch make_rectangle(const Reader& R, const YAML::Node& n, const std::string& path) {
+  R.keys(n, path, {"origin", "size"});
+  if (!n["origin"]) R.missing(path + ".origin");
+  if (!n["size"]) R.missing(path + ".size");
+  const auto o = R.numbers(n["origin"], path + ".origin", 2);
+  const auto s = R.numbers(n["size"], path + ".size", 2);
+  for (int d = 0; d < 2; ++d)
+    if (!(s[d] > 0)) R.fail(path + ".size", n["size"], "both sizes must be > 0");
+  Patch P;
+  P.degree = {1, 1};
+  P.knots = {uniform_open_knots(1, 1), uniform_open_knots(1, 1)};
+  P.cp = {{o[0], o[1], 1}, {o[0] + s[0], o[1], 1}, {o[0], o[1] + s[1], 1}, {o[0] + s[0], o[1] + s[1], 1}};
+  return P;
+}
+
+Patch make_quarter_annulus(const Reader& R, const YAML::Node& n, const std::string& path) {
+  R.keys(n, path, {"center", "inner_radius", "outer_radius", "start_angle"});
+  for (const char* k : {"center", "inner_radius", "outer_radius"})
+    if (!n[k]) R.missing(path + "." + k);
+  const auto c = R.numbers(n["center"], path + ".center", 2);
+  const double ri = R.positive(n["inner_radius"], path + ".inner_radius");
+  const double ro = R.positive(n["outer_radius"], path + ".outer_radius");
+  if (!(ro > ri)) R.fail(path + ".outer_radius", n["outer_radius"], "must be > inner_radius");
+  const double a0 = n["start_angle"] ? R.number(n["start_angle"], path + ".start_angle") : 0.0;
+  const double th = a0 * M_PI / 180.0, cs = std::cos(th), sn = std::sin(th);
+  Patch P;
+  P.degree = {2, 1};
+  P.knots = {uniform_open_knots(2, 1), uniform_open_knots(1, 1)};
+  const double w = std::sqrt(0.5);
+  for (double r : {ri, ro}) {
+    const double loc[3][2] = {{r, 0}, {r, r}, {0, r}};
+    const double wt[3] = {1, w, 1};
+    for (int k = 0; k < 3; ++k)
+      P.cp.push_back({c[0] + cs * loc[k][0] - sn * loc[k][1], c[1] + sn * loc[k][0] + cs * loc[k][1], wt[k]});
+  }
+  return P;
+}
+
+void read_side(const Reader& R, const YAML::Node& n, const std::string& path, SideCondition& sc) {
+  R.keys(n, path, {"displacement", "pressure", "traction"});
+  if (n["displacement"]) {
+    const YAML::Node d = n["displacement"];
+    R.keys(d, path + ".displacement", {"x", "y"});
+    if (d.size() == 0) R.fail(path + ".displacement", d, "prescribe x, y or both");
+    for (int c = 0; c < 2; ++c) {
+      const char* k = c == 0 ? "x" : "y";
+      if (d[k]) { sc.fixed[c] = true; sc.value[c] = R.number(d[k], path + ".displacement." + k); }
+    }
+  }
+  const int nloads = (n["pressure"] ? 1 : 0) + (n["traction"] ? 1 : 0);
+  if (nloads > 1) R.fail(path, n, "give either pressure or traction on a side, not both");
+  if (n["pressure"]) {
+    const YAML::Node p = n["pressure"];
+    if (p.IsMap()) {
+      R.keys(p, path + ".pressure", {"linear"});
+      if (!p["linear"]) R.missing(path + ".pressure.linear");
+      const auto v = R.numbers(p["linear"], path + ".pressure.linear", 2);
+      sc.load = LoadKind::LinearPressure; sc.p0 = v[0]; sc.p1 = v[1];
+    } else {
+      sc.load = LoadKind::Pressure;
+      sc.p0 = sc.p1 = R.number(p, path + ".pressure");
+    }
+  }
+  if (n["traction"]) {
+    const auto v = R.numbers(n["traction"], path + ".traction", 2);
+    sc.load = LoadKind::Traction; sc.traction = {v[0], v[1]};
+  }
+}
+
+Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
+  R.keys(n, path, {"name", "material", "geometry", "refine", "boundary"});
+  Body b;
+  if (!n["name"]) R.missing(path + ".name");
+  b.name = R.string(n["name"], path + ".name");
+  if (b.name.empty()) R.fail(path + ".name", n["name"], "must not be empty");
+  if (!n["material"]) R.missing(path + ".material");
+  const YAML::Node m = n["material"];
+  R.keys(m, path + ".material", {"youngs_modulus", "poisson_ratio"});
+  if (!m["youngs_modulus"]) R.missing(path + ".material.youngs_modulus");
+  if (!m["poisson_ratio"]) R.missing(path + ".material.poisson_ratio");
+  b.E = R.number(m["youngs_modulus"], path + ".material.youngs_modulus");
+  if (!(b.E > 0)) R.fail(path + ".material.youngs_modulus", m["youngs_modulus"], "must be > 0");
+  b.nu = R.number(m["poisson_ratio"], path + ".material.poisson_ratio");
+  if (!(b.nu > -1.0 && b.nu < 0.5))
+    R.fail(path + ".material.poisson_ratio", m["poisson_ratio"], "must lie in (-1, 0.5)");
+
+  if (!n["geometry"]) R.missing(path + ".geometry");
+  const YAML::Node g = n["geometry"];
+  R.keys(g, path + ".geometry", {"nurbs", "rectangle", "quarter_annulus"});
+  if (g.size() != 1) R.fail(path + ".geometry", g, "give exactly one of nurbs, rectangle, quarter_annulus");
+  if (g["nurbs"]) b.patch = read_nurbs(R, g["nurbs"], path + ".geometry.nurbs");
+  else if (g["rectangle"]) b.patch = make_rectangle(R, g["rectangle"], path + ".geometry.rectangle");
+  else b.patch = make_quarter_annulus(R, g["quarter_annulus"], path + ".geometry.quarter_annulus");
+
+  if (n["refine"]) {
+    const YAML::Node r = n["refine"];
+    R.keys(r, path + ".refine", {"degree_elevate", "subdivide"});
+    if (r["degree_elevate"]) {
+      const auto e = R.int_pair(r["degree_elevate"], path + ".refine.degree_elevate");
+      for (int d = 0; d < 2; ++d) {
+        if (e[d] < 0) R.fail(path + ".refine.degree_elevate", r["degree_elevate"], "must be >= 0");
+        if (b.patch.degree[d] + e[d] > 5)
+          R.fail(path + ".refine.degree_elevate", r["degree_elevate"],
+                 "would raise degree " + std::to_string(b.patch.degree[d]) + " above the supported 5");
+        b.patch.elevate(d, e[d]);
+      }
+    }
+    if (r["subdivide"]) {
+      const auto s = R.int_pair(r["subdivide"], path + ".refine.subdivide");
+      for (int d = 0; d < 2; ++d) {
+        if (s[d] < 1 || s[d] > 100000) R.fail(path + ".refine.subdivide", r["subdivide"], "must be 1..100000");
+        b.patch.subdivide(d, s[d]);
+      }
+    }
+  }
+  if (n["boundary"]) {
+    const YAML::Node bc = n["boundary"];
+    R.keys(bc, path + ".boundary", {"west", "east", "south", "north"});
+    for (const auto& kv : bc) {
+      Side s;
+      parse_side(kv.first.as<std::string>(), s);
+      read_side(R, kv.second, path + ".boundary." + kv.first.as<std::string>(), b.sides[static_cast<int>(s)]);
+    }
+  }
+  return b;
+}
+
+ContactSurface read_surface(const Reader& R, const Problem& P, const YAML::Node& n, const std::string& path) {
+  R.keys(n, path, {"body", "side"});
+  if (!n["body"]) R.missing(path + ".body");
+  if (!n["side"]) R.missing(path + ".side");
+  ContactSurface s;
+  s.body = P.find_body(R.string(n["body"], path + ".body"));
+  if (s.body < 0) R.fail(path + ".body", n["body"], "no body of that name");
+  if (!parse_side(R.string(n["side"], path + ".side"), s.side))
+    R.fail(path + ".side", n["side"], "unknown side (west, east, south, north)");
+  return s;
+}
+
+// Rank of the rigid-body modes restricted to the constrained dofs of a body: 3 means no
+// rigid motion is left free.
+int rigid_rank(const Body& b) {
+  double G[3][3] = {};
+  for (int s = 0; s < 4; ++s) {
+    const auto& sc = b.sides[s];
+    for (int a : b.patch.side_indices(static_cast<Side>(s)))
+      for (int c = 0; c < 2; ++c)
+        if (sc.fixed[c]) {
+          const double x = b.patch.cp[a][0], y = b.patch.cp[a][1];
+          const double row[3] = {c == 0 ? 1.0 : 0.0, c == 1 ? 1.0 : 0.0, c == 0 ? -y : x};
+          for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) G[i][j] += row[i] * row[j];
+        }
+  }
+  // rank by Gaussian elimination with full pivoting on the 3x3 Gram matrix
+  double scale = 0;
+  for (int i = 0; i < 3; ++i) scale = std::max(scale, G[i][i]);
+  if (scale == 0) return 0;
+  int rank = 0;
+  bool used_r[3] = {}, used_c[3] = {};
+  for (int k = 0; k < 3; ++k) {
+    int pr = -1, pc = -1;
+    double best = 0;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        if (!used_r[i] && !used_c[j] && std::abs(G[i][j]) > best) { best = std::abs(G[i][j]); pr = i; pc = j; }
+    if (pr < 0 || best < 1e-10 * scale) break;
+    used_r[pr] = used_c[pc] = true;
+    ++rank;
+    for (int i = 0; i < 3; ++i)
+      if (!used_r[i]) {
+        const double f = G[i][pc] / G[pr][pc];
+        for (int j = 0; j < 3; ++j) G[i][j] -= f * G[pr][j];
+      }
+  }
+  return rank;
+}
+
+void apply_override(const std::string& file, YAML::Node root, const std::string& ov) {
+  const size_t eq = ov.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw InputError(file + ": --set " + ov + ": expected KEY=VALUE with a dotted key path");
+  const std::string path = ov.substr(0, eq), text = ov.substr(eq + 1);
+  YAML::Node value;
+  try { value = YAML::Load(text); } catch (const YAML::Exception& e) {
+    throw InputError(file + ": --set " + path + " = " + text + ": value is not valid YAML");
+  }
+  std::vector<std::string> parts;
+  std::stringstream ss(path);
+  for (std::string p; std::getline(ss, p, '.');) parts.push_back(p);
+  // walk with node copies (yaml-cpp nodes are references into the tree)
+  std::vector<YAML::Node> chain{root};
+  for (size_t k = 0; k + 1 < parts.size(); ++k) {
+    YAML::Node cur = chain.back();
+    const std::string& p = parts[k];
+    if (cur.IsSequence()) {
+      char* end = nullptr;
+      const long i = std::strtol(p.c_str(), &end, 10);
+      if (*end || i < 0 || i >= static_cast<long>(cur.size()))
+        throw InputError(file + ": --set " + path + ": '" + p + "' is not an index of that list");
+      chain.push_back(cur[static_cast<size_t>(i)]);
+    } else {
+      if (!cur[p]) cur[p] = YAML::Node(YAML::NodeType::Map);
+      chain.push_back(cur[p]);
+    }
+  }
+  YAML::Node last = chain.back();
+  if (last.IsSequence()) {
+    char* end = nullptr;
+    const long i = std::strtol(parts.back().c_str(), &end, 10);
+    if (*end || i < 0 || i >= static_cast<long>(last.size()))
+      throw InputError(file + ": --set " + path + ": '" + parts.back() + "' is not an index of that list");
+    last[static_cast<size_t>(i)] = value;
+  } else {
+    last[parts.back()] = value;
+  }
+}
+
+Problem build(const Reader& R, const YAML::Node& root) {
+  Problem P;
+  P.file = R.file;
+  if (!root.IsMap()) R.fail("(top level)", root, "expected a mapping with analysis, bodies, ...");
+  R.keys(root, "", {"analysis", "bodies", "contact", "solver", "output"});
+
+  if (root["analysis"]) {
+    const YAML::Node a = root["analysis"];
+    R.keys(a, "analysis", {"type", "thickness", "load_steps"});
+    if (a["type"]) {
+      const std::string t = R.string(a["type"], "analysis.type");
+      if (t == "plane_strain") P.analysis = Analysis::PlaneStrain;
+      else if (t == "plane_stress") P.analysis = Analysis::PlaneStress;
+      else R.fail("analysis.type", a["type"], "expected plane_strain or plane_stress");
+    }
+    if (a["thickness"]) P.thickness = R.positive(a["thickness"], "analysis.thickness");
+    if (a["load_steps"]) {
+      P.load_steps = R.integer(a["load_steps"], "analysis.load_steps");
+      if (P.load_steps < 1) R.fail("analysis.load_steps", a["load_steps"], "must be >= 1");
+    }
+  }
+
+  if (!root["bodies"]) R.missing("bodies");
+  const YAML::Node bodies = root["bodies"];
+  if (!bodies.IsSequence() || bodies.size() == 0) R.fail("bodies", bodies, "expected a non-empty list of bodies");
+  for (size_t k = 0; k < bodies.size(); ++k) {
+    const std::string path = "bodies[" + std::to_string(k) + "]";
+    Body b = read_body(R, bodies[k], path);
+    if (P.find_body(b.name) >= 0) R.fail(path + ".name", bodies[k]["name"], "duplicate body name");
+    P.bodies.push_back(std::move(b));
+  }
+
+  if (root["contact"]) {
+    const YAML::Node c = root["contact"];
+    if (!c.IsSequence()) R.fail("contact", c, "expected a list of contact pairs");
+    for (size_t k = 0; k < c.size(); ++k) {
+      const std::string path = "contact[" + std::to_string(k) + "]";
+      const YAML::Node n = c[k];
+      R.keys(n, path, {"master", "slave", "method", "penalty", "quadrature_points", "augmentations", "alm_tolerance"});
+      ContactPair cp;
+      if (!n["master"]) R.missing(path + ".master");
+      if (!n["slave"]) R.missing(path + ".slave");
+      cp.master = read_surface(R, P, n["master"], path + ".master");
+      cp.slave = read_surface(R, P, n["slave"], path + ".slave");
+      if (cp.master.body == cp.slave.body && cp.master.side == cp.slave.side)
+        R.fail(path + ".slave", n["slave"], "master and slave are the same side of the same body");
+      if (n["method"]) {
+        const std::string m = R.string(n["method"], path + ".method");
+        if (m == "kts_penalty") cp.method = ContactMethod::KtsPenalty;
+        else if (m == "kts_alm") cp.method = ContactMethod::KtsAlm;
+        else if (m == "mortar_penalty") cp.method = ContactMethod::MortarPenalty;
+        else if (m == "mortar_alm") cp.method = ContactMethod::MortarAlm;
+        else R.fail(path + ".method", n["method"], "expected kts_penalty, kts_alm, mortar_penalty or mortar_alm");
+      }
+      if (!n["penalty"]) R.missing(path + ".penalty");
+      cp.penalty = R.positive(n["penalty"], path + ".penalty");
+      if (n["quadrature_points"]) {
+        cp.quadrature_points = R.integer(n["quadrature_points"], path + ".quadrature_points");
+        if (cp.quadrature_points < 1 || cp.quadrature_points > 20)
+          R.fail(path + ".quadrature_points", n["quadrature_points"], "must be 1..20");
+      }
+      if (n["augmentations"]) {
+        cp.augmentations = R.integer(n["augmentations"], path + ".augmentations");
+        if (cp.augmentations < 1) R.fail(path + ".augmentations", n["augmentations"], "must be >= 1");
+      }
+      if (n["alm_tolerance"]) cp.alm_tolerance = R.positive(n["alm_tolerance"], path + ".alm_tolerance");
+      P.contact.push_back(cp);
+    }
+  }
+
+  if (root["solver"]) {
+    const YAML::Node s = root["solver"];
+    R.keys(s, "solver", {"newton", "linear"});
+    if (s["newton"]) {
+      const YAML::Node n = s["newton"];
+      R.keys(n, "solver.newton", {"max_iterations", "tolerance"});
+      if (n["max_iterations"]) {
+        P.newton.max_iterations = R.integer(n["max_iterations"], "solver.newton.max_iterations");
+        if (P.newton.max_iterations < 1) R.fail("solver.newton.max_iterations", n["max_iterations"], "must be >= 1");
+      }
+      if (n["tolerance"]) P.newton.tolerance = R.positive(n["tolerance"], "solver.newton.tolerance");
+    }
+    if (s["linear"]) {
+      const YAML::Node l = s["linear"];
+      R.keys(l, "solver.linear", {"method", "preconditioner", "tolerance", "max_iterations"});
+      if (l["method"]) {
+        const std::string m = R.string(l["method"], "solver.linear.method");
+        if (m == "cg") P.linear.method = LinearMethod::CG;
+        else if (m == "gmres") P.linear.method = LinearMethod::GMRES;
+        else if (m == "direct") P.linear.method = LinearMethod::Direct;
+        else R.fail("solver.linear.method", l["method"], "expected cg, gmres or direct");
+        P.linear.method_given = true;
+      }
+      if (l["preconditioner"]) {
+        const std::string m = R.string(l["preconditioner"], "solver.linear.preconditioner");
+        if (m == "muelu") P.linear.preconditioner = Preconditioner::MueLu;
+        else if (m == "ilut") P.linear.preconditioner = Preconditioner::ILUT;
+        else if (m == "relaxation") P.linear.preconditioner = Preconditioner::Relaxation;
+        else if (m == "none") P.linear.preconditioner = Preconditioner::None;
+        else R.fail("solver.linear.preconditioner", l["preconditioner"], "expected muelu, ilut, relaxation or none");
+      }
+      if (l["tolerance"]) P.linear.tolerance = R.positive(l["tolerance"], "solver.linear.tolerance");
+      if (l["max_iterations"]) {
+        P.linear.max_iterations = R.integer(l["max_iterations"], "solver.linear.max_iterations");
+        if (P.linear.max_iterations < 1) R.fail("solver.linear.max_iterations", l["max_iterations"], "must be >= 1");
+      }
+    }
+  }
+
+  if (root["output"]) {
+    const YAML::Node o = root["output"];
+    R.keys(o, "output", {"directory", "samples_per_element", "probes"});
+    if (o["directory"]) {
+      P.output.directory = R.string(o["directory"], "output.directory");
+      if (P.output.directory.empty()) R.fail("output.directory", o["directory"], "must not be empty");
+    }
+    if (o["samples_per_element"]) {
+      P.output.samples_per_element = R.integer(o["samples_per_element"], "output.samples_per_element");
+      if (P.output.samples_per_element < 1 || P.output.samples_per_element > 64)
+        R.fail("output.samples_per_element", o["samples_per_element"], "must be 1..64");
+    }
+    if (o["probes"]) {
+      const YAML::Node pr = o["probes"];
+      if (!pr.IsSequence()) R.fail("output.probes", pr, "expected a list of {body, at}");
+      for (size_t k = 0; k < pr.size(); ++k) {
+        const std::string path = "output.probes[" + std::to_string(k) + "]";
+        R.keys(pr[k], path, {"body", "at"});
+        if (!pr[k]["body"]) R.missing(path + ".body");
+        if (!pr[k]["at"]) R.missing(path + ".at");
+        Probe p;
+        p.body = P.find_body(R.string(pr[k]["body"], path + ".body"));
+        if (p.body < 0) R.fail(path + ".body", pr[k]["body"], "no body of that name");
+        const auto at = R.numbers(pr[k]["at"], path + ".at", 2);
+        for (int d = 0; d < 2; ++d)
+          if (at[d] < 0 || at[d] > 1) R.fail(path + ".at", pr[k]["at"], "parametric coordinates must lie in [0, 1]");
+        p.at = {at[0], at[1]};
+        P.output.probes.push_back(p);
+      }
+    }
+  }
+
+  // Rigid-body motion: a body that no contact pair touches must be held by its supports.
+  for (size_t b = 0; b < P.bodies.size(); ++b) {
+    bool in_contact = false;
+    for (const auto& c : P.contact) in_contact = in_contact || c.master.body == (int)b || c.slave.body == (int)b;
+    if (!in_contact && rigid_rank(P.bodies[b]) < 3)
+      R.fail("bodies[" + std::to_string(b) + "].boundary", bodies[b]["boundary"],
+             "body '" + P.bodies[b].name +
+                 "' is free to move as a rigid body (singular system): prescribe x and y displacements "
+                 "that fix translation and rotation");
+  }
+  return P;
+}
+
+}  // namespace
+
+Problem parse_problem(const std::string& text, const std::string& file, const std::vector<std::string>& overrides) {
+  Reader R{file};
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    std::ostringstream os;
+    os << file << ":" << e.mark.line + 1 << ":" << e.mark.column + 1 << ": YAML syntax error: " << e.msg;
+    throw InputError(os.str());
+  }
+  try {
+    for (const auto& ov : overrides) apply_override(file, root, ov);
+    return build(R, root);
+  } catch (const YAML::Exception& e) {
+    std::ostringstream os;
+    os << file << ":" << e.mark.line + 1 << ": " << e.msg;
+    throw InputError(os.str());
+  }
+}
+
+Problem load_problem(const std::string& file, const std::vector<std::string>& overrides) {
+  std::ifstream in(file);
+  if (!in) throw InputError(file + ": cannot open the problem file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return parse_problem(ss.str(), file, overrides);
+}
+
+}  // namespace iga

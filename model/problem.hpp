@@ -1,0 +1,100 @@
+#pragma once
+// The problem: what a YAML problem file describes, validated. See docs/problem-file.md.
+#include <array>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "model/nurbs.hpp"
+
+namespace iga {
+
+/// Bad input: the message is one line naming the file, the key and the value.
+struct InputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+enum class Analysis { PlaneStrain, PlaneStress };
+enum class LoadKind { None, Pressure, LinearPressure, Traction };
+enum class ContactMethod { KtsPenalty, KtsAlm, MortarPenalty, MortarAlm };
+enum class LinearMethod { CG, GMRES, Direct };
+enum class Preconditioner { MueLu, ILUT, Relaxation, None };
+
+const char* contact_method_name(ContactMethod m);
+
+struct SideCondition {
+  std::array<bool, 2> fixed{false, false};   // component prescribed?
+  std::array<double, 2> value{0.0, 0.0};     // prescribed displacement (full load)
+  LoadKind load = LoadKind::None;
+  double p0 = 0, p1 = 0;                     // pressure (p0) or linear pressure p0 -> p1
+  std::array<double, 2> traction{0.0, 0.0};
+};
+
+struct Body {
+  std::string name;
+  double E = 0, nu = 0;
+  Patch patch;                          // refined
+  std::array<SideCondition, 4> sides;   // indexed by Side
+};
+
+struct ContactSurface {
+  int body = -1;
+  Side side = Side::North;
+};
+
+struct ContactPair {
+  ContactSurface master, slave;
+  ContactMethod method = ContactMethod::KtsPenalty;
+  double penalty = 0;
+  int quadrature_points = 0;        // per slave knot span; 0 = degree + 2
+  int augmentations = 20;           // ALM: maximum multiplier updates
+  double alm_tolerance = 1e-8;      // ALM: gap tolerance relative to slave element size
+};
+
+struct NewtonOptions {
+  int max_iterations = 30;
+  double tolerance = 1e-10;
+};
+
+struct LinearOptions {
+  LinearMethod method = LinearMethod::CG;
+  Preconditioner preconditioner = Preconditioner::MueLu;
+  double tolerance = 1e-12;
+  int max_iterations = 1000;
+  bool method_given = false;
+};
+
+struct Probe {
+  int body = -1;
+  std::array<double, 2> at{0, 0};
+};
+
+struct OutputOptions {
+  std::string directory;
+  int samples_per_element = 4;
+  std::vector<Probe> probes;
+};
+
+struct Problem {
+  std::string file;
+  Analysis analysis = Analysis::PlaneStrain;
+  double thickness = 1.0;
+  int load_steps = 1;
+  std::vector<Body> bodies;
+  std::vector<ContactPair> contact;
+  NewtonOptions newton;
+  LinearOptions linear;
+  OutputOptions output;
+
+  int find_body(const std::string& name) const;
+};
+
+/// Reads, overrides (`key.path=value`, as `--set`) and validates a problem file.
+/// Throws InputError with a one-line message on any bad input.
+Problem load_problem(const std::string& file, const std::vector<std::string>& overrides = {});
+/// The same from YAML text (tests, fuzzing); `file` is only used in messages.
+Problem parse_problem(const std::string& text, const std::string& file,
+                      const std::vector<std::string>& overrides = {});
+
+}  // namespace iga

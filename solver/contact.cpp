@@ -1,0 +1,299 @@
+#include "solver/contact.hpp"
+
+#include <Teuchos_CommHelpers.hpp>
+#include <Teuchos_TimeMonitor.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace iga {
+
+namespace {
+template <class T>
+Kokkos::View<T*, MemSpace> dview(const std::string& name, const std::vector<T>& v) {
+  Kokkos::View<T*, MemSpace> d(name, v.size());
+  auto h = Kokkos::create_mirror_view(d);
+  for (size_t k = 0; k < v.size(); ++k) h(k) = v[k];
+  Kokkos::deep_copy(d, h);
+  return d;
+}
+
+CurveData make_curve(const System& sys, const ContactSurface& s, std::vector<GO>& gids) {
+  const Body& body = sys.problem().bodies[s.body];
+  const Curve c = body.patch.side_curve(s.side);
+  CurveData d;
+  d.p = c.degree;
+  d.nb = c.ncp();
+  const auto spans = c.element_spans();
+  d.ne = static_cast<int>(spans.size());
+  d.side = static_cast<int>(s.side);
+  d.orientation = body.patch.orientation();
+  d.U = dview("U", c.knots);
+  d.span = dview("span", spans);
+  d.X = Kokkos::View<double* [2], MemSpace>("X", d.nb);
+  d.u = Kokkos::View<double* [2], MemSpace>("u", d.nb);
+  std::vector<double> w(d.nb);
+  auto hX = Kokkos::create_mirror_view(d.X);
+  gids.resize(d.nb);
+  for (int k = 0; k < d.nb; ++k) {
+    hX(k, 0) = c.cp[k][0];
+    hX(k, 1) = c.cp[k][1];
+    w[k] = c.cp[k][2];
+    gids[k] = sys.cp_gid(s.body, c.patch_index[k]);
+  }
+  Kokkos::deep_copy(d.X, hX);
+  d.w = dview("w", w);
+  d.lid = Kokkos::View<int*, MemSpace>("lid", d.nb);
+  return d;
+}
+}  // namespace
+
+ContactPairData::ContactPairData(const System& sys, int index) : pair_(sys.problem().contact[index]) {
+  thickness = sys.problem().thickness;
+  slave = make_curve(sys, pair_.slave, slave_gid);
+  master = make_curve(sys, pair_.master, master_gid);
+  // slave quadrature points in the reference configuration
+  const Curve c = sys.problem().bodies[pair_.slave.body].patch.side_curve(pair_.slave.side);
+  const int nq = pair_.quadrature_points > 0 ? pair_.quadrature_points : 2 * (c.degree + 1);
+  const GaussRule g = gauss_rule(nq);
+  std::vector<double> xi, wt;
+  std::vector<int> span;
+  h_min_ = 1e300;
+  for (int s : c.element_spans()) {
+    const double a = c.knots[s], b = c.knots[s + 1], h = 0.5 * (b - a);
+    h_min_ = std::min(h_min_, std::hypot(c.eval(b)[0] - c.eval(a)[0], c.eval(b)[1] - c.eval(a)[1]));
+    for (int q = 0; q < nq; ++q) {
+      const double u = a + h * (g.x[q] + 1.0), du = 1e-7 * (b - a);
+      const auto p1 = c.eval(std::min(u + du, b)), p0 = c.eval(std::max(u - du, a));
+      const double jac = std::hypot(p1[0] - p0[0], p1[1] - p0[1]) / (std::min(u + du, b) - std::max(u - du, a));
+      xi.push_back(u);
+      wt.push_back(g.w[q] * h * jac * thickness);
+      span.push_back(s);
+    }
+  }
+  const int n = static_cast<int>(xi.size());
+  sp_.xi = dview("xi", xi);
+  sp_.weight = dview("weight", wt);
+  sp_.span = dview("span", span);
+  sp_.lambda = Kokkos::View<double*, MemSpace>("lambda", n);
+  sp_.valid = Kokkos::View<int*, MemSpace>("valid", n);
+  sp_.mspan = Kokkos::View<int*, MemSpace>("mspan", n);
+  sp_.mxi = Kokkos::View<double*, MemSpace>("mxi", n);
+  sp_.gap = Kokkos::View<double*, MemSpace>("gap", n);
+  sp_.pressure = Kokkos::View<double*, MemSpace>("pressure", n);
+  sp_.x = Kokkos::View<double* [2], MemSpace>("x", n);
+  sp_.normal = Kokkos::View<double* [2], MemSpace>("normal", n);
+  const auto r = block_range(n, sys.comm()->getRank(), sys.comm()->getSize());
+  p_begin = static_cast<int>(r.first);
+  p_end = static_cast<int>(r.second);
+  // every rank holds the displacements of both curves (boundary-sized)
+  std::vector<GO> cps(slave_gid);
+  cps.insert(cps.end(), master_gid.begin(), master_gid.end());
+  std::sort(cps.begin(), cps.end());
+  cps.erase(std::unique(cps.begin(), cps.end()), cps.end());
+  replicated_ = sys.cp_dof_map(cps);
+  importer_ = rcp(new Import(sys.owned_map(), replicated_));
+}
+
+void ContactPairData::update(const Vector& u) {
+  Vector ur(replicated_);
+  ur.doImport(u, *importer_, Tpetra::INSERT);
+  auto h = ur.getLocalViewHost(Tpetra::Access::ReadOnly);
+  for (CurveData* c : {&slave, &master}) {
+    const auto& gid = c == &slave ? slave_gid : master_gid;
+    auto hu = Kokkos::create_mirror_view(c->u);
+    for (int k = 0; k < c->nb; ++k)
+      for (int d = 0; d < 2; ++d) hu(k, d) = h(replicated_->getLocalElement(2 * gid[k] + d), 0);
+    Kokkos::deep_copy(c->u, hu);
+  }
+  // search grid over the master element boxes (convex hull of their control points)
+  auto hX = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), master.X);
+  auto hU = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), master.u);
+  auto hspan = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), master.span);
+  std::vector<std::array<double, 4>> box(master.ne);
+  double ext = 0, X0 = 1e300, Y0 = 1e300, X1 = -1e300, Y1 = -1e300;
+  for (int e = 0; e < master.ne; ++e) {
+    auto& b = box[e];
+    b = {1e300, 1e300, -1e300, -1e300};
+    for (int k = hspan(e) - master.p; k <= hspan(e); ++k) {
+      const double x = hX(k, 0) + hU(k, 0), y = hX(k, 1) + hU(k, 1);
+      b = {std::min(b[0], x), std::min(b[1], y), std::max(b[2], x), std::max(b[3], y)};
+    }
+    ext = std::max({ext, b[2] - b[0], b[3] - b[1]});
+  }
+  const double margin = std::max(ext, 1e-12);
+  for (auto& b : box) {
+    b = {b[0] - margin, b[1] - margin, b[2] + margin, b[3] + margin};
+    X0 = std::min(X0, b[0]); Y0 = std::min(Y0, b[1]); X1 = std::max(X1, b[2]); Y1 = std::max(Y1, b[3]);
+  }
+  SearchGrid grid;
+  grid.h = 2 * margin;
+  grid.x0 = X0;
+  grid.y0 = Y0;
+  grid.nx = std::max(1, static_cast<int>(std::ceil((X1 - X0) / grid.h)));
+  grid.ny = std::max(1, static_cast<int>(std::ceil((Y1 - Y0) / grid.h)));
+  std::vector<std::vector<int>> cells(static_cast<size_t>(grid.nx) * grid.ny);
+  for (int e = 0; e < master.ne; ++e) {
+    const auto& b = box[e];
+    const int i0 = std::max(0, static_cast<int>((b[0] - X0) / grid.h)), i1 = std::min(grid.nx - 1, static_cast<int>((b[2] - X0) / grid.h));
+    const int j0 = std::max(0, static_cast<int>((b[1] - Y0) / grid.h)), j1 = std::min(grid.ny - 1, static_cast<int>((b[3] - Y0) / grid.h));
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i) cells[i + j * grid.nx].push_back(e);
+  }
+  std::vector<int> start(cells.size() + 1, 0), elems;
+  for (size_t c = 0; c < cells.size(); ++c) {
+    start[c + 1] = start[c] + static_cast<int>(cells[c].size());
+    elems.insert(elems.end(), cells[c].begin(), cells[c].end());
+  }
+  grid.start = dview("grid_start", start);
+  grid.elems = dview("grid_elems", elems);
+  ProjectSlavePoints k;
+  k.s = slave; k.m = master; k.sp = sp_; k.grid = grid; k.eps = pair_.penalty;
+  Kokkos::parallel_for("iga::ProjectSlavePoints", Kokkos::RangePolicy<ExecSpace>(0, num_points()), k);
+  Kokkos::fence();
+}
+
+double ContactPairData::max_active_gap_ratio() const {
+  const auto st = state();
+  double g = 0;
+  for (size_t i = 0; i < st.gap.size(); ++i)
+    if (st.active[i]) g = std::max(g, std::abs(st.gap[i]));
+  return g / h_min_;
+}
+
+double ContactPairData::augment() {
+  Kokkos::deep_copy(sp_.lambda, sp_.pressure);
+  return max_active_gap_ratio();
+}
+
+void ContactPairData::reset_multipliers() { Kokkos::deep_copy(sp_.lambda, 0.0); }
+
+ContactPointState ContactPairData::state() const {
+  ContactPointState s;
+  const int n = num_points();
+  auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.x);
+  auto nrm = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.normal);
+  auto xi = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.xi);
+  auto gap = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.gap);
+  auto pr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.pressure);
+  auto lam = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.lambda);
+  auto valid = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.valid);
+  auto w = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.weight);
+  for (int i = 0; i < n; ++i) {
+    s.x.push_back(x(i, 0));
+    s.y.push_back(x(i, 1));
+    s.nx.push_back(valid(i) ? nrm(i, 0) : 0.0);
+    s.ny.push_back(valid(i) ? nrm(i, 1) : 0.0);
+    s.xi.push_back(xi(i));
+    s.gap.push_back(valid(i) ? gap(i) : std::nan(""));
+    s.pressure.push_back(pr(i));
+    s.weight.push_back(w(i));
+    s.active.push_back(valid(i) && lam(i) - pair_.penalty * gap(i) >= 0 ? 1 : 0);
+  }
+  return s;
+}
+
+ContactSummary ContactPairData::summary() const {
+  const auto st = state();
+  ContactSummary c;
+  for (size_t i = 0; i < st.x.size(); ++i) {
+    if (!st.active[i]) continue;
+    ++c.active_points;
+    c.normal_force += st.pressure[i] * st.weight[i];
+    c.fx += st.pressure[i] * st.weight[i] * st.nx[i];
+    c.fy += st.pressure[i] * st.weight[i] * st.ny[i];
+    c.max_pressure = std::max(c.max_pressure, st.pressure[i]);
+    c.contact_length += st.weight[i] / thickness;
+    c.max_penetration = std::max(c.max_penetration, -st.gap[i]);
+  }
+  return c;
+}
+
+ContactContribution assemble_contact(const System& sys, std::vector<ContactPairData>& pairs) {
+  // 1) the dofs this rank's active points couple: overlap map and graph
+  std::vector<GO> cps;
+  struct Pt { int pair, i, sspan, mspan; };
+  std::vector<Pt> pts;
+  int active = 0;
+  for (size_t k = 0; k < pairs.size(); ++k) {
+    auto& pd = pairs[k];
+    auto valid = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.valid);
+    auto gap = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.gap);
+    auto lam = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.lambda);
+    auto sspan = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.span);
+    auto mspan = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.mspan);
+    for (int i = pd.p_begin; i < pd.p_end; ++i) {
+      if (!valid(i) || lam(i) - pd.pair().penalty * gap(i) < 0) continue;
+      ++active;
+      pts.push_back({static_cast<int>(k), i, sspan(i), mspan(i)});
+      for (int a = sspan(i) - pd.slave.p; a <= sspan(i); ++a) cps.push_back(pd.slave_gid[a]);
+      for (int b = mspan(i) - pd.master.p; b <= mspan(i); ++b) cps.push_back(pd.master_gid[b]);
+    }
+  }
+  std::sort(cps.begin(), cps.end());
+  cps.erase(std::unique(cps.begin(), cps.end()), cps.end());
+  RCP<const Map> ov = sys.cp_dof_map(cps);
+  auto lid_of = [&](GO g) { return static_cast<LO>(std::lower_bound(cps.begin(), cps.end(), g) - cps.begin()); };
+  std::vector<std::vector<LO>> nbr(cps.size());
+  std::vector<LO> el;
+  for (const Pt& p : pts) {
+    const auto& pd = pairs[p.pair];
+    el.clear();
+    for (int a = p.sspan - pd.slave.p; a <= p.sspan; ++a) el.push_back(lid_of(pd.slave_gid[a]));
+    for (int b = p.mspan - pd.master.p; b <= p.mspan; ++b) el.push_back(lid_of(pd.master_gid[b]));
+    for (LO r : el) nbr[r].insert(nbr[r].end(), el.begin(), el.end());
+  }
+  const LO n = static_cast<LO>(cps.size());
+  Teuchos::ArrayRCP<size_t> rowptr(2 * n + 1);
+  rowptr[0] = 0;
+  for (LO r = 0; r < n; ++r) {
+    auto& v = nbr[r];
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+    rowptr[2 * r + 1] = rowptr[2 * r] + 2 * v.size();
+    rowptr[2 * r + 2] = rowptr[2 * r + 1] + 2 * v.size();
+  }
+  Teuchos::ArrayRCP<LO> cols(std::max<size_t>(rowptr[2 * n], 1));
+  for (LO r = 0; r < n; ++r)
+    for (int c = 0; c < 2; ++c) {
+      size_t k = rowptr[2 * r + c];
+      for (LO l : nbr[r]) { cols[k++] = 2 * l; cols[k++] = 2 * l + 1; }
+    }
+  cols = cols.persistingView(0, rowptr[2 * n]);
+  RCP<Graph> graph = rcp(new Graph(ov, ov, rowptr, cols));
+  graph->fillComplete(sys.owned_map(), sys.owned_map());
+  RCP<Matrix> K = rcp(new Matrix(graph));
+  Vector f(ov);
+  // 2) kernels: every pair's active points of this rank
+  {
+    auto lcl = K->getLocalMatrixDevice();
+    auto fv = Kokkos::subview(f.getLocalViewDevice(Tpetra::Access::ReadWrite), Kokkos::ALL(), 0);
+    for (auto& pd : pairs) {
+      for (CurveData* c : {&pd.slave, &pd.master}) {
+        const auto& gid = c == &pd.slave ? pd.slave_gid : pd.master_gid;
+        auto h = Kokkos::create_mirror_view(c->lid);
+        for (int k = 0; k < c->nb; ++k) {
+          auto it = std::lower_bound(cps.begin(), cps.end(), gid[k]);
+          h(k) = (it != cps.end() && *it == gid[k]) ? static_cast<int>(it - cps.begin()) : -1;
+        }
+        Kokkos::deep_copy(c->lid, h);
+      }
+      if (pd.p_end <= pd.p_begin) continue;
+      dispatch_degree(std::max(pd.slave.p, pd.master.p), [&](auto P) {
+        AssembleKts<decltype(P)::value, decltype(lcl), decltype(fv)> k;
+        k.s = pd.slave; k.m = pd.master; k.sp = pd.sp_; k.eps = pd.pair().penalty;
+        k.p_begin = pd.p_begin; k.K = lcl; k.f = fv;
+        Kokkos::parallel_for("iga::AssembleKts", Kokkos::RangePolicy<ExecSpace>(0, pd.p_end - pd.p_begin), k);
+      });
+    }
+    Kokkos::fence();
+  }
+  K->fillComplete(sys.owned_map(), sys.owned_map());
+  ContactContribution out;
+  out.K = sys.export_matrix(K);
+  out.f = sys.export_vector(f);
+  Teuchos::reduceAll(*sys.comm(), Teuchos::REDUCE_SUM, 1, &active, &out.active);
+  return out;
+}
+
+}  // namespace iga

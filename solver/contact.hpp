@@ -1,0 +1,60 @@
+#pragma once
+// Contact pairs on the Tpetra system: replicated boundary displacements, the search and
+// projection kernels, and assembly of the contact residual and tangent into owned objects.
+#include <vector>
+
+#include "kernels/contact_kts.hpp"
+#include "solver/system.hpp"
+
+namespace iga {
+
+/// Host copy of one pair's slave point state, for output and convergence checks.
+struct ContactPointState {
+  std::vector<double> x, y, xi, gap, pressure, weight, nx, ny;
+  std::vector<int> active;
+};
+
+struct ContactSummary {
+  double normal_force = 0, fx = 0, fy = 0, max_pressure = 0, contact_length = 0, max_penetration = 0;
+  int active_points = 0;
+};
+
+class ContactPairData {
+ public:
+  ContactPairData(const System& sys, int index);
+  const ContactPair& pair() const { return pair_; }
+  int num_points() const { return static_cast<int>(sp_.xi.extent(0)); }
+  /// Current displacements of the two curves from the owned solution, then search + projection.
+  void update(const Vector& u);
+  /// ALM: lambda <- pressure; returns the largest gap magnitude of the active points
+  /// relative to the smallest slave element size.
+  double augment();
+  void reset_multipliers();
+  double max_active_gap_ratio() const;
+  ContactPointState state() const;
+  ContactSummary summary() const;
+
+  // used by ContactAssembly
+  CurveData slave, master;
+  SlavePoints sp_;
+  std::vector<GO> slave_gid, master_gid;   // global cp ids of the curves' control points
+  int p_begin = 0, p_end = 0;              // this rank's slave points
+  double thickness = 1;
+
+ private:
+  ContactPair pair_;
+  RCP<const Map> replicated_;
+  RCP<Import> importer_;
+  double h_min_ = 1;
+};
+
+/// Residual and tangent of all pairs: f_c and K_c on the owned map.
+struct ContactContribution {
+  RCP<Matrix> K;
+  RCP<Vector> f;
+  int active = 0;   // active points, all ranks
+};
+
+ContactContribution assemble_contact(const System& sys, std::vector<ContactPairData>& pairs);
+
+}  // namespace iga

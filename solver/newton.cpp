@@ -1,0 +1,154 @@
+#include "solver/newton.hpp"
+
+#include <Teuchos_TimeMonitor.hpp>
+#include <TpetraExt_MatrixMatrix.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+namespace iga {
+
+namespace {
+Teuchos::Time& timer(const char* name) { return *Teuchos::TimeMonitor::getNewTimer(name); }
+}  // namespace
+
+SolveResult solve(const System& sys, const std::function<void(const IterationLog&)>& progress) {
+  const Problem& P = sys.problem();
+  SolveResult res;
+  RCP<Matrix> K;
+  RCP<Vector> f;
+  {
+    Teuchos::TimeMonitor t(timer("2) Assembly: elasticity"));
+    K = sys.assemble_stiffness();
+    f = sys.assemble_loads(1.0);
+  }
+  RCP<MultiVector> Z, X;
+  if (P.linear.preconditioner == Preconditioner::MueLu && P.linear.method != LinearMethod::Direct) {
+    Z = sys.rigid_body_modes();
+    X = sys.coordinates();
+  }
+  {
+    Teuchos::TimeMonitor t(timer("3) Contact: search and assembly"));
+    for (size_t k = 0; k < P.contact.size(); ++k) res.contact.emplace_back(sys, static_cast<int>(k));
+  }
+  bool alm = false;
+  int max_aug = 1;
+  for (const auto& c : P.contact)
+    if (c.method == ContactMethod::KtsAlm || c.method == ContactMethod::MortarAlm) {
+      alm = true;
+      max_aug = std::max(max_aug, c.augmentations + 1);
+    }
+
+  RCP<Vector> u = rcp(new Vector(sys.owned_map()));
+  RCP<Vector> u_conv = rcp(new Vector(*u, Teuchos::Copy));
+  RCP<Vector> r = rcp(new Vector(sys.owned_map()));
+  RCP<Vector> du = rcp(new Vector(sys.owned_map()));
+
+  // r = lambda f - K u - f_c(u), with the contact state updated at u
+  auto residual = [&](double lambda, ContactContribution& cc) {
+    {
+      Teuchos::TimeMonitor t(timer("3) Contact: search and assembly"));
+      for (auto& c : res.contact) c.update(*u);
+      if (!res.contact.empty()) cc = assemble_contact(sys, res.contact);
+    }
+    K->apply(*u, *r);
+    r->update(lambda, *f, -1.0);
+    if (!cc.f.is_null()) r->update(-1.0, *cc.f, 1.0);
+  };
+
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int step = 1; step <= P.load_steps; ++step) {
+    const double lambda = static_cast<double>(step) / P.load_steps;
+    sys.set_dirichlet(*u, lambda);
+    bool step_ok = false;
+    int newton_its = 0;
+    double ref = 0;
+    std::string why;
+    for (int aug = 0; aug < max_aug && !step_ok; ++aug) {
+      bool newton_ok = false;
+      for (int it = 0; it <= P.newton.max_iterations; ++it) {
+        ContactContribution cc;
+        residual(lambda, cc);
+        sys.zero_dirichlet(*r);
+        const double norm = r->norm2();
+        if (aug == 0 && it == 0) ref = norm;
+        const double rel = ref > 0 ? norm / ref : 0.0;
+        IterationLog log;
+        log.step = step; log.augmentation = aug; log.iteration = it; log.lambda = lambda;
+        log.residual = rel; log.active = cc.active;
+        if (!std::isfinite(norm) || rel > 1e12) { why = "the residual diverged"; break; }
+        if (rel <= P.newton.tolerance || norm == 0.0) {
+          log.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+          if (progress) progress(log);
+          newton_ok = true;
+          break;
+        }
+        if (it == P.newton.max_iterations) {
+          std::ostringstream os;
+          os << "Newton reached solver.newton.max_iterations = " << P.newton.max_iterations
+             << " at relative residual " << rel;
+          why = os.str();
+          if (progress) progress(log);
+          break;
+        }
+        RCP<Matrix> KT;
+        {
+          Teuchos::TimeMonitor t(timer("2) Assembly: elasticity"));
+          KT = cc.K.is_null() ? Tpetra::MatrixMatrix::add(1.0, false, *K, 0.0, false, *K)
+                              : Tpetra::MatrixMatrix::add(1.0, false, *K, 1.0, false, *cc.K);
+          sys.apply_dirichlet(*KT);
+        }
+        du->putScalar(0.0);
+        const LinearSolveResult lr = solve_linear(P.linear, KT, du, r, Z, X);
+        res.linear_iterations += lr.iterations;
+        log.linear_iterations = lr.iterations;
+        log.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        if (progress) progress(log);
+        if (!lr.converged) { why = lr.message; break; }
+        u->update(1.0, *du, 1.0);
+        ++newton_its;
+      }
+      if (!newton_ok) break;
+      if (!alm) { step_ok = true; break; }
+      // augmented Lagrangian: stop when the gaps are closed, else update the multipliers
+      double worst = 0;
+      bool gaps_ok = true;
+      for (auto& c : res.contact) {
+        const bool is_alm = c.pair().method == ContactMethod::KtsAlm || c.pair().method == ContactMethod::MortarAlm;
+        if (!is_alm) continue;
+        const double ratio = c.max_active_gap_ratio();
+        worst = std::max(worst, ratio);
+        if (ratio > c.pair().alm_tolerance) { gaps_ok = false; c.augment(); }
+      }
+      if (gaps_ok) step_ok = true;
+      else if (aug + 1 == max_aug) {
+        std::ostringstream os;
+        os << "the augmented Lagrangian reached contact.augmentations with the largest gap at " << worst
+           << " times the slave element size";
+        why = os.str();
+      }
+    }
+    if (!step_ok) {
+      std::ostringstream os;
+      os << "load step " << step << " of " << P.load_steps << " did not converge: " << why
+         << "; try more analysis.load_steps, a smaller contact penalty, or solver.newton.max_iterations";
+      res.message = os.str();
+      u = u_conv;
+      break;
+    }
+    res.newton_iterations.push_back(newton_its);
+    res.steps_converged = step;
+    res.lambda = lambda;
+    u_conv = rcp(new Vector(*u, Teuchos::Copy));
+  }
+  res.converged = res.steps_converged == P.load_steps;
+  res.u = u_conv;
+  u = u_conv;
+  ContactContribution cc;
+  residual(res.lambda, cc);
+  res.residual = r;
+  return res;
+}
+
+}  // namespace iga

@@ -1,0 +1,35 @@
+#pragma once
+// Load stepping with Newton-Raphson; the contact active set is re-evaluated every
+// iteration; augmented Lagrangian methods wrap the Newton solve in multiplier updates.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "solver/contact.hpp"
+#include "solver/linear_solver.hpp"
+#include "solver/system.hpp"
+
+namespace iga {
+
+struct IterationLog {
+  int step = 0, augmentation = 0, iteration = 0;
+  double lambda = 0, residual = 0;   // residual relative to the step's first residual
+  int active = 0, linear_iterations = 0;
+  double seconds = 0;
+};
+
+struct SolveResult {
+  bool converged = false;
+  std::string message;                     // why it stopped, and what to try
+  std::vector<int> newton_iterations;      // per converged load step
+  int linear_iterations = 0;               // total
+  int steps_converged = 0;
+  double lambda = 0;                       // load factor of the kept (last converged) state
+  RCP<Vector> u;                           // displacement of the kept state
+  RCP<Vector> residual;                    // lambda f - K u - f_c at u (reactions: minus it)
+  std::vector<ContactPairData> contact;    // contact state at u
+};
+
+SolveResult solve(const System& sys, const std::function<void(const IterationLog&)>& progress = {});
+
+}  // namespace iga

@@ -1,0 +1,290 @@
+#include "solver/system.hpp"
+
+#include <Tpetra_Details_makeColMap.hpp>
+
+#include <algorithm>
+#include <numeric>
+
+#include "kernels/boundary_load.hpp"
+#include "kernels/elasticity.hpp"
+
+namespace iga {
+
+namespace {
+
+template <class T>
+Kokkos::View<T*, MemSpace> to_device(const std::string& name, const std::vector<T>& v) {
+  Kokkos::View<T*, MemSpace> d(name, v.size());
+  auto h = Kokkos::create_mirror_view(d);
+  for (size_t k = 0; k < v.size(); ++k) h(k) = v[k];
+  Kokkos::deep_copy(d, h);
+  return d;
+}
+
+PatchData make_patch_data(const Patch& P) {
+  PatchData pd;
+  for (int d = 0; d < 2; ++d) {
+    pd.p[d] = P.degree[d];
+    pd.n[d] = P.ncp(d);
+    pd.ne[d] = static_cast<int>(P.element_spans(d).size());
+  }
+  pd.U0 = to_device("U0", P.knots[0]);
+  pd.U1 = to_device("U1", P.knots[1]);
+  pd.span0 = to_device("span0", P.element_spans(0));
+  pd.span1 = to_device("span1", P.element_spans(1));
+  Kokkos::View<double* [3], MemSpace> cp("cp", P.cp.size());
+  auto h = Kokkos::create_mirror_view(cp);
+  for (size_t a = 0; a < P.cp.size(); ++a)
+    for (int c = 0; c < 3; ++c) h(a, c) = P.cp[a][c];
+  Kokkos::deep_copy(cp, h);
+  pd.cp = cp;
+  return pd;
+}
+
+}  // namespace
+
+System::System(const Problem& problem, RCP<const Comm> comm) : P_(problem), comm_(comm) {
+  const int rank = comm_->getRank(), size = comm_->getSize();
+  long long num_elements = 0;
+  for (const Body& b : P_.bodies) {
+    BodyData bd;
+    bd.pd = make_patch_data(b.patch);
+    bd.cp_offset = num_cps_;
+    bd.orientation = b.patch.orientation();
+    bd.mat = Material::plane(b.E, b.nu, P_.analysis == Analysis::PlaneStrain, P_.thickness);
+    num_cps_ += static_cast<GO>(b.patch.cp.size());
+    num_elements += b.patch.num_elements();
+    bodies_.push_back(bd);
+  }
+  // owned control points: a contiguous block per rank; dofs 2g, 2g+1
+  const auto cpr = block_range(num_cps_, rank, size);
+  std::vector<GO> owned;
+  owned.reserve(2 * (cpr.second - cpr.first));
+  for (GO g = cpr.first; g < cpr.second; ++g) { owned.push_back(2 * g); owned.push_back(2 * g + 1); }
+  owned_ = rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(), owned, 0, comm_));
+
+  // elements: a contiguous block of the global element list per rank
+  const auto er = block_range(num_elements, rank, size);
+  long long e0 = 0;
+  std::vector<GO> touched;
+  for (size_t b = 0; b < bodies_.size(); ++b) {
+    const long long ne = P_.bodies[b].patch.num_elements();
+    BodyData& bd = bodies_[b];
+    bd.e_begin = static_cast<int>(std::clamp(er.first - e0, 0LL, ne));
+    bd.e_end = static_cast<int>(std::clamp(er.second - e0, 0LL, ne));
+    e0 += ne;
+    const Patch& pt = P_.bodies[b].patch;
+    const auto sp0 = pt.element_spans(0), sp1 = pt.element_spans(1);
+    for (int e = bd.e_begin; e < bd.e_end; ++e) {
+      const int s0 = sp0[e % sp0.size()], s1 = sp1[e / sp0.size()];
+      for (int j = s1 - pt.degree[1]; j <= s1; ++j)
+        for (int i = s0 - pt.degree[0]; i <= s0; ++i) touched.push_back(bd.cp_offset + pt.index(i, j));
+    }
+  }
+  std::sort(touched.begin(), touched.end());
+  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+  overlap_ = cp_dof_map(touched);
+  for (size_t b = 0; b < bodies_.size(); ++b) {
+    BodyData& bd = bodies_[b];
+    const int ncp = static_cast<int>(P_.bodies[b].patch.cp.size());
+    std::vector<int> lid(ncp, -1);
+    for (int a = 0; a < ncp; ++a) {
+      const LO l = overlap_->getLocalElement(2 * (bd.cp_offset + a));
+      if (l != Teuchos::OrdinalTraits<LO>::invalid()) lid[a] = l / 2;
+    }
+    bd.pd.lid = to_device("lid", lid);
+    bd.lid = std::move(lid);
+  }
+
+  // Dirichlet dofs owned here; a dof constrained by several sides is reported under the first
+  std::map<GO, DirichletDof> dd;
+  for (size_t b = 0; b < bodies_.size(); ++b)
+    for (int s = 0; s < 4; ++s) {
+      const SideCondition& sc = P_.bodies[b].sides[s];
+      for (int a : P_.bodies[b].patch.side_indices(static_cast<Side>(s)))
+        for (int c = 0; c < 2; ++c)
+          if (sc.fixed[c]) {
+            const GO dof = 2 * (bodies_[b].cp_offset + a) + c;
+            if (owned_->isNodeGlobalElement(dof) && !dd.count(dof))
+              dd[dof] = DirichletDof{dof, static_cast<int>(b), s, sc.value[c]};
+          }
+    }
+  for (const auto& kv : dd) {
+    dirichlet_.push_back(kv.second);
+    dirichlet_lids_.push_back(owned_->getLocalElement(kv.first));
+  }
+}
+
+RCP<const Map> System::cp_dof_map(const std::vector<GO>& cps, bool) const {
+  std::vector<GO> dofs;
+  dofs.reserve(2 * cps.size());
+  for (GO g : cps) { dofs.push_back(2 * g); dofs.push_back(2 * g + 1); }
+  return rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(), dofs, 0, comm_));
+}
+
+RCP<Matrix> System::export_matrix(const RCP<Matrix>& overlap) const {
+  if (comm_->getSize() == 1) return overlap;
+  Export exporter(overlap->getRowMap(), owned_);
+  return Tpetra::exportAndFillCompleteCrsMatrix<Matrix>(overlap, exporter, owned_, owned_);
+}
+
+RCP<Vector> System::export_vector(const Vector& overlap) const {
+  RCP<Vector> v = rcp(new Vector(owned_));
+  Export exporter(overlap.getMap(), owned_);
+  v->doExport(overlap, exporter, Tpetra::ADD);
+  return v;
+}
+
+RCP<Matrix> System::assemble_stiffness() const {
+  // 1) graph of the overlapping rows: control point couplings through shared elements
+  const LO nov = static_cast<LO>(overlap_->getNodeNumElements() / 2);
+  std::vector<std::vector<LO>> nbr(nov);
+  for (size_t b = 0; b < bodies_.size(); ++b) {
+    const BodyData& bd = bodies_[b];
+    const Patch& pt = P_.bodies[b].patch;
+    const auto& lid = bd.lid;
+    const auto sp0 = pt.element_spans(0), sp1 = pt.element_spans(1);
+    std::vector<LO> el;
+    for (int e = bd.e_begin; e < bd.e_end; ++e) {
+      const int s0 = sp0[e % sp0.size()], s1 = sp1[e / sp0.size()];
+      el.clear();
+      for (int j = s1 - pt.degree[1]; j <= s1; ++j)
+        for (int i = s0 - pt.degree[0]; i <= s0; ++i) el.push_back(lid[pt.index(i, j)]);
+      for (LO r : el) nbr[r].insert(nbr[r].end(), el.begin(), el.end());
+    }
+  }
+  Teuchos::ArrayRCP<size_t> rowptr(2 * nov + 1);
+  rowptr[0] = 0;
+  for (LO r = 0; r < nov; ++r) {
+    auto& v = nbr[r];
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+    rowptr[2 * r + 1] = rowptr[2 * r] + 2 * v.size();
+    rowptr[2 * r + 2] = rowptr[2 * r + 1] + 2 * v.size();
+  }
+  Teuchos::ArrayRCP<LO> cols(rowptr[2 * nov]);
+  for (LO r = 0; r < nov; ++r)
+    for (int c = 0; c < 2; ++c) {
+      size_t k = rowptr[2 * r + c];
+      for (LO l : nbr[r]) { cols[k++] = 2 * l; cols[k++] = 2 * l + 1; }
+    }
+  nbr.clear();
+  RCP<Graph> graph = rcp(new Graph(overlap_, overlap_, rowptr, cols));
+  graph->fillComplete(owned_, owned_);
+
+  // 2) element loop: Kokkos kernel summing element matrices into the local matrix
+  RCP<Matrix> A = rcp(new Matrix(graph));
+  {
+    auto lcl = A->getLocalMatrixDevice();
+    for (size_t b = 0; b < bodies_.size(); ++b) {
+      const BodyData& bd = bodies_[b];
+      if (bd.e_end <= bd.e_begin) continue;
+      const GaussRule g0 = gauss_rule(bd.pd.p[0] + 1), g1 = gauss_rule(bd.pd.p[1] + 1);
+      dispatch_degree(std::max(bd.pd.p[0], bd.pd.p[1]), [&](auto P) {
+        AssembleElasticity<decltype(P)::value, decltype(lcl)> k{bd.pd, bd.mat, g0, g1, bd.e_begin, lcl};
+        k.run(bd.e_end);
+      });
+    }
+    Kokkos::fence();
+  }
+  A->fillComplete(owned_, owned_);
+  // 3) sum overlapping rows into the owned matrix
+  return export_matrix(A);
+}
+
+RCP<Vector> System::assemble_loads(double lambda) const {
+  Vector f_ov(overlap_);
+  {
+    auto f = Kokkos::subview(f_ov.getLocalViewDevice(Tpetra::Access::ReadWrite), Kokkos::ALL(), 0);
+    for (size_t b = 0; b < bodies_.size(); ++b) {
+      const BodyData& bd = bodies_[b];
+      for (int s = 0; s < 4; ++s) {
+        const SideCondition& sc = P_.bodies[b].sides[s];
+        if (sc.load == LoadKind::None) continue;
+        AssembleSideLoad<decltype(f)> k;
+        k.pd = bd.pd;
+        k.load.side = s;
+        k.load.kind = sc.load == LoadKind::Traction ? 3 : 1;
+        k.load.p0 = sc.p0; k.load.p1 = sc.p1;
+        k.load.t[0] = sc.traction[0]; k.load.t[1] = sc.traction[1];
+        k.load.scale = lambda * P_.thickness;
+        k.load.orientation = bd.orientation;
+        const int d = s <= 1 ? 1 : 0;
+        k.g = gauss_rule(bd.pd.p[d] + 1);
+        k.f = f;
+        k.e_begin = bd.e_begin; k.e_end = bd.e_end;
+        Kokkos::parallel_for("iga::AssembleSideLoad", Kokkos::RangePolicy<ExecSpace>(0, bd.pd.ne[d]), k);
+      }
+    }
+    Kokkos::fence();
+  }
+  return export_vector(f_ov);
+}
+
+void System::set_dirichlet(Vector& u, double lambda) const {
+  auto h = u.getLocalViewHost(Tpetra::Access::ReadWrite);
+  for (size_t k = 0; k < dirichlet_.size(); ++k) h(dirichlet_lids_[k], 0) = lambda * dirichlet_[k].value;
+}
+
+void System::zero_dirichlet(Vector& v) const {
+  auto h = v.getLocalViewHost(Tpetra::Access::ReadWrite);
+  for (int l : dirichlet_lids_) h(l, 0) = 0.0;
+}
+
+void System::apply_dirichlet(Matrix& A) const {
+  Vector flag(owned_);
+  {
+    auto h = flag.getLocalViewHost(Tpetra::Access::OverwriteAll);
+    Kokkos::deep_copy(h, 0.0);
+    for (int l : dirichlet_lids_) h(l, 0) = 1.0;
+  }
+  Vector colflag(A.getColMap());
+  Import importer(owned_, A.getColMap());
+  colflag.doImport(flag, importer, Tpetra::INSERT);
+  auto rowf = Kokkos::subview(flag.getLocalViewDevice(Tpetra::Access::ReadOnly), Kokkos::ALL(), 0);
+  auto colf = Kokkos::subview(colflag.getLocalViewDevice(Tpetra::Access::ReadOnly), Kokkos::ALL(), 0);
+  auto lcl = A.getLocalMatrixDevice();
+  auto rowmap = A.getRowMap()->getLocalMap();
+  auto colmap = A.getColMap()->getLocalMap();
+  Kokkos::parallel_for("iga::ApplyDirichlet", Kokkos::RangePolicy<ExecSpace>(0, lcl.numRows()),
+                       KOKKOS_LAMBDA(const int r) {
+    auto row = lcl.row(r);
+    const GO grow = rowmap.getGlobalElement(r);
+    for (int k = 0; k < row.length; ++k) {
+      const bool diag = colmap.getGlobalElement(row.colidx(k)) == grow;
+      if (diag) continue;
+      if (rowf(r) != 0.0 || colf(row.colidx(k)) != 0.0) row.value(k) = 0.0;
+    }
+  });
+  Kokkos::fence();
+}
+
+RCP<MultiVector> System::rigid_body_modes() const {
+  RCP<MultiVector> Z = rcp(new MultiVector(owned_, 3));
+  auto h = Z->getLocalViewHost(Tpetra::Access::OverwriteAll);
+  auto X = coordinates();
+  auto x = X->getLocalViewHost(Tpetra::Access::ReadOnly);
+  for (size_t l = 0; l < owned_->getNodeNumElements(); ++l) {
+    const int c = owned_->getGlobalElement(l) % 2;
+    h(l, 0) = c == 0 ? 1.0 : 0.0;
+    h(l, 1) = c == 1 ? 1.0 : 0.0;
+    h(l, 2) = c == 0 ? -x(l, 1) : x(l, 0);
+  }
+  return Z;
+}
+
+RCP<MultiVector> System::coordinates() const {
+  RCP<MultiVector> X = rcp(new MultiVector(owned_, 2));
+  auto h = X->getLocalViewHost(Tpetra::Access::OverwriteAll);
+  for (size_t l = 0; l < owned_->getNodeNumElements(); ++l) {
+    const GO g = owned_->getGlobalElement(l) / 2;
+    size_t b = 0;
+    while (b + 1 < bodies_.size() && bodies_[b + 1].cp_offset <= g) ++b;
+    const auto& cp = P_.bodies[b].patch.cp[g - bodies_[b].cp_offset];
+    h(l, 0) = cp[0];
+    h(l, 1) = cp[1];
+  }
+  return X;
+}
+
+}  // namespace iga

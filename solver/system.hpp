@@ -1,0 +1,91 @@
+#pragma once
+// The discretised problem on this rank: dof numbering, the Tpetra maps, the element
+// partition, assembly of the elastic stiffness and loads, Dirichlet conditions.
+//
+// Numbering: control points of all bodies are numbered body after body (xi fastest), global
+// cp g has dofs 2 g (x) and 2 g + 1 (y). Control points are split into contiguous blocks
+// over the ranks (the owned map); elements likewise, so that a rank's elements mostly touch
+// its own control points. A rank assembles its elements into an overlapping matrix whose
+// rows are the dofs its elements touch, and Tpetra exports (sums) that into the owned one.
+#include <map>
+#include <string>
+#include <vector>
+
+#include "model/problem.hpp"
+#include "solver/types.hpp"
+
+namespace iga {
+
+struct BodyData {
+  PatchData pd;           // device data; pd.lid is the elasticity overlap numbering
+  GO cp_offset = 0;       // global id of its first control point
+  int e_begin = 0, e_end = 0;  // this rank's elements, in the body's numbering
+  int orientation = 1;
+  Material mat;
+  std::vector<int> lid;   // host copy of pd.lid
+};
+
+/// A constrained dof, the side it is reported under, and its prescribed value (full load).
+struct DirichletDof {
+  GO dof;
+  int body, side;
+  double value;
+};
+
+class System {
+ public:
+  System(const Problem& problem, RCP<const Comm> comm);
+
+  const Problem& problem() const { return P_; }
+  RCP<const Comm> comm() const { return comm_; }
+  RCP<const Map> owned_map() const { return owned_; }
+  const std::vector<BodyData>& bodies() const { return bodies_; }
+  GO num_dofs() const { return 2 * num_cps_; }
+  GO cp_gid(int body, int a) const { return bodies_[body].cp_offset + a; }
+
+  /// Elastic stiffness, owned rows, fill complete (no boundary conditions).
+  RCP<Matrix> assemble_stiffness() const;
+  /// External load vector (Neumann conditions) at load factor `lambda`.
+  RCP<Vector> assemble_loads(double lambda) const;
+
+  /// The locally owned constrained dofs.
+  const std::vector<DirichletDof>& dirichlet() const { return dirichlet_; }
+  /// Sets u on constrained dofs to lambda times their prescribed values.
+  void set_dirichlet(Vector& u, double lambda) const;
+  /// Zeroes constrained dofs of v.
+  void zero_dirichlet(Vector& v) const;
+  /// Symmetric elimination: rows and columns of constrained dofs become zero with the
+  /// original diagonal kept, so CG still applies.
+  void apply_dirichlet(Matrix& A) const;
+
+  /// Rigid-body modes (x, y translation, rotation) on the owned dofs: MueLu's nullspace.
+  RCP<MultiVector> rigid_body_modes() const;
+  /// Reference coordinates of the owned control points, one row per dof (MueLu).
+  RCP<MultiVector> coordinates() const;
+
+  /// Builds an overlapping map from global control point ids (sorted, unique): dofs 2g, 2g+1.
+  RCP<const Map> cp_dof_map(const std::vector<GO>& cps, bool replicated_ok = true) const;
+  /// Sums an overlapping matrix/vector into owned ones (identity on one rank).
+  RCP<Matrix> export_matrix(const RCP<Matrix>& overlap) const;
+  RCP<Vector> export_vector(const Vector& overlap) const;
+
+  /// Material D of body b (thickness included).
+  const Material& material(int b) const { return bodies_[b].mat; }
+
+ private:
+  Problem P_;
+  RCP<const Comm> comm_;
+  RCP<const Map> owned_;
+  RCP<const Map> overlap_;   // elasticity overlap
+  std::vector<BodyData> bodies_;
+  GO num_cps_ = 0;
+  std::vector<DirichletDof> dirichlet_;
+  std::vector<int> dirichlet_lids_;
+};
+
+/// Owned-range split of n items over `size` ranks: [begin, end) of `rank`.
+inline std::pair<long long, long long> block_range(long long n, int rank, int size) {
+  return {n * rank / size, n * (rank + 1) / size};
+}
+
+}  // namespace iga

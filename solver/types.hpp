@@ -1,0 +1,35 @@
+#pragma once
+// Tpetra types of the project: Scalar double, LocalOrdinal int, GlobalOrdinal long long
+// (the instantiation Debian's Trilinos ships), Node from Tpetra's default so that the same
+// code builds against a Trilinos with OpenMP or CUDA.
+#include <Tpetra_Core.hpp>
+#include <Tpetra_CrsMatrix.hpp>
+#include <Tpetra_Export.hpp>
+#include <Tpetra_Import.hpp>
+#include <Tpetra_Map.hpp>
+#include <Tpetra_MultiVector.hpp>
+#include <Tpetra_Vector.hpp>
+
+#include "kernels/types.hpp"
+
+namespace iga {
+
+using SC = double;
+using LO = int;
+using GO = long long;
+using Node = Tpetra::Map<LO, GO>::node_type;
+using Map = Tpetra::Map<LO, GO, Node>;
+using Graph = Tpetra::CrsGraph<LO, GO, Node>;
+using Matrix = Tpetra::CrsMatrix<SC, LO, GO, Node>;
+using Vector = Tpetra::Vector<SC, LO, GO, Node>;
+using MultiVector = Tpetra::MultiVector<SC, LO, GO, Node>;
+using Import = Tpetra::Import<LO, GO, Node>;
+using Export = Tpetra::Export<LO, GO, Node>;
+using Comm = Teuchos::Comm<int>;
+using Teuchos::RCP;
+using Teuchos::rcp;
+
+static_assert(std::is_same<Node::execution_space, ExecSpace>::value,
+              "the kernels' execution space must be Tpetra's default node's");
+
+}  // namespace iga
