@@ -38,7 +38,7 @@ FieldPoint BodyField::eval(double u, double v, int s0, int s1) const {
   dispatch_degree(std::max(pd_.p[0], pd_.p[1]), [&](auto PP) {
     constexpr int P = decltype(PP)::value;
     double R[(P + 1) * (P + 1)], dR[(P + 1) * (P + 1)][2], x[2];
-    nurbs_grad<P>(pd_, s0, s1, u, v, R, dR, x);
+    f.detJ = nurbs_grad<P>(pd_, s0, s1, u, v, R, dR, x);
     f.x = x[0];
     f.y = x[1];
     for (int j = 0; j <= pd_.p[1]; ++j)

@@ -13,6 +13,7 @@ struct FieldPoint {
   double x = 0, y = 0;                  // reference position
   double ux = 0, uy = 0;
   double sxx = 0, syy = 0, sxy = 0, szz = 0;
+  double detJ = 0;                      // det(dx/dxi) at the point
   double von_mises() const;
 };
 

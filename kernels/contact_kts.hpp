@@ -73,9 +73,13 @@ struct SearchGrid {
 
 /// Closest point on the master curve to x within the element of span s: Newton on
 /// (x - rho) . rho' = 0 from the best of a few samples, clamped to the element.
-/// Returns the squared distance; xi, orthogonality residual |f| / (|x - rho| |t|) out.
+/// Returns the squared distance and xi; `inside` is false when the projection is clamped at
+/// an element end with the foot point beyond it (f = (x - rho) . t pointing out of the
+/// element by more than 1e-10 of the element's length). Points on the curve itself (gap 0,
+/// as augmented Lagrangian solutions have) are judged by that sign, not by a ratio to the
+/// distance, which round-off would decide.
 KOKKOS_INLINE_FUNCTION double project_on_element(const CurveData& m, int s, const double x[2], double& xi,
-                                                 double& ortho) {
+                                                 bool& inside) {
   const CurrentCP cp{m.X, m.u};
   const double a = m.U(s), b = m.U(s + 1);
   double R[3][kMaxBasis1D], r[2], t[2], dd[2];
@@ -92,9 +96,8 @@ KOKKOS_INLINE_FUNCTION double project_on_element(const CurveData& m, int s, cons
     const double dx = x[0] - r[0], dy = x[1] - r[1];
     const double f = dx * t[0] + dy * t[1];
     const double fp = -(t[0] * t[0] + t[1] * t[1]) + dx * dd[0] + dy * dd[1];
-    double step = fp != 0.0 ? -f / fp : 0.0;
-    // a non-descent step (f' >= 0 far from the curve) falls back to a gradient step
-    if (fp >= 0.0) step = f / (t[0] * t[0] + t[1] * t[1]);
+    // Newton; a non-descent step (f' >= 0 far from the curve) falls back to a gradient step
+    const double step = fp < 0.0 ? -f / fp : f / (t[0] * t[0] + t[1] * t[1]);
     double nxi = xi + step;
     if (nxi < a) nxi = a;
     if (nxi > b) nxi = b;
@@ -104,8 +107,9 @@ KOKKOS_INLINE_FUNCTION double project_on_element(const CurveData& m, int s, cons
   }
   curve_eval(m.nb, m.p, m.U.data(), cp, m.w, xi, r, t, dd, R);
   const double dx = x[0] - r[0], dy = x[1] - r[1];
-  const double dist = kmath::sqrt(dx * dx + dy * dy), tl = kmath::sqrt(t[0] * t[0] + t[1] * t[1]);
-  ortho = dist > 0 ? kmath::fabs(dx * t[0] + dy * t[1]) / (dist * tl) : 0.0;
+  const double f = dx * t[0] + dy * t[1];
+  const double tol = 1e-10 * (t[0] * t[0] + t[1] * t[1]) * (b - a);
+  inside = !((xi <= a && f < -tol) || (xi >= b && f > tol));
   return dx * dx + dy * dy;
 }
 
@@ -127,22 +131,18 @@ struct ProjectSlavePoints {
     const int cy = static_cast<int>(kmath::floor((x[1] - grid.y0) / grid.h));
     if (cx < 0 || cy < 0 || cx >= grid.nx || cy >= grid.ny) return;
     const int cell = cx + cy * grid.nx;
-    double best = 1e300, bxi = 0, bortho = 1;
+    double best = 1e300, bxi = 0;
     int bspan = -1;
     for (int k = grid.start(cell); k < grid.start(cell + 1); ++k) {
       const int e = grid.elems(k);
-      double xi, ortho;
-      const double d2 = project_on_element(m, m.span(e), x, xi, ortho);
-      // prefer orthogonal projections; among those the nearest
-      const bool orth = ortho < 1e-8 || d2 == 0.0;
-      const bool borth = bortho < 1e-8 || best == 0.0;
-      if ((orth && !borth) || (orth == borth && d2 < best)) {
-        best = d2; bxi = xi; bspan = m.span(e); bortho = ortho;
-      }
+      double xi;
+      bool inside;
+      const double d2 = project_on_element(m, m.span(e), x, xi, inside);
+      // the nearest orthogonal projection
+      if (inside && d2 < best) { best = d2; bxi = xi; bspan = m.span(e); }
     }
+    // none: beyond the master's ends, or outside a kink; not in contact
     if (bspan < 0) return;
-    // no orthogonal projection: beyond the master's ends, or at a kink; not in contact
-    if (!(bortho < 1e-8 || best == 0.0)) return;
     curve_eval(m.nb, m.p, m.U.data(), CurrentCP{m.X, m.u}, m.w, bxi, x, t, dd, R);
     double n[2];
     side_normal(m.side, m.orientation, t, n);

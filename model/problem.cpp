@@ -247,7 +247,7 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
 
   if (n["refine"]) {
     const YAML::Node r = n["refine"];
-    R.keys(r, path + ".refine", {"degree_elevate", "subdivide"});
+    R.keys(r, path + ".refine", {"degree_elevate", "insert_knots", "subdivide"});
     if (r["degree_elevate"]) {
       const auto e = R.int_pair(r["degree_elevate"], path + ".refine.degree_elevate");
       for (int d = 0; d < 2; ++d) {
@@ -256,6 +256,21 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
           R.fail(path + ".refine.degree_elevate", r["degree_elevate"],
                  "would raise degree " + std::to_string(b.patch.degree[d]) + " above the supported 5");
         b.patch.elevate(d, e[d]);
+      }
+    }
+    if (r["insert_knots"]) {
+      const YAML::Node ik = r["insert_knots"];
+      const std::string key = path + ".refine.insert_knots";
+      if (!ik.IsSequence() || ik.size() != 2) R.fail(key, ik, "expected two lists [[xi knots], [eta knots]] in [0, 1]");
+      for (int d = 0; d < 2; ++d) {
+        const auto ks = R.numbers(ik[d], key + "[" + std::to_string(d) + "]");
+        const auto& U = b.patch.knots[d];
+        for (double t : ks) {
+          if (!(t > 0 && t < 1)) R.fail(key + "[" + std::to_string(d) + "]", ik[d], "knots must lie strictly inside (0, 1)");
+          b.patch.insert_knot(d, U.front() + t * (U.back() - U.front()));
+        }
+        const std::string err = b.patch.validate();
+        if (!err.empty()) R.fail(key + "[" + std::to_string(d) + "]", ik[d], err);
       }
     }
     if (r["subdivide"]) {
@@ -509,6 +524,11 @@ Problem build(const Reader& R, const YAML::Node& root) {
       }
     }
   }
+
+  // Default linear method: CG for elasticity (SPD); GMRES with contact, whose consistent
+  // tangent (the -p G term of the moving projection) is not positive definite far from the
+  // solution.
+  if (!P.linear.method_given) P.linear.method = P.contact.empty() ? LinearMethod::CG : LinearMethod::GMRES;
 
   // Rigid-body motion: a body that no contact pair touches must be held by its supports.
   for (size_t b = 0; b < P.bodies.size(); ++b) {

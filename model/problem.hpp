@@ -48,7 +48,7 @@ struct ContactPair {
   ContactMethod method = ContactMethod::KtsPenalty;
   double penalty = 0;
   int quadrature_points = 0;        // per slave knot span; 0 = degree + 2
-  int augmentations = 20;           // ALM: maximum multiplier updates
+  int augmentations = 50;           // ALM: maximum multiplier updates
   double alm_tolerance = 1e-8;      // ALM: gap tolerance relative to slave element size
 };
 

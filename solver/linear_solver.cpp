@@ -11,7 +11,6 @@
 
 namespace iga {
 
-LinearMethod default_linear_method(const LinearOptions& opt, int) { return opt.method; }
 
 namespace {
 
@@ -52,9 +51,12 @@ RCP<Operator> make_preconditioner(const LinearOptions& opt, const RCP<Matrix>& A
       p.set("multigrid algorithm", "sa");
       p.set("number of equations", 2);
       p.set("coarse: max size", 1000);
-      p.set("smoother: type", "CHEBYSHEV");
+      // symmetric Gauss-Seidel keeps the V-cycle symmetric positive definite (for CG);
+      // Chebyshev with MueLu's default eigenvalue estimate was not, on the wheel example
+      p.set("smoother: type", "RELAXATION");
       Teuchos::ParameterList sm;
-      sm.set("chebyshev: degree", 2);
+      sm.set("relaxation: type", "Symmetric Gauss-Seidel");
+      sm.set("relaxation: sweeps", 1);
       p.set("smoother: params", sm);
       p.set("aggregation: type", "uncoupled");
       p.set("aggregation: drop tol", 0.0);
@@ -99,7 +101,12 @@ LinearSolveResult solve_linear(const LinearOptions& opt, const RCP<Matrix>& A, c
   Teuchos::TimeMonitor t(*Teuchos::TimeMonitor::getNewTimer("5) Linear solve"));
   using Problem = Belos::LinearProblem<SC, MultiVector, Operator>;
   RCP<Problem> problem = rcp(new Problem(A, x, b));
-  if (!M.is_null()) problem->setRightPrec(M);
+  // CG needs a symmetric operator: precondition on the left; GMRES on the right, so that
+  // its residual norm is the true one
+  if (!M.is_null()) {
+    if (opt.method == LinearMethod::CG) problem->setLeftPrec(M);
+    else problem->setRightPrec(M);
+  }
   problem->setProblem();
   RCP<Teuchos::ParameterList> params = rcp(new Teuchos::ParameterList);
   params->set("Convergence Tolerance", opt.tolerance);

@@ -21,8 +21,4 @@ LinearSolveResult solve_linear(const LinearOptions& opt, const RCP<Matrix>& A, c
                                const RCP<Vector>& b, const RCP<MultiVector>& nullspace,
                                const RCP<MultiVector>& coordinates);
 
-/// Effective linear method: direct on one rank when none is given and the system is small,
-/// else CG.
-LinearMethod default_linear_method(const LinearOptions& opt, int ranks);
-
 }  // namespace iga

@@ -124,15 +124,18 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
       if (gaps_ok) step_ok = true;
       else if (aug + 1 == max_aug) {
         std::ostringstream os;
-        os << "the augmented Lagrangian reached contact.augmentations with the largest gap at " << worst
-           << " times the slave element size";
+        os << "the augmented Lagrangian reached contact.augmentations = " << max_aug - 1
+           << " with the largest gap at " << worst
+           << " times the slave element size; try more contact.augmentations, a larger contact penalty (faster "
+              "multiplier convergence) or a looser contact.alm_tolerance";
         why = os.str();
       }
     }
     if (!step_ok) {
       std::ostringstream os;
-      os << "load step " << step << " of " << P.load_steps << " did not converge: " << why
-         << "; try more analysis.load_steps, a smaller contact penalty, or solver.newton.max_iterations";
+      os << "load step " << step << " of " << P.load_steps << " did not converge: " << why;
+      if (why.find("; try") == std::string::npos)
+        os << "; try more analysis.load_steps, a smaller contact penalty, or more solver.newton.max_iterations";
       res.message = os.str();
       u = u_conv;
       break;

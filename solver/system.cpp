@@ -3,6 +3,7 @@
 #include <Tpetra_Details_makeColMap.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 #include "kernels/boundary_load.hpp"
@@ -123,7 +124,7 @@ RCP<const Map> System::cp_dof_map(const std::vector<GO>& cps, bool) const {
 }
 
 RCP<Matrix> System::export_matrix(const RCP<Matrix>& overlap) const {
-  if (comm_->getSize() == 1) return overlap;
+  if (overlap->getRowMap()->isSameAs(*owned_)) return overlap;
   Export exporter(overlap->getRowMap(), owned_);
   return Tpetra::exportAndFillCompleteCrsMatrix<Matrix>(overlap, exporter, owned_, owned_);
 }
@@ -217,6 +218,42 @@ RCP<Vector> System::assemble_loads(double lambda) const {
       }
     }
     Kokkos::fence();
+  }
+  if (!user_tractions_.empty()) {
+    auto h = f_ov.getLocalViewHost(Tpetra::Access::ReadWrite);
+    for (const auto& ut : user_tractions_) {
+      const BodyData& bd = bodies_[ut.body];
+      const Curve c = P_.bodies[ut.body].patch.side_curve(ut.side);
+      const GaussRule g = gauss_rule(c.degree + 2);
+      const auto spans = c.element_spans();
+      for (size_t k = 0; k < spans.size(); ++k) {
+        const int s = spans[k];
+        // the side element belongs to the rank owning its patch element
+        const int side = static_cast<int>(ut.side), ne0 = bd.pd.ne[0], ne1 = bd.pd.ne[1], kk = static_cast<int>(k);
+        const int pe = side == 0 ? kk * ne0 : side == 1 ? ne0 - 1 + kk * ne0 : side == 2 ? kk : kk + (ne1 - 1) * ne0;
+        if (pe < bd.e_begin || pe >= bd.e_end) continue;
+        const double a = c.knots[s], b = c.knots[s + 1], hh = 0.5 * (b - a);
+        for (int q = 0; q < g.n; ++q) {
+          const double u = a + hh * (g.x[q] + 1.0);
+          double ders[3][kMaxBasis1D], w[kMaxBasis1D], R[3][kMaxBasis1D];
+          bspline_ders(s, u, c.degree, c.knots.data(), 1, ders);
+          for (int j = 0; j <= c.degree; ++j) { w[j] = c.cp[s - c.degree + j][2]; ders[2][j] = 0; }
+          rationalize_1d(c.degree, ders, w, R);
+          double x[2] = {0, 0}, t[2] = {0, 0};
+          for (int j = 0; j <= c.degree; ++j)
+            for (int d = 0; d < 2; ++d) {
+              x[d] += R[0][j] * c.cp[s - c.degree + j][d];
+              t[d] += R[1][j] * c.cp[s - c.degree + j][d];
+            }
+          const auto tr = ut.t(x[0], x[1]);
+          const double wq = lambda * g.w[q] * hh * std::hypot(t[0], t[1]) * P_.thickness;
+          for (int j = 0; j <= c.degree; ++j) {
+            const int l = bd.lid[c.patch_index[s - c.degree + j]];
+            for (int d = 0; d < 2; ++d) h(2 * l + d, 0) += R[0][j] * tr[d] * wq;
+          }
+        }
+      }
+    }
   }
   return export_vector(f_ov);
 }

@@ -7,6 +7,7 @@
 // over the ranks (the owned map); elements likewise, so that a rank's elements mostly touch
 // its own control points. A rank assembles its elements into an overlapping matrix whose
 // rows are the dofs its elements touch, and Tpetra exports (sums) that into the owned one.
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -48,6 +49,11 @@ class System {
   /// External load vector (Neumann conditions) at load factor `lambda`.
   RCP<Vector> assemble_loads(double lambda) const;
 
+  /// C++ API: a traction t(x, y) on a side, in addition to the problem file's loads
+  /// (verification against analytic solutions; integrated on the host).
+  using TractionFunction = std::function<std::array<double, 2>(double x, double y)>;
+  void add_traction(int body, Side side, TractionFunction t) { user_tractions_.push_back({body, side, std::move(t)}); }
+
   /// The locally owned constrained dofs.
   const std::vector<DirichletDof>& dirichlet() const { return dirichlet_; }
   /// Sets u on constrained dofs to lambda times their prescribed values.
@@ -81,6 +87,8 @@ class System {
   GO num_cps_ = 0;
   std::vector<DirichletDof> dirichlet_;
   std::vector<int> dirichlet_lids_;
+  struct UserTraction { int body; Side side; TractionFunction t; };
+  std::vector<UserTraction> user_tractions_;
 };
 
 /// Owned-range split of n items over `size` ranks: [begin, end) of `rank`.

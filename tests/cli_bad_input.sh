@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Every bad input: exit code 2, exactly one line on stderr (the expected one), nothing written.
+set -u
+exe="$1"; dir="$2"
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+fail=0; n=0
+for f in "$dir"/*.yaml; do
+  n=$((n + 1))
+  expect=$(head -n1 "$f" | sed -e 's/^# expect: //' -e "s|{file}|$f|g")
+  out="$tmp/out_$n"
+  err=$("$exe" run "$f" --output "$out" --quiet 2>&1 >/dev/null); rc=$?
+  if [ "$rc" != 2 ]; then echo "FAIL $f: exit $rc (expected 2)"; fail=1; fi
+  if [ "$(printf '%s\n' "$err" | wc -l)" != 1 ]; then echo "FAIL $f: not one line: $err"; fail=1; fi
+  if [ "$err" != "$expect" ]; then echo "FAIL $f:"; echo "  got:      $err"; echo "  expected: $expect"; fail=1; fi
+  if [ -e "$out" ]; then echo "FAIL $f: output directory was created"; fail=1; fi
+done
+# usage errors
+"$exe" run 2>/dev/null; [ $? = 2 ] || { echo "FAIL: no file should exit 2"; fail=1; }
+"$exe" run x.yaml --bogus 2>/dev/null; [ $? = 2 ] || { echo "FAIL: unknown option should exit 2"; fail=1; }
+echo "$n bad inputs checked"
+exit $fail

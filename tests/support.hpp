@@ -1,0 +1,135 @@
+#pragma once
+// Helpers shared by the tests: solve a problem given as YAML text, integrate errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <random>
+#include <sstream>
+#include <string>
+
+#include "io/fields.hpp"
+#include "io/output.hpp"
+#include "model/problem.hpp"
+#include "solver/newton.hpp"
+
+namespace iga::test {
+
+struct Solved {
+  Problem P;
+  RCP<System> sys;
+  SolveResult res;
+  std::vector<std::vector<double>> disp;   // per body, on rank 0
+};
+
+inline Solved solve_text(const std::string& yaml, RCP<const Comm> comm = Tpetra::getDefaultComm(),
+                         const std::function<void(System&)>& setup = {},
+                         const std::vector<std::string>& sets = {}) {
+  Solved s;
+  s.P = parse_problem(yaml, "test.yaml", sets);
+  s.sys = rcp(new System(s.P, comm));
+  if (setup) setup(*s.sys);
+  s.res = solve(*s.sys);
+  s.disp = gather_displacements(*s.sys, *s.res.u);
+  return s;
+}
+
+struct Exact {
+  std::function<std::array<double, 2>(double, double)> u;        // displacement
+  std::function<std::array<double, 3>(double, double)> sigma;    // sxx, syy, sxy
+};
+
+struct Errors {
+  double u_l2 = 0, u_rel = 0, s_l2 = 0, s_rel = 0;
+};
+
+/// Relative L2 errors of displacement and stress over one body (rank 0 only).
+inline Errors l2_errors(const Solved& s, int body, const Exact& ex, int extra_points = 2) {
+  Errors e;
+  BodyField f(s.P, body, s.disp[body]);
+  const Patch& pt = s.P.bodies[body].patch;
+  const GaussRule g0 = gauss_rule(pt.degree[0] + extra_points), g1 = gauss_rule(pt.degree[1] + extra_points);
+  double eu = 0, nu = 0, es = 0, ns = 0;
+  for (int s1 : pt.element_spans(1))
+    for (int s0 : pt.element_spans(0)) {
+      const double ua = pt.knots[0][s0], ub = pt.knots[0][s0 + 1], va = pt.knots[1][s1], vb = pt.knots[1][s1 + 1];
+      for (int j = 0; j < g1.n; ++j)
+        for (int i = 0; i < g0.n; ++i) {
+          const double u = ua + 0.5 * (ub - ua) * (g0.x[i] + 1), v = va + 0.5 * (vb - va) * (g1.x[j] + 1);
+          const FieldPoint p = f.eval(u, v, s0, s1);
+          const double w = std::abs(p.detJ) * g0.w[i] * g1.w[j] * 0.25 * (ub - ua) * (vb - va);
+          const auto ue = ex.u(p.x, p.y);
+          const auto se = ex.sigma(p.x, p.y);
+          eu += w * (std::pow(p.ux - ue[0], 2) + std::pow(p.uy - ue[1], 2));
+          nu += w * (ue[0] * ue[0] + ue[1] * ue[1]);
+          es += w * (std::pow(p.sxx - se[0], 2) + std::pow(p.syy - se[1], 2) + 2 * std::pow(p.sxy - se[2], 2));
+          ns += w * (se[0] * se[0] + se[1] * se[1] + 2 * se[2] * se[2]);
+        }
+    }
+  e.u_l2 = std::sqrt(eu);
+  e.u_rel = std::sqrt(eu / nu);
+  e.s_l2 = std::sqrt(es);
+  e.s_rel = std::sqrt(es / ns);
+  return e;
+}
+
+/// Sum of all external loads (x, y) at load factor 1, over all ranks.
+inline std::array<double, 2> total_load(const System& sys) {
+  RCP<Vector> f = sys.assemble_loads(1.0);
+  auto h = f->getLocalViewHost(Tpetra::Access::ReadOnly);
+  double loc[2] = {0, 0}, glob[2];
+  for (size_t l = 0; l < f->getLocalLength(); ++l) loc[sys.owned_map()->getGlobalElement(l) % 2] += h(l, 0);
+  Teuchos::reduceAll(*sys.comm(), Teuchos::REDUCE_SUM, 2, loc, glob);
+  return {glob[0], glob[1]};
+}
+
+/// Sum of all reactions (x, y), over all ranks.
+inline std::array<double, 2> total_reaction(const System& sys, const Vector& residual) {
+  const auto j = reactions_json(sys, residual);
+  std::array<double, 2> r{0, 0};
+  for (const auto& body : j)
+    for (const auto& side : body) { r[0] += side[0].get<double>(); r[1] += side[1].get<double>(); }
+  return r;
+}
+
+/// A distorted NURBS patch of degrees (p, p): unit square with perturbed interior control
+// points and weights, 3 x 2 elements.
+inline Patch distorted_patch(int p, unsigned seed = 7, bool rational = true) {
+  Patch P;
+  P.degree = {1, 1};
+  P.knots = {uniform_open_knots(1, 1), uniform_open_knots(1, 1)};
+  P.cp = {{0, 0, 1}, {2, 0, 1}, {0, 1, 1}, {2, 1, 1}};
+  P.elevate(0, p - 1);
+  P.elevate(1, p - 1);
+  P.subdivide(0, 3);
+  P.subdivide(1, 2);
+  P.insert_knot(0, 0.1);  // non-uniform spans
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> d(-0.08, 0.08), w(0.75, 1.25);
+  for (int j = 1; j + 1 < P.ncp(1); ++j)
+    for (int i = 1; i + 1 < P.ncp(0); ++i) {
+      auto& c = P.cp[P.index(i, j)];
+      c[0] += d(rng); c[1] += d(rng);
+      if (rational) c[2] = w(rng);
+    }
+  return P;
+}
+
+/// YAML of a single patch: rollers on west and south, tractions (10, 0) east and (0, 5) north.
+inline std::string patch_yaml(const Patch& P) {
+  std::ostringstream os;
+  os.precision(17);
+  os << "bodies:\n  - name: b\n    material: {youngs_modulus: 1000.0, poisson_ratio: 0.3}\n    geometry:\n      nurbs:\n"
+     << "        degree: [" << P.degree[0] << ", " << P.degree[1] << "]\n        knots: [[";
+  for (size_t k = 0; k < P.knots[0].size(); ++k) os << (k ? ", " : "") << P.knots[0][k];
+  os << "], [";
+  for (size_t k = 0; k < P.knots[1].size(); ++k) os << (k ? ", " : "") << P.knots[1][k];
+  os << "]]\n        control_points:\n";
+  for (const auto& c : P.cp) os << "          - [" << c[0] << ", " << c[1] << ", " << c[2] << "]\n";
+  os << "    boundary:\n      west: {displacement: {x: 0.0}}\n      south: {displacement: {y: 0.0}}\n"
+     << "      east: {traction: [10.0, 0.0]}\n      north: {traction: [0.0, 5.0]}\n";
+  return os.str();
+}
+
+
+}  // namespace iga::test

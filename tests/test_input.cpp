@@ -1,0 +1,93 @@
+// The failure catalogue: every file in tests/bad_inputs/ starts with a line
+//   # expect: <the exact first line of the message>
+// where {file} stands for the file's path. Loading must throw InputError with that line.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "model/problem.hpp"
+
+using namespace iga;
+namespace fs = std::filesystem;
+
+TEST(BadInput, CatalogueGivesTheExpectedOneLineMessages) {
+  const fs::path dir = fs::path(IGACONTACT_SOURCE_DIR) / "tests" / "bad_inputs";
+  int count = 0;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    if (entry.path().extension() != ".yaml") continue;
+    std::ifstream in(entry.path());
+    std::string first;
+    std::getline(in, first);
+    const std::string tag = "# expect: ";
+    ASSERT_EQ(first.rfind(tag, 0), 0u) << entry.path() << " has no '# expect: ' first line";
+    std::string expect = first.substr(tag.size());
+    const std::string file = entry.path().string();
+    for (size_t k; (k = expect.find("{file}")) != std::string::npos;) expect.replace(k, 6, file);
+    ++count;
+    try {
+      load_problem(file);
+      ADD_FAILURE() << file << " was accepted";
+    } catch (const InputError& e) {
+      const std::string msg = e.what();
+      EXPECT_EQ(msg.find('\n'), std::string::npos) << "message is not one line: " << msg;
+      EXPECT_EQ(msg, expect) << entry.path().filename();
+    }
+  }
+  EXPECT_GE(count, 30);
+}
+
+TEST(BadInput, MissingFileAndOverrides) {
+  try { load_problem("does/not/exist.yaml"); FAIL(); } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "does/not/exist.yaml: cannot open the problem file");
+  }
+  const fs::path good = fs::path(IGACONTACT_SOURCE_DIR) / "examples" / "lame_cylinder.yaml";
+  EXPECT_NO_THROW(load_problem(good.string(), {"bodies.0.refine.subdivide=[4,2]"}));
+  const Problem P = load_problem(good.string(), {"bodies.0.material.poisson_ratio=0.25", "analysis.load_steps=3"});
+  EXPECT_DOUBLE_EQ(P.bodies[0].nu, 0.25);
+  EXPECT_EQ(P.load_steps, 3);
+  try { load_problem(good.string(), {"bodies.0.material.poisson_ratio=0.5"}); FAIL(); } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bodies[0].material.poisson_ratio = 0.5: must lie in (-1, 0.5)"), std::string::npos) << e.what();
+  }
+  try { load_problem(good.string(), {"bodies.7.name=x"}); FAIL(); } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'7' is not an index of that list"), std::string::npos) << e.what();
+  }
+  try { load_problem(good.string(), {"nonsense"}); FAIL(); } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("expected KEY=VALUE"), std::string::npos) << e.what();
+  }
+}
+
+TEST(BadInput, FuzzedTextNeverCrashesTheLoader) {
+  // a bounded mutation run over the example files: any outcome but InputError or success fails
+  const fs::path dir = fs::path(IGACONTACT_SOURCE_DIR) / "examples";
+  std::vector<std::string> seeds;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.path().extension() == ".yaml") {
+      std::ifstream in(e.path());
+      seeds.emplace_back(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+  ASSERT_FALSE(seeds.empty());
+  unsigned x = 12345;
+  auto rnd = [&]() { x = x * 1103515245u + 12345u; return (x >> 8) & 0xffffff; };
+  const char alphabet[] = "-0123456789.e[]{}:, \n#abcxyz";
+  int accepted = 0;
+  for (int it = 0; it < 3000; ++it) {
+    std::string s = seeds[rnd() % seeds.size()];
+    const int edits = 1 + rnd() % 4;
+    for (int k = 0; k < edits && !s.empty(); ++k) {
+      const size_t pos = rnd() % s.size();
+      switch (rnd() % 3) {
+        case 0: s[pos] = alphabet[rnd() % (sizeof(alphabet) - 1)]; break;
+        case 1: s.erase(pos, 1 + rnd() % 8); break;
+        default: s.insert(pos, 1, alphabet[rnd() % (sizeof(alphabet) - 1)]); break;
+      }
+    }
+    try {
+      parse_problem(s, "fuzz.yaml", {"bodies.0.refine.subdivide=1"});
+      ++accepted;
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("fuzz.yaml", 0), 0u) << e.what();
+    }
+  }
+  std::printf("  %d of 3000 mutated files were still valid\n", accepted);
+}

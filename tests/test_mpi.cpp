@@ -1,0 +1,51 @@
+// Run on 2 ranks: each problem is solved on all ranks and on rank 0 alone (MPI_COMM_SELF);
+// the control point displacements must agree to 1e-10 (relative).
+#include <gtest/gtest.h>
+#include <Teuchos_DefaultMpiComm.hpp>
+#include <mpi.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "support.hpp"
+
+using namespace iga;
+using namespace iga::test;
+
+namespace {
+std::string read(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+void compare_one_and_many(const std::string& yaml, const std::vector<std::string>& sets, double tol) {
+  auto world = Tpetra::getDefaultComm();
+  ASSERT_GE(world->getSize(), 2) << "run this test with mpiexec -n 2";
+  const Solved many = solve_text(yaml, world, {}, sets);
+  ASSERT_TRUE(many.res.converged);
+  if (world->getRank() != 0) return;
+  auto self = rcp(new Teuchos::MpiComm<int>(MPI_COMM_SELF));
+  const Solved one = solve_text(yaml, self, {}, sets);
+  ASSERT_TRUE(one.res.converged);
+  double diff = 0, norm = 0;
+  for (size_t b = 0; b < one.disp.size(); ++b)
+    for (size_t k = 0; k < one.disp[b].size(); ++k) {
+      diff = std::max(diff, std::abs(one.disp[b][k] - many.disp[b][k]));
+      norm = std::max(norm, std::abs(one.disp[b][k]));
+    }
+  std::printf("  max |u_1 - u_%d| / max |u| = %.2e\n", world->getSize(), diff / norm);
+  EXPECT_LT(diff / norm, tol);
+}
+}  // namespace
+
+TEST(OneVersusTwoRanks, LameCylinder) {
+  compare_one_and_many(read(IGACONTACT_SOURCE_DIR "/examples/lame_cylinder.yaml"),
+                       {"solver.linear.tolerance=1e-15", "solver.linear.max_iterations=5000"}, 1e-10);
+}
+
+TEST(OneVersusTwoRanks, TwoBlocksContact) {
+  compare_one_and_many(read(IGACONTACT_SOURCE_DIR "/examples/two_blocks_middle.yaml"),
+                       {"solver.linear.tolerance=1e-13"}, 1e-10);
+}

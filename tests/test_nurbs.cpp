@@ -1,0 +1,154 @@
+// NURBS basis, refinement and boundary curves.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "kernels/nurbs_basis.hpp"
+#include "model/nurbs.hpp"
+
+using namespace iga;
+
+namespace {
+// Non-uniform open knot vector of degree p with one repeated interior knot (C^{p-2}).
+std::vector<double> test_knots(int p) {
+  std::vector<double> U(p + 1, 0.0);
+  for (double k : {0.13, 0.4, 0.4, 0.71, 0.9}) U.push_back(k);
+  U.insert(U.end(), p + 1, 1.0);
+  return U;
+}
+
+Patch annulus(double ri, double ro) {
+  Patch P;
+  P.degree = {2, 1};
+  P.knots = {uniform_open_knots(2, 1), uniform_open_knots(1, 1)};
+  const double w = std::sqrt(0.5);
+  for (double r : {ri, ro}) P.cp.insert(P.cp.end(), {{r, 0, 1}, {r, r, w}, {0, r, 1}});
+  return P;
+}
+}  // namespace
+
+class BasisDegree : public ::testing::TestWithParam<int> {};
+
+TEST_P(BasisDegree, PartitionOfUnityAndDerivativesMatchFiniteDifferences) {
+  const int p = GetParam();
+  const auto U = test_knots(p);
+  const int nb = static_cast<int>(U.size()) - p - 1;
+  for (int k = 1; k < 200; ++k) {
+    const double u = k / 200.0;
+    const int s = find_span(nb, p, u, U.data());
+    ASSERT_LE(U[s], u);
+    ASSERT_LT(u, U[s + 1]);
+    double d[3][kMaxBasis1D];
+    bspline_ders(s, u, p, U.data(), 2, d);
+    double sum = 0, dsum = 0, ddsum = 0;
+    for (int j = 0; j <= p; ++j) { sum += d[0][j]; dsum += d[1][j]; ddsum += d[2][j]; EXPECT_GE(d[0][j], -1e-15); }
+    EXPECT_NEAR(sum, 1.0, 1e-14);
+    EXPECT_NEAR(dsum, 0.0, 1e-11);
+    EXPECT_NEAR(ddsum, 0.0, 1e-9);
+    // central differences inside the span (h small against the span)
+    const double h = 1e-6 * (U[s + 1] - U[s]);
+    if (u - h <= U[s] || u + h >= U[s + 1]) continue;
+    double dp[3][kMaxBasis1D], dm[3][kMaxBasis1D];
+    bspline_ders(s, u + h, p, U.data(), 2, dp);
+    bspline_ders(s, u - h, p, U.data(), 2, dm);
+    for (int j = 0; j <= p; ++j) {
+      const double scale = 1.0 + std::abs(d[1][j]);
+      EXPECT_NEAR((dp[0][j] - dm[0][j]) / (2 * h), d[1][j], 1e-6 * scale);
+      if (p >= 2) EXPECT_NEAR((dp[1][j] - dm[1][j]) / (2 * h), d[2][j], 1e-5 * (1.0 + std::abs(d[2][j])));
+    }
+  }
+}
+
+TEST_P(BasisDegree, RationalCurveDerivativesMatchFiniteDifferences) {
+  const int p = GetParam();
+  const auto U = test_knots(p);
+  const int nb = static_cast<int>(U.size()) - p - 1;
+  std::mt19937 rng(p);
+  std::uniform_real_distribution<double> wd(0.5, 1.5), xd(-1, 1);
+  Kokkos::View<double* [2], Kokkos::HostSpace> cp("cp", nb);
+  Kokkos::View<double*, Kokkos::HostSpace> w("w", nb);
+  for (int i = 0; i < nb; ++i) { cp(i, 0) = i + 0.3 * xd(rng); cp(i, 1) = xd(rng); w(i) = wd(rng); }
+  for (double u : {0.05, 0.2, 0.55, 0.8, 0.95}) {
+    double x[2], dx[2], ddx[2], xp[2], dxp[2], ddxp[2], xm[2], dxm[2], ddxm[2], R[3][kMaxBasis1D];
+    const double h = 1e-6;
+    curve_eval(nb, p, U.data(), cp, w, u, x, dx, ddx, R);
+    curve_eval(nb, p, U.data(), cp, w, u + h, xp, dxp, ddxp, R);
+    curve_eval(nb, p, U.data(), cp, w, u - h, xm, dxm, ddxm, R);
+    for (int c = 0; c < 2; ++c) {
+      EXPECT_NEAR((xp[c] - xm[c]) / (2 * h), dx[c], 1e-6 * (1 + std::abs(dx[c])));
+      EXPECT_NEAR((dxp[c] - dxm[c]) / (2 * h), ddx[c], 1e-5 * (1 + std::abs(ddx[c])));
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Degrees, BasisDegree, ::testing::Range(1, 6));
+
+TEST(Refinement, QuarterAnnulusIsExactAtEveryDegreeAfterElevationAndInsertion) {
+  Patch P = annulus(1.0, 2.0);
+  for (int p = 2; p <= 5; ++p) {
+    if (p > 2) P.elevate(0, 1);
+    if (P.degree[1] < p) P.elevate(1, 1);
+    Patch Q = P;
+    Q.subdivide(0, 3);
+    Q.subdivide(1, 2);
+    Q.insert_knot(0, 0.123);
+    EXPECT_EQ(Q.degree[0], p);
+    EXPECT_TRUE(Q.validate().empty()) << Q.validate();
+    for (int i = 0; i <= 20; ++i)
+      for (int j = 0; j <= 4; ++j) {
+        const double u = i / 20.0, v = j / 4.0;
+        const auto a = P.eval(u, v), b = Q.eval(u, v);
+        // the geometry is unchanged, and points lie exactly on circles of radius 1 + v
+        EXPECT_NEAR(a[0], b[0], 1e-13);
+        EXPECT_NEAR(a[1], b[1], 1e-13);
+        EXPECT_NEAR(std::hypot(b[0], b[1]), 1.0 + v, 1e-13);
+      }
+  }
+}
+
+TEST(Refinement, SubdivideMakesUniformSpans) {
+  Patch P = annulus(1.0, 2.0);
+  P.subdivide(0, 4);
+  P.subdivide(1, 3);
+  EXPECT_EQ(P.element_spans(0).size(), 4u);
+  EXPECT_EQ(P.element_spans(1).size(), 3u);
+  EXPECT_EQ(P.ncp(0), 6);
+  EXPECT_EQ(P.ncp(1), 4);
+  EXPECT_EQ(P.num_elements(), 12);
+}
+
+TEST(Refinement, SideCurvesMatchThePatchBoundary) {
+  Patch P = annulus(1.0, 3.0);
+  P.elevate(1, 2);
+  P.subdivide(0, 3);
+  P.subdivide(1, 2);
+  for (Side s : {Side::West, Side::East, Side::South, Side::North}) {
+    const Curve c = P.side_curve(s);
+    for (int k = 0; k <= 10; ++k) {
+      const double t = k / 10.0;
+      double u = t, v = t;
+      if (s == Side::West) u = 0;
+      if (s == Side::East) u = 1;
+      if (s == Side::South) v = 0;
+      if (s == Side::North) v = 1;
+      const auto a = P.eval(u, v), b = c.eval(t);
+      EXPECT_NEAR(a[0], b[0], 1e-14) << side_name(s);
+      EXPECT_NEAR(a[1], b[1], 1e-14) << side_name(s);
+    }
+  }
+  EXPECT_EQ(P.orientation(), -1);  // xi angular, eta radial: left-handed
+}
+
+TEST(Validation, RejectsBadKnotsCountsAndWeights) {
+  Patch P = annulus(1.0, 2.0);
+  EXPECT_TRUE(P.validate().empty());
+  Patch a = P; a.knots[0] = {0, 0, 0, 0.7, 0.5, 1, 1, 1};
+  EXPECT_NE(a.validate().find("not non-decreasing"), std::string::npos);
+  Patch b = P; b.cp.pop_back();
+  EXPECT_NE(b.validate().find("control_points has 5 points"), std::string::npos);
+  Patch c = P; c.cp[1][2] = 0.0;
+  EXPECT_NE(c.validate().find("weights must be > 0"), std::string::npos);
+  Patch d = P; d.knots[0] = {0, 0, 0.5, 1, 1, 1};
+  EXPECT_NE(d.validate().find("not open"), std::string::npos);
+}
