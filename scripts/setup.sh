@@ -24,7 +24,7 @@ for x in tpetra belos ifpack2 amesos2 kokkos kokkos-kernels teuchos epetra epetr
 done
 pkgs="build-essential cmake ninja-build pkg-config openmpi-bin libopenmpi-dev libhdf5-openmpi-dev \
       libptscotch-dev libyaml-cpp-dev libgtest-dev libgmock-dev libbenchmark-dev \
-      python3-matplotlib python3-h5py python3-numpy $trilinos_pkgs"
+      python3-matplotlib python3-h5py python3-numpy python3-yaml $trilinos_pkgs"
 
 missing=""
 for p in $pkgs; do
@@ -43,5 +43,6 @@ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE="$build_type"
 cmake --build build -j "$(nproc)"
 
 if [ "$run_example" = 1 ]; then
-  build/bin/igacontact run examples/lame_cylinder.yaml --output out/lame_cylinder
+  build/bin/igacontact run examples/wheel.yaml --output out/wheel
+  /usr/bin/python3 scripts/plot out/wheel && echo "setup: pictures in out/wheel/*.png"
 fi

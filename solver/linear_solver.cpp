@@ -125,6 +125,21 @@ LinearSolveResult solve_linear(const LinearOptions& opt, const RCP<Matrix>& A, c
   res.achieved_tolerance = solver->achievedTol();
   res.converged = ret == Belos::Converged;
   if (!res.converged) {
+    // Belos also fails when only its explicit-residual check misses the tolerance (loss of
+    // accuracy on ill-conditioned systems, e.g. large contact penalties). An inexact step is
+    // fine inside Newton, whose own residual test decides convergence: accept a true
+    // relative residual below 1e-6.
+    Vector r(b->getMap());
+    A->apply(*x, r);
+    r.update(1.0, *b, -1.0);
+    const double bn = b->norm2();
+    const double rel = bn > 0 ? r.norm2() / bn : 0.0;
+    if (rel <= std::max(opt.tolerance, 1e-6)) {
+      res.converged = true;
+      res.achieved_tolerance = rel;
+    }
+  }
+  if (!res.converged) {
     std::ostringstream os;
     os << "the linear solver (" << name << ") did not reach the tolerance " << opt.tolerance << " in "
        << res.iterations << " iterations (reached " << res.achieved_tolerance
