@@ -7,6 +7,9 @@
 #include <Teuchos_TimeMonitor.hpp>
 #include <Tpetra_Core.hpp>
 
+#include <Teuchos_CommHelpers.hpp>
+#include <sys/resource.h>
+
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
@@ -157,6 +160,14 @@ int run(int argc, char** argv) {
     if (!kv.first.empty() && std::isdigit(static_cast<unsigned char>(kv.first[0])))  // our numbered stages
       timings[kv.first] = kv.second[imax].first;
   summary["timings"] = timings;
+  // peak resident memory, the largest rank's and the sum over ranks (bytes per dof below)
+  struct rusage ru;
+  getrusage(RUSAGE_SELF, &ru);
+  double mem = ru.ru_maxrss / 1024.0, mem_max = 0, mem_sum = 0;  // MiB (ru_maxrss is KiB on Linux)
+  Teuchos::reduceAll(*comm, Teuchos::REDUCE_MAX, 1, &mem, &mem_max);
+  Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, 1, &mem, &mem_sum);
+  summary["peak_memory_mib"] = {{"max_rank", mem_max}, {"all_ranks", mem_sum}};
+  summary["bytes_per_dof"] = mem_sum * 1048576.0 / static_cast<double>(sys->num_dofs());
   if (root) {
     iga::write_file_atomic((std::filesystem::path(dir) / "summary.json").string(), summary.dump(2) + "\n");
     if (!args.quiet) {

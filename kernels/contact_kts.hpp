@@ -58,6 +58,7 @@ struct SlavePoints {
   // results
   Kokkos::View<int*, MemSpace> valid;          // 1: projection found on the master
   Kokkos::View<int*, MemSpace> mspan;          // master span of the projection
+  Kokkos::View<int*, MemSpace> melem;          // master element of the projection (-1: none)
   Kokkos::View<double*, MemSpace> mxi, gap, pressure;
   Kokkos::View<double* [2], MemSpace> x;       // current slave point
   Kokkos::View<double* [2], MemSpace> normal;  // master outward normal at the projection
@@ -69,7 +70,15 @@ struct SearchGrid {
   int nx = 1, ny = 1;
   Kokkos::View<int*, MemSpace> start;   // ncells + 1
   Kokkos::View<int*, MemSpace> elems;   // element ids per cell
+  Kokkos::View<double* [4], MemSpace> box;  // per master element: xmin, ymin, xmax, ymax
 };
+
+/// Squared distance from x to an axis-aligned box.
+KOKKOS_INLINE_FUNCTION double box_distance2(const SearchGrid& g, int e, const double x[2]) {
+  const double dx = x[0] < g.box(e, 0) ? g.box(e, 0) - x[0] : (x[0] > g.box(e, 2) ? x[0] - g.box(e, 2) : 0.0);
+  const double dy = x[1] < g.box(e, 1) ? g.box(e, 1) - x[1] : (x[1] > g.box(e, 3) ? x[1] - g.box(e, 3) : 0.0);
+  return dx * dx + dy * dy;
+}
 
 /// Closest point on the master curve to x within the element of span s: Newton on
 /// (x - rho) . rho' = 0 from the best of a few samples, clamped to the element.
@@ -78,18 +87,21 @@ struct SearchGrid {
 /// element by more than 1e-10 of the element's length). Points on the curve itself (gap 0,
 /// as augmented Lagrangian solutions have) are judged by that sign, not by a ratio to the
 /// distance, which round-off would decide.
+/// `warm` (>= 0): start Newton from xi as given (the previous projection) instead of sampling.
 KOKKOS_INLINE_FUNCTION double project_on_element(const CurveData& m, int s, const double x[2], double& xi,
-                                                 bool& inside) {
+                                                 bool& inside, bool warm = false) {
   const CurrentCP cp{m.X, m.u};
   const double a = m.U(s), b = m.U(s + 1);
   double R[3][kMaxBasis1D], r[2], t[2], dd[2];
-  double best = 1e300;
-  const int ns = 4;
-  for (int k = 0; k <= ns; ++k) {
-    const double s_xi = a + (b - a) * k / ns;
-    curve_eval(m.nb, m.p, m.U.data(), cp, m.w, s_xi, r, t, dd, R);
-    const double d2 = (x[0] - r[0]) * (x[0] - r[0]) + (x[1] - r[1]) * (x[1] - r[1]);
-    if (d2 < best) { best = d2; xi = s_xi; }
+  if (!warm || xi < a || xi > b) {
+    double best = 1e300;
+    const int ns = 2;
+    for (int k = 0; k <= ns; ++k) {
+      const double s_xi = a + (b - a) * k / ns;
+      curve_eval(m.nb, m.p, m.U.data(), cp, m.w, s_xi, r, t, dd, R);
+      const double d2 = (x[0] - r[0]) * (x[0] - r[0]) + (x[1] - r[1]) * (x[1] - r[1]);
+      if (d2 < best) { best = d2; xi = s_xi; }
+    }
   }
   for (int it = 0; it < 50; ++it) {
     curve_eval(m.nb, m.p, m.U.data(), cp, m.w, xi, r, t, dd, R);
@@ -113,7 +125,9 @@ KOKKOS_INLINE_FUNCTION double project_on_element(const CurveData& m, int s, cons
   return dx * dx + dy * dy;
 }
 
-/// Slave point positions and projections onto the master (all slave points).
+/// Slave point positions and projections onto the master (all slave points). The previous
+/// projection (melem, mxi) is tried first and kept when it lands strictly inside its element
+/// (the search runs when it is clamped at an element end or absent); melem = -1: none.
 struct ProjectSlavePoints {
   CurveData s, m;
   SlavePoints sp;
@@ -132,15 +146,29 @@ struct ProjectSlavePoints {
     if (cx < 0 || cy < 0 || cx >= grid.nx || cy >= grid.ny) return;
     const int cell = cx + cy * grid.nx;
     double best = 1e300, bxi = 0;
-    int bspan = -1;
-    for (int k = grid.start(cell); k < grid.start(cell + 1); ++k) {
+    int bspan = -1, belem = -1;
+    // warm start: the previous projection's element, from its parameter
+    const int prev = sp.melem(i);
+    bool settled = false;
+    if (prev >= 0) {
+      double xi = sp.mxi(i);
+      bool inside;
+      const double d2 = project_on_element(m, m.span(prev), x, xi, inside, true);
+      if (inside) { best = d2; bxi = xi; bspan = m.span(prev); belem = prev; }
+      // strictly inside its element: the closest point moved continuously, keep it
+      settled = inside && xi > m.U(m.span(prev)) && xi < m.U(m.span(prev) + 1);
+    }
+    for (int k = settled ? grid.start(cell + 1) : grid.start(cell); k < grid.start(cell + 1); ++k) {
       const int e = grid.elems(k);
+      // an element whose box is farther than the best projection cannot hold a nearer one
+      if (e == belem || box_distance2(grid, e, x) >= best) continue;
       double xi;
       bool inside;
       const double d2 = project_on_element(m, m.span(e), x, xi, inside);
       // the nearest orthogonal projection
-      if (inside && d2 < best) { best = d2; bxi = xi; bspan = m.span(e); }
+      if (inside && d2 < best) { best = d2; bxi = xi; bspan = m.span(e); belem = e; }
     }
+    sp.melem(i) = belem;
     // none: beyond the master's ends, or outside a kink; not in contact
     if (bspan < 0) return;
     curve_eval(m.nb, m.p, m.U.data(), CurrentCP{m.X, m.u}, m.w, bxi, x, t, dd, R);

@@ -78,6 +78,8 @@ ContactPairData::ContactPairData(const System& sys, int index) : pair_(sys.probl
   sp_.lambda = Kokkos::View<double*, MemSpace>("lambda", n);
   sp_.valid = Kokkos::View<int*, MemSpace>("valid", n);
   sp_.mspan = Kokkos::View<int*, MemSpace>("mspan", n);
+  sp_.melem = Kokkos::View<int*, MemSpace>("melem", n);
+  Kokkos::deep_copy(sp_.melem, -1);
   sp_.mxi = Kokkos::View<double*, MemSpace>("mxi", n);
   sp_.gap = Kokkos::View<double*, MemSpace>("gap", n);
   sp_.pressure = Kokkos::View<double*, MemSpace>("pressure", n);
@@ -111,6 +113,8 @@ void ContactPairData::update(const Vector& u) {
   auto hU = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), master.u);
   auto hspan = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), master.span);
   std::vector<std::array<double, 4>> box(master.ne);
+  Kokkos::View<double* [4], MemSpace> dbox("boxes", master.ne);
+  auto hbox = Kokkos::create_mirror_view(dbox);
   double ext = 0, X0 = 1e300, Y0 = 1e300, X1 = -1e300, Y1 = -1e300;
   for (int e = 0; e < master.ne; ++e) {
     auto& b = box[e];
@@ -120,7 +124,9 @@ void ContactPairData::update(const Vector& u) {
       b = {std::min(b[0], x), std::min(b[1], y), std::max(b[2], x), std::max(b[3], y)};
     }
     ext = std::max({ext, b[2] - b[0], b[3] - b[1]});
+    for (int c = 0; c < 4; ++c) hbox(e, c) = b[c];
   }
+  Kokkos::deep_copy(dbox, hbox);
   const double margin = std::max(ext, 1e-12);
   for (auto& b : box) {
     b = {b[0] - margin, b[1] - margin, b[2] + margin, b[3] + margin};
@@ -147,6 +153,7 @@ void ContactPairData::update(const Vector& u) {
   }
   grid.start = dview("grid_start", start);
   grid.elems = dview("grid_elems", elems);
+  grid.box = dbox;
   ProjectSlavePoints k;
   k.s = slave; k.m = master; k.sp = sp_; k.grid = grid; k.eps = pair_.penalty;
   Kokkos::parallel_for("iga::ProjectSlavePoints", Kokkos::RangePolicy<ExecSpace>(0, num_points()), k);

@@ -1,0 +1,171 @@
+// Kernel microbenchmarks (Google Benchmark). Each reports a rate next to its time, from the
+// flop and byte counts stated here and in the kernels' headers:
+//   BM_Basis<P>             points/s, GB/s            kernels/basis.hpp
+//   BM_ElementStiffness<P>  quadrature points/s, GFLOP/s   kernels/elasticity.hpp
+//   BM_Scatter<P>           nonzeros/s (element matrices summed into the Tpetra local matrix)
+//   BM_ContactProjection/M  projections/s on a degree-2 master curve of M elements
+//   BM_SpMV / BM_StreamCopy GB/s of the assembled elasticity matrix, and the copy limit
+// Run: build/bin/bench_kernels [--benchmark_filter=...]
+#include <benchmark/benchmark.h>
+#include <Tpetra_Core.hpp>
+
+#include <sstream>
+
+#include "kernels/basis.hpp"
+#include "kernels/elasticity.hpp"
+#include "solver/contact.hpp"
+#include "solver/system.hpp"
+
+using namespace iga;
+
+namespace {
+
+// A square block of n x n elements of degree P (distorted geometry is irrelevant for cost).
+Problem block_problem(int P, int n) {
+  std::ostringstream os;
+  os << "bodies:\n  - name: b\n    material: {youngs_modulus: 1.0, poisson_ratio: 0.3}\n"
+     << "    geometry: {rectangle: {origin: [0, 0], size: [1, 1]}}\n"
+     << "    refine: {degree_elevate: " << P - 1 << ", subdivide: [" << n << ", " << n << "]}\n"
+     << "    boundary: {south: {displacement: {x: 0, y: 0}}}\n";
+  return parse_problem(os.str(), "bench.yaml");
+}
+
+int elements_for(int P) { return P <= 2 ? 128 : 64; }
+
+template <int P>
+void BM_Basis(benchmark::State& st) {
+  const Problem prob = block_problem(P, elements_for(P));
+  System sys(prob, Tpetra::getDefaultComm());
+  EvaluateBasis<P> k;
+  k.pd = sys.bodies()[0].pd; k.g0 = gauss_rule(P + 1); k.g1 = gauss_rule(P + 1);
+  const int ne = prob.bodies[0].patch.num_elements();
+  k.run(ne);
+  for (auto _ : st) { k.run(ne); Kokkos::fence(); }
+  const double pts = static_cast<double>(ne) * (P + 1) * (P + 1) * st.iterations();
+  st.counters["points/s"] = benchmark::Counter(pts, benchmark::Counter::kIsRate);
+  st.counters["GB/s"] = benchmark::Counter(pts * EvaluateBasis<P>::bytes_per_point() * 1e-9, benchmark::Counter::kIsRate);
+}
+
+template <int P>
+void BM_ElementStiffness(benchmark::State& st) {
+  const Problem prob = block_problem(P, elements_for(P));
+  System sys(prob, Tpetra::getDefaultComm());
+  const PatchData pd = sys.bodies()[0].pd;
+  const Material mat = sys.material(0);
+  const GaussRule g = gauss_rule(P + 1);
+  const int ne = prob.bodies[0].patch.num_elements();
+  Kokkos::View<double*, MemSpace> trace("trace", ne);
+  for (auto _ : st) {
+    Kokkos::parallel_for("bench::ElementStiffness", Kokkos::RangePolicy<ExecSpace>(0, ne), KOKKOS_LAMBDA(const int e) {
+      double Ke[2 * (P + 1) * (P + 1)][2 * (P + 1) * (P + 1)];
+      element_stiffness<P>(pd, mat, g, g, e, Ke);
+      double t = 0;
+      for (int r = 0; r < 2 * (P + 1) * (P + 1); ++r) t += Ke[r][r];
+      trace(e) = t;
+    });
+    Kokkos::fence();
+  }
+  constexpr double nen = (P + 1) * (P + 1);
+  const double qp = static_cast<double>(ne) * (P + 1) * (P + 1) * st.iterations();
+  // basis + Jacobian ~ 20 nen + 12 P^2, stiffness 13 flops per 2x2 block for nen(nen+1)/2 blocks
+  const double flops = 20 * nen + 12 * P * P + 6.5 * nen * (nen + 1);
+  st.counters["qp/s"] = benchmark::Counter(qp, benchmark::Counter::kIsRate);
+  st.counters["GFLOP/s"] = benchmark::Counter(qp * flops * 1e-9, benchmark::Counter::kIsRate);
+}
+
+template <int P>
+void BM_Scatter(benchmark::State& st) {
+  const Problem prob = block_problem(P, elements_for(P));
+  System sys(prob, Tpetra::getDefaultComm());
+  RCP<Matrix> A = sys.assemble_stiffness();
+  const BodyData& bd = sys.bodies()[0];
+  const int ne = prob.bodies[0].patch.num_elements();
+  auto lcl = A->getLocalMatrixDevice();
+  const GaussRule g = gauss_rule(P + 1);
+  for (auto _ : st) {
+    A->resumeFill();
+    A->setAllToScalar(0.0);
+    AssembleElasticity<P, decltype(lcl)> k{bd.pd, bd.mat, g, g, 0, lcl};
+    k.run(ne);
+    Kokkos::fence();
+    A->fillComplete();
+  }
+  const double entries = static_cast<double>(ne) * std::pow(2.0 * (P + 1) * (P + 1), 2) * st.iterations();
+  st.counters["elem.nonzeros/s"] = benchmark::Counter(entries, benchmark::Counter::kIsRate);
+  st.counters["matrix nnz"] = static_cast<double>(A->getGlobalNumEntries());
+}
+
+// A ring (curved master of M degree-2 elements) under a block whose bottom carries 4096 slave
+// points; the time per projection must not grow with M.
+void BM_ContactProjection(benchmark::State& st) {
+  const int M = static_cast<int>(st.range(0));
+  std::ostringstream os;
+  os << "bodies:\n  - name: ring\n    material: {youngs_modulus: 1.0, poisson_ratio: 0.3}\n"
+     << "    geometry: {quarter_annulus: {center: [0, 0], inner_radius: 1.0, outer_radius: 2.0, start_angle: 45}}\n"
+     << "    refine: {subdivide: [" << M << ", 1]}\n    boundary: {south: {displacement: {x: 0, y: 0}}}\n"
+     << "  - name: block\n    material: {youngs_modulus: 1.0, poisson_ratio: 0.3}\n"
+     << "    geometry: {rectangle: {origin: [-1.0, 1.95], size: [2.0, 0.5]}}\n"
+     << "    refine: {degree_elevate: 1, subdivide: [1024, 1]}\n    boundary: {north: {displacement: {x: 0, y: 0}}}\n"
+     << "contact:\n  - {master: {body: ring, side: north}, slave: {body: block, side: south}, penalty: 1.0, quadrature_points: 4}\n";
+  const Problem prob = parse_problem(os.str(), "bench.yaml");
+  System sys(prob, Tpetra::getDefaultComm());
+  ContactPairData c(sys, 0);
+  Vector u(sys.owned_map());
+  for (auto _ : st) c.update(u);
+  st.counters["projections/s"] = benchmark::Counter(static_cast<double>(c.num_points()) * st.iterations(),
+                                                    benchmark::Counter::kIsRate);
+  st.counters["master elements"] = M;
+}
+
+void BM_SpMV(benchmark::State& st) {
+  const Problem prob = block_problem(2, static_cast<int>(st.range(0)));
+  System sys(prob, Tpetra::getDefaultComm());
+  RCP<Matrix> A = sys.assemble_stiffness();
+  Vector x(sys.owned_map()), y(sys.owned_map());
+  x.putScalar(1.0);
+  for (auto _ : st) { A->apply(x, y); Kokkos::fence(); }
+  const double nnz = static_cast<double>(A->getNodeNumEntries()), rows = static_cast<double>(A->getNodeNumRows());
+  // values (8) + column indices (4) per entry, row offsets (8), x read once (8), y written (8)
+  const double bytes = nnz * 12 + rows * (8 + 8 + 8);
+  st.counters["GB/s"] = benchmark::Counter(bytes * 1e-9 * st.iterations(), benchmark::Counter::kIsRate);
+  st.counters["dofs"] = rows;
+  st.counters["nnz"] = nnz;
+}
+
+void BM_StreamCopy(benchmark::State& st) {
+  const size_t n = static_cast<size_t>(st.range(0));
+  Kokkos::View<double*, MemSpace> a("a", n), b("b", n);
+  Kokkos::deep_copy(a, 1.0);
+  for (auto _ : st) {
+    Kokkos::parallel_for("bench::Copy", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(const size_t i) { b(i) = a(i); });
+    Kokkos::fence();
+  }
+  st.counters["GB/s"] = benchmark::Counter(16.0 * n * 1e-9 * st.iterations(), benchmark::Counter::kIsRate);
+}
+
+}  // namespace
+
+BENCHMARK_TEMPLATE(BM_Basis, 1)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_Basis, 2)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_Basis, 3)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_Basis, 4)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_ElementStiffness, 1)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_ElementStiffness, 2)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_ElementStiffness, 3)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_ElementStiffness, 4)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_Scatter, 1)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_Scatter, 2)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_Scatter, 3)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_Scatter, 4)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ContactProjection)->RangeMultiplier(4)->Range(16, 4096)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SpMV)->Arg(64)->Arg(256)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_StreamCopy)->Arg(1 << 16)->Arg(1 << 25)->Unit(benchmark::kMillisecond);
+
+int main(int argc, char** argv) {
+  Tpetra::ScopeGuard guard(&argc, &argv);
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
