@@ -1,7 +1,8 @@
 #include "solver/newton.hpp"
+#include "solver/tangent.hpp"
 
 #include <Teuchos_TimeMonitor.hpp>
-#include <TpetraExt_MatrixMatrix.hpp>
+#include <Teuchos_CommHelpers.hpp>
 
 #include <chrono>
 #include <cmath>
@@ -40,6 +41,7 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
       max_aug = std::max(max_aug, c.augmentations + 1);
     }
 
+  TangentBuilder tangent(K);
   RCP<Vector> u = rcp(new Vector(sys.owned_map()));
   RCP<Vector> u_conv = rcp(new Vector(*u, Teuchos::Copy));
   RCP<Vector> r = rcp(new Vector(sys.owned_map()));
@@ -99,9 +101,8 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
         }
         RCP<Matrix> KT;
         {
-          Teuchos::TimeMonitor t(timer("2) Assembly: elasticity"));
-          KT = cc.K.is_null() ? Tpetra::MatrixMatrix::add(1.0, false, *K, 0.0, false, *K)
-                              : Tpetra::MatrixMatrix::add(1.0, false, *K, 1.0, false, *cc.K);
+          Teuchos::TimeMonitor t(timer("2b) Tangent: K + K_c, Dirichlet"));
+          KT = tangent.build(cc.K);
           sys.apply_dirichlet(*KT);
         }
         du->putScalar(0.0);

@@ -1,0 +1,26 @@
+#pragma once
+// The Newton tangent K_T = K_el + K_c. Tpetra::MatrixMatrix::add builds a new matrix and graph
+// each call (2.3 s per call at 1.7e5 dofs, measured); this keeps K_T between iterations and
+// refills it: the elastic values through a precomputed entry map (one Kokkos copy), the small
+// contact matrix with sumIntoGlobalValues. Only when K_c couples dofs that K_T's graph lacks
+// is K_T rebuilt with add (the pattern then grows monotonically).
+#include "solver/types.hpp"
+
+namespace iga {
+
+class TangentBuilder {
+ public:
+  explicit TangentBuilder(RCP<Matrix> K_el) : K_(std::move(K_el)) {}
+  /// K_el + K_c (K_c may be null), fill complete, without boundary conditions.
+  RCP<Matrix> build(const RCP<Matrix>& K_c);
+  int rebuilds() const { return rebuilds_; }
+
+ private:
+  void rebuild(const RCP<Matrix>& K_c);
+  bool sum_into(const Matrix& K_c);
+  RCP<Matrix> K_, KT_;
+  Kokkos::View<size_t*, MemSpace> map_;   // entry of K_el -> entry of K_T
+  int rebuilds_ = 0;
+};
+
+}  // namespace iga
