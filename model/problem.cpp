@@ -27,6 +27,19 @@ int Problem::find_body(const std::string& name) const {
 
 namespace {
 
+// Messages stay one line whatever the input holds: control characters are escaped.
+std::string printable(const std::string& s) {
+  std::string out;
+  for (const char c : s) {
+    if (c == '\n') out += "\\n";
+    else if (c == '\r') out += "\\r";
+    else if (c == '\t') out += "\\t";
+    else if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) out += '?';
+    else out += c;
+  }
+  return out;
+}
+
 std::string one_line(const YAML::Node& n) {
   if (!n.IsDefined() || n.IsNull()) return "null";
   YAML::Emitter e;
@@ -49,10 +62,10 @@ struct Reader {
     os << file;
     if (n.IsDefined() && n.Mark().line >= 0) os << ":" << n.Mark().line + 1;
     os << ": " << key << " = " << one_line(n) << ": " << why;
-    throw InputError(os.str());
+    throw InputError(printable(os.str()));
   }
   [[noreturn]] void missing(const std::string& key) const {
-    throw InputError(file + ": " + key + ": required key is missing");
+    throw InputError(printable(file + ": " + key + ": required key is missing"));
   }
 
   void keys(const YAML::Node& n, const std::string& path, std::initializer_list<const char*> allowed) const {
@@ -144,7 +157,7 @@ Patch read_nurbs(const Reader& R, const YAML::Node& n, const std::string& path) 
       key += ".control_points[" + std::to_string(a) + "]"; at = cps[a];
     } else if (err.rfind("control_points", 0) == 0) {
       key += ".control_points"; 
-      throw InputError(R.file + ":" + std::to_string(cps.Mark().line + 1) + ": " + key + ": " + err);
+      throw InputError(printable(R.file + ":" + std::to_string(cps.Mark().line + 1) + ": " + key + ": " + err));
     }
     R.fail(key, at, err);
   }
@@ -555,15 +568,17 @@ Problem parse_problem(const std::string& text, const std::string& file, const st
   } catch (const YAML::Exception& e) {
     std::ostringstream os;
     os << file << ":" << e.mark.line + 1 << ":" << e.mark.column + 1 << ": YAML syntax error: " << e.msg;
-    throw InputError(os.str());
+    throw InputError(printable(os.str()));
   }
   try {
     for (const auto& ov : overrides) apply_override(file, root, ov);
     return build(R, root);
+  } catch (const InputError& e) {
+    throw InputError(printable(e.what()));
   } catch (const YAML::Exception& e) {
     std::ostringstream os;
     os << file << ":" << e.mark.line + 1 << ": " << e.msg;
-    throw InputError(os.str());
+    throw InputError(printable(os.str()));
   }
 }
 

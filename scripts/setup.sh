@@ -24,7 +24,8 @@ for x in tpetra belos ifpack2 amesos2 kokkos kokkos-kernels teuchos epetra epetr
 done
 pkgs="build-essential cmake ninja-build pkg-config openmpi-bin libopenmpi-dev libhdf5-openmpi-dev \
       libptscotch-dev libyaml-cpp-dev libgtest-dev libgmock-dev libbenchmark-dev \
-      python3-matplotlib python3-h5py python3-numpy python3-yaml $trilinos_pkgs"
+      python3-matplotlib python3-h5py python3-numpy python3-yaml \
+      nlohmann-json3-dev clang-14 libclang-rt-14-dev $trilinos_pkgs"
 
 missing=""
 for p in $pkgs; do
