@@ -135,12 +135,13 @@ struct ProjectSlavePoints {
 
   KOKKOS_INLINE_FUNCTION void operator()(const int i) const {
     double R[3][kMaxBasis1D], x[2], t[2], dd[2];
-    curve_eval(s.nb, s.p, s.U.data(), CurrentCP{s.X, s.u}, s.w, sp.xi(i), x, t, dd, R);
-    sp.x(i, 0) = x[0];
-    sp.x(i, 1) = x[1];
     sp.valid(i) = 0;
     sp.gap(i) = 1e300;
     sp.pressure(i) = 0;
+    if (sp.span(i) < 0) return;   // an unused mortar slot
+    curve_eval(s.nb, s.p, s.U.data(), CurrentCP{s.X, s.u}, s.w, sp.xi(i), x, t, dd, R);
+    sp.x(i, 0) = x[0];
+    sp.x(i, 1) = x[1];
     const int cx = static_cast<int>(kmath::floor((x[0] - grid.x0) / grid.h));
     const int cy = static_cast<int>(kmath::floor((x[1] - grid.y0) / grid.h));
     if (cx < 0 || cy < 0 || cx >= grid.nx || cy >= grid.ny) return;
@@ -187,13 +188,16 @@ struct ProjectSlavePoints {
 };
 
 /// Residual and consistent tangent of the active slave points [p_begin, p_end).
-/// Degree template P bounds both curves' degrees.
+/// Degree template P bounds both curves' degrees. `mortar`: the pressure is the mortar
+/// field sum_A lambda_A R_A already in sp.pressure, and the eps N N^T part is assembled per
+/// slave control point instead (contact_mortar.hpp).
 template <int P, class LocalMatrix, class FView>
 struct AssembleKts {
   CurveData s, m;
   SlavePoints sp;
   double eps = 0;
   int p_begin = 0;
+  bool mortar = false;
   LocalMatrix K;
   FView f;
 
@@ -202,8 +206,9 @@ struct AssembleKts {
     const int i = p_begin + k;
     if (!sp.valid(i)) return;
     const double g = sp.gap(i);
-    const double pr = sp.lambda(i) - eps * g;
-    if (pr < 0) return;
+    const double pr = mortar ? sp.pressure(i) : sp.lambda(i) - eps * g;
+    if (mortar ? !(pr > 0) : pr < 0) return;
+    const double epsN = mortar ? 0.0 : eps;
     const double w = sp.weight(i);
     // slave basis at xi_s
     double Rs[3][kMaxBasis1D], Rm[3][kMaxBasis1D], xs[2], ts[2], dds[2], rho[2], t[2], mm[2];
@@ -238,7 +243,7 @@ struct AssembleKts {
       Kokkos::atomic_add(&f(lid[r]), -pr * w * N[r]);
       for (int c = 0; c < nd; ++c) {
         const double G = cTT * T[r] * T[c] + cNN * Nb[r] * Nb[c] + cTN * (T[r] * Nb[c] + Nb[r] * T[c]);
-        row[c] = w * (eps * N[r] * N[c] - pr * G);
+        row[c] = w * (epsN * N[r] * N[c] - pr * G);
       }
       K.sumIntoValues(lid[r], lid, nd, row, false, true);
     }

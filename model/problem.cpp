@@ -450,8 +450,6 @@ Problem build(const Reader& R, const YAML::Node& root) {
         else if (m == "mortar_penalty") cp.method = ContactMethod::MortarPenalty;
         else if (m == "mortar_alm") cp.method = ContactMethod::MortarAlm;
         else R.fail(path + ".method", n["method"], "expected kts_penalty, kts_alm, mortar_penalty or mortar_alm");
-        if (cp.method == ContactMethod::MortarPenalty || cp.method == ContactMethod::MortarAlm)
-          R.fail(path + ".method", n["method"], "mortar contact is not implemented yet; use kts_penalty or kts_alm");
       }
       if (!n["penalty"]) R.missing(path + ".penalty");
       cp.penalty = R.positive(n["penalty"], path + ".penalty");

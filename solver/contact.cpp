@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace iga {
 
@@ -48,33 +49,75 @@ CurveData make_curve(const System& sys, const ContactSurface& s, std::vector<GO>
 }
 }  // namespace
 
-ContactPairData::ContactPairData(const System& sys, int index) : pair_(sys.problem().contact[index]) {
+ContactPairData::ContactPairData(const System& sys, int index) : pair_(sys.problem().contact[index]), index_(index) {
   thickness = sys.problem().thickness;
   slave = make_curve(sys, pair_.slave, slave_gid);
   master = make_curve(sys, pair_.master, master_gid);
-  // slave quadrature points in the reference configuration
+  mortar_ = pair_.method == ContactMethod::MortarPenalty || pair_.method == ContactMethod::MortarAlm;
   const Curve c = sys.problem().bodies[pair_.slave.body].patch.side_curve(pair_.slave.side);
-  const int nq = pair_.quadrature_points > 0 ? pair_.quadrature_points : 2 * (c.degree + 1);
-  const GaussRule g = gauss_rule(nq);
-  std::vector<double> xi, wt;
-  std::vector<int> span;
   h_min_ = 1e300;
   for (int s : c.element_spans()) {
-    const double a = c.knots[s], b = c.knots[s + 1], h = 0.5 * (b - a);
+    const double a = c.knots[s], b = c.knots[s + 1];
     h_min_ = std::min(h_min_, std::hypot(c.eval(b)[0] - c.eval(a)[0], c.eval(b)[1] - c.eval(a)[1]));
-    for (int q = 0; q < nq; ++q) {
-      const double u = a + h * (g.x[q] + 1.0), du = 1e-7 * (b - a);
-      const auto p1 = c.eval(std::min(u + du, b)), p0 = c.eval(std::max(u - du, a));
-      const double jac = std::hypot(p1[0] - p0[0], p1[1] - p0[1]) / (std::min(u + du, b) - std::max(u - du, a));
-      xi.push_back(u);
-      wt.push_back(g.w[q] * h * jac * thickness);
-      span.push_back(s);
-    }
   }
-  const int n = static_cast<int>(xi.size());
-  sp_.xi = dview("xi", xi);
-  sp_.weight = dview("weight", wt);
-  sp_.span = dview("span", span);
+  int n = 0;
+  if (!mortar_) {
+    // slave quadrature points in the reference configuration
+    const int nq = pair_.quadrature_points > 0 ? pair_.quadrature_points : 2 * (c.degree + 1);
+    const GaussRule g = gauss_rule(nq);
+    std::vector<double> xi, wt;
+    std::vector<int> span;
+    for (int s : c.element_spans()) {
+      const double a = c.knots[s], b = c.knots[s + 1], h = 0.5 * (b - a);
+      for (int q = 0; q < nq; ++q) {
+        const double u = a + h * (g.x[q] + 1.0), du = 1e-7 * (b - a);
+        const auto p1 = c.eval(std::min(u + du, b)), p0 = c.eval(std::max(u - du, a));
+        const double jac = std::hypot(p1[0] - p0[0], p1[1] - p0[1]) / (std::min(u + du, b) - std::max(u - du, a));
+        xi.push_back(u);
+        wt.push_back(g.w[q] * h * jac * thickness);
+        span.push_back(s);
+      }
+    }
+    n = static_cast<int>(xi.size());
+    sp_.xi = dview("xi", xi);
+    sp_.weight = dview("weight", wt);
+    sp_.span = dview("span", span);
+  } else {
+    // segment quadrature slots (filled by MortarSegments at each update) and, per slave
+    // control point, w_A = int R_A dGamma_0 (thickness included)
+    const int nq = pair_.quadrature_points > 0 ? std::min(pair_.quadrature_points, kMaxGauss)
+                                               : std::min(slave.p + master.p + 1, kMaxGauss);
+    gauss_ = gauss_rule(nq);
+    slots = kMortarMaxSegments * nq;
+    n = slave.ne * slots;
+    sp_.xi = Kokkos::View<double*, MemSpace>("xi", n);
+    sp_.weight = Kokkos::View<double*, MemSpace>("weight", n);
+    sp_.span = Kokkos::View<int*, MemSpace>("span", n);
+    Kokkos::deep_copy(sp_.span, -1);
+    const GaussRule g = gauss_rule(kMaxGauss);
+    auto hX = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), slave.X);
+    auto hw = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), slave.w);
+    auto hU = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), slave.U);
+    std::vector<double> wA(slave.nb, 0.0);
+    for (int s : c.element_spans()) {
+      const double a = c.knots[s], b = c.knots[s + 1], h = 0.5 * (b - a);
+      for (int q = 0; q < g.n; ++q) {
+        double R[3][kMaxBasis1D], X[2], dX[2], ddX[2];
+        const int sp = curve_eval(slave.nb, slave.p, hU.data(), hX, hw, a + h * (g.x[q] + 1.0), X, dX, ddX, R);
+        for (int k = 0; k <= slave.p; ++k) wA[sp - slave.p + k] += R[0][k] * g.w[q] * h * std::hypot(dX[0], dX[1]) * thickness;
+      }
+    }
+    ms_.wA = dview("wA", wA);
+    ms_.gA = Kokkos::View<double*, MemSpace>("gA", slave.nb);
+    ms_.lbar = Kokkos::View<double*, MemSpace>("lbar", slave.nb);
+    ms_.lambda = Kokkos::View<double*, MemSpace>("lambdaA", slave.nb);
+    ms_.active = Kokkos::View<int*, MemSpace>("activeA", slave.nb);
+    ms_.covered = Kokkos::View<int*, MemSpace>("coveredA", slave.nb);
+    ms_.flags = Kokkos::View<int*, MemSpace>("flags", 2);
+    const auto ra = block_range(slave.nb, sys.comm()->getRank(), sys.comm()->getSize());
+    a_begin = static_cast<int>(ra.first);
+    a_end = static_cast<int>(ra.second);
+  }
   sp_.lambda = Kokkos::View<double*, MemSpace>("lambda", n);
   sp_.valid = Kokkos::View<int*, MemSpace>("valid", n);
   sp_.mspan = Kokkos::View<int*, MemSpace>("mspan", n);
@@ -154,13 +197,42 @@ void ContactPairData::update(const Vector& u) {
   grid.start = dview("grid_start", start);
   grid.elems = dview("grid_elems", elems);
   grid.box = dbox;
+  if (mortar_) {
+    MortarSegments ks;
+    ks.s = slave; ks.m = master; ks.sp = sp_; ks.grid = grid; ks.gauss = gauss_; ks.thickness = thickness;
+    ks.flags = ms_.flags;
+    Kokkos::deep_copy(ms_.flags, 0);
+    Kokkos::parallel_for("iga::MortarSegments", Kokkos::RangePolicy<ExecSpace>(0, slave.ne), ks);
+    auto fl = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms_.flags);
+    if (fl(0) > 0)
+      throw ContactError("contact pair " + std::to_string(index_) + ": more than " +
+                               std::to_string(kMortarMaxSegments - 1) +
+                               " master knots project into one slave element; refine the slave side or swap master and slave");
+  }
   ProjectSlavePoints k;
   k.s = slave; k.m = master; k.sp = sp_; k.grid = grid; k.eps = pair_.penalty;
   Kokkos::parallel_for("iga::ProjectSlavePoints", Kokkos::RangePolicy<ExecSpace>(0, num_points()), k);
+  if (mortar_) {
+    MortarGaps kg;
+    kg.s = slave; kg.sp = sp_; kg.ms = ms_; kg.eps = pair_.penalty; kg.slots = slots; kg.touch = 1e-12 * h_min_;
+    Kokkos::parallel_for("iga::MortarGaps", Kokkos::RangePolicy<ExecSpace>(0, slave.nb), kg);
+    MortarPointPressure kp;
+    kp.s = slave; kp.sp = sp_; kp.ms = ms_;
+    Kokkos::parallel_for("iga::MortarPointPressure", Kokkos::RangePolicy<ExecSpace>(0, num_points()), kp);
+    Kokkos::fence();
+  }
   Kokkos::fence();
 }
 
 double ContactPairData::max_active_gap_ratio() const {
+  if (mortar_) {
+    const auto g = weighted_gaps(), w = mortar_weights();
+    auto act = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms_.active);
+    double r = 0;
+    for (size_t A = 0; A < g.size(); ++A)
+      if (act(A)) r = std::max(r, std::abs(g[A] / w[A]));
+    return r / h_min_;
+  }
   const auto st = state();
   double g = 0;
   for (size_t i = 0; i < st.gap.size(); ++i)
@@ -169,11 +241,41 @@ double ContactPairData::max_active_gap_ratio() const {
 }
 
 double ContactPairData::augment() {
-  Kokkos::deep_copy(sp_.lambda, sp_.pressure);
+  if (mortar_) Kokkos::deep_copy(ms_.lbar, ms_.lambda);
+  else Kokkos::deep_copy(sp_.lambda, sp_.pressure);
   return max_active_gap_ratio();
 }
 
-void ContactPairData::reset_multipliers() { Kokkos::deep_copy(sp_.lambda, 0.0); }
+void ContactPairData::reset_multipliers() {
+  if (mortar_) Kokkos::deep_copy(ms_.lbar, 0.0);
+  else Kokkos::deep_copy(sp_.lambda, 0.0);
+}
+
+namespace {
+std::vector<double> host_vector(const Kokkos::View<double*, MemSpace>& v) {
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), v);
+  return std::vector<double>(h.data(), h.data() + h.extent(0));
+}
+}  // namespace
+
+std::vector<double> ContactPairData::weighted_gaps() const { return mortar_ ? host_vector(ms_.gA) : std::vector<double>{}; }
+std::vector<double> ContactPairData::mortar_weights() const { return mortar_ ? host_vector(ms_.wA) : std::vector<double>{}; }
+std::vector<double> ContactPairData::mortar_multipliers() const {
+  return mortar_ ? host_vector(ms_.lambda) : std::vector<double>{};
+}
+
+double ContactPairData::potential() const {
+  double pi = 0;
+  if (mortar_) {
+    const auto l = mortar_multipliers(), w = mortar_weights();
+    for (size_t A = 0; A < l.size(); ++A) pi += 0.5 / pair_.penalty * w[A] * l[A] * l[A];
+    return pi;
+  }
+  const auto st = state();
+  for (size_t i = 0; i < st.gap.size(); ++i)
+    if (st.active[i]) pi += 0.5 / pair_.penalty * st.pressure[i] * st.pressure[i] * st.weight[i];
+  return pi;
+}
 
 ContactPointState ContactPairData::state() const {
   ContactPointState s;
@@ -186,7 +288,9 @@ ContactPointState ContactPairData::state() const {
   auto lam = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.lambda);
   auto valid = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.valid);
   auto w = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.weight);
+  auto span = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.span);
   for (int i = 0; i < n; ++i) {
+    if (span(i) < 0) continue;   // unused mortar slot
     s.x.push_back(x(i, 0));
     s.y.push_back(x(i, 1));
     s.nx.push_back(valid(i) ? nrm(i, 0) : 0.0);
@@ -195,7 +299,8 @@ ContactPointState ContactPairData::state() const {
     s.gap.push_back(valid(i) ? gap(i) : std::nan(""));
     s.pressure.push_back(pr(i));
     s.weight.push_back(w(i));
-    s.active.push_back(valid(i) && lam(i) - pair_.penalty * gap(i) >= 0 ? 1 : 0);
+    if (mortar_) s.active.push_back(valid(i) && pr(i) > 0 ? 1 : 0);
+    else s.active.push_back(valid(i) && lam(i) - pair_.penalty * gap(i) >= 0 ? 1 : 0);
   }
   return s;
 }
@@ -217,37 +322,63 @@ ContactSummary ContactPairData::summary() const {
 }
 
 ContactContribution assemble_contact(const System& sys, std::vector<ContactPairData>& pairs) {
-  // 1) the dofs this rank's active points couple: overlap map and graph
+  // 1) the dofs this rank's contributions couple: overlap map and graph. A group is a set
+  //    of control points coupled all to all: the element pair of an active quadrature point
+  //    (KTS, and the mortar pressure term), or the support of delta g_A (mortar).
   std::vector<GO> cps;
-  struct Pt { int pair, i, sspan, mspan; };
-  std::vector<Pt> pts;
+  std::vector<std::vector<GO>> groups;
   int active = 0;
   for (size_t k = 0; k < pairs.size(); ++k) {
     auto& pd = pairs[k];
     auto valid = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.valid);
     auto gap = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.gap);
     auto lam = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.lambda);
+    auto pr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.pressure);
     auto sspan = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.span);
     auto mspan = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.mspan);
+    auto point_group = [&](int i) {
+      std::vector<GO> g;
+      for (int a = sspan(i) - pd.slave.p; a <= sspan(i); ++a) g.push_back(pd.slave_gid[a]);
+      for (int b = mspan(i) - pd.master.p; b <= mspan(i); ++b) g.push_back(pd.master_gid[b]);
+      return g;
+    };
     for (int i = pd.p_begin; i < pd.p_end; ++i) {
-      if (!valid(i) || lam(i) - pd.pair().penalty * gap(i) < 0) continue;
-      ++active;
-      pts.push_back({static_cast<int>(k), i, sspan(i), mspan(i)});
-      for (int a = sspan(i) - pd.slave.p; a <= sspan(i); ++a) cps.push_back(pd.slave_gid[a]);
-      for (int b = mspan(i) - pd.master.p; b <= mspan(i); ++b) cps.push_back(pd.master_gid[b]);
+      if (sspan(i) < 0 || !valid(i)) continue;
+      if (pd.mortar() ? !(pr(i) > 0) : lam(i) - pd.pair().penalty * gap(i) < 0) continue;
+      if (!pd.mortar()) ++active;
+      groups.push_back(point_group(i));
+    }
+    if (pd.mortar()) {
+      auto act = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.ms_.active);
+      auto espan = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.slave.span);
+      for (int A = pd.a_begin; A < pd.a_end; ++A) {
+        if (!act(A)) continue;
+        ++active;
+        std::vector<GO> g;
+        for (int e = 0; e < pd.slave.ne; ++e) {
+          if (espan(e) < A || espan(e) > A + pd.slave.p) continue;
+          for (int i = e * pd.slots; i < (e + 1) * pd.slots; ++i)
+            if (sspan(i) >= 0 && valid(i)) {
+              const auto pg = point_group(i);
+              g.insert(g.end(), pg.begin(), pg.end());
+            }
+        }
+        std::sort(g.begin(), g.end());
+        g.erase(std::unique(g.begin(), g.end()), g.end());
+        groups.push_back(std::move(g));
+      }
     }
   }
+  for (const auto& g : groups) cps.insert(cps.end(), g.begin(), g.end());
   std::sort(cps.begin(), cps.end());
   cps.erase(std::unique(cps.begin(), cps.end()), cps.end());
   RCP<const Map> ov = sys.cp_dof_map(cps);
   auto lid_of = [&](GO g) { return static_cast<LO>(std::lower_bound(cps.begin(), cps.end(), g) - cps.begin()); };
   std::vector<std::vector<LO>> nbr(cps.size());
   std::vector<LO> el;
-  for (const Pt& p : pts) {
-    const auto& pd = pairs[p.pair];
+  for (const auto& g : groups) {
     el.clear();
-    for (int a = p.sspan - pd.slave.p; a <= p.sspan; ++a) el.push_back(lid_of(pd.slave_gid[a]));
-    for (int b = p.mspan - pd.master.p; b <= p.mspan; ++b) el.push_back(lid_of(pd.master_gid[b]));
+    for (GO c : g) el.push_back(lid_of(c));
     for (LO r : el) nbr[r].insert(nbr[r].end(), el.begin(), el.end());
   }
   const LO n = static_cast<LO>(cps.size());
@@ -285,13 +416,24 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
         }
         Kokkos::deep_copy(c->lid, h);
       }
-      if (pd.p_end <= pd.p_begin) continue;
-      dispatch_degree(std::max(pd.slave.p, pd.master.p), [&](auto P) {
-        AssembleKts<decltype(P)::value, decltype(lcl), decltype(fv)> k;
-        k.s = pd.slave; k.m = pd.master; k.sp = pd.sp_; k.eps = pd.pair().penalty;
-        k.p_begin = pd.p_begin; k.K = lcl; k.f = fv;
-        Kokkos::parallel_for("iga::AssembleKts", Kokkos::RangePolicy<ExecSpace>(0, pd.p_end - pd.p_begin), k);
-      });
+      if (pd.p_end > pd.p_begin)
+        dispatch_degree(std::max(pd.slave.p, pd.master.p), [&](auto P) {
+          AssembleKts<decltype(P)::value, decltype(lcl), decltype(fv)> k;
+          k.s = pd.slave; k.m = pd.master; k.sp = pd.sp_; k.eps = pd.pair().penalty;
+          k.p_begin = pd.p_begin; k.mortar = pd.mortar(); k.K = lcl; k.f = fv;
+          Kokkos::parallel_for(pd.mortar() ? "iga::AssembleMortarPressure" : "iga::AssembleKts",
+                               Kokkos::RangePolicy<ExecSpace>(0, pd.p_end - pd.p_begin), k);
+        });
+      if (pd.mortar() && pd.a_end > pd.a_begin) {
+        AssembleMortarGap<decltype(lcl)> k;
+        k.s = pd.slave; k.m = pd.master; k.sp = pd.sp_; k.ms = pd.ms_; k.eps = pd.pair().penalty;
+        k.slots = pd.slots; k.a_begin = pd.a_begin; k.K = lcl;
+        Kokkos::parallel_for("iga::AssembleMortarGap", Kokkos::RangePolicy<ExecSpace>(0, pd.a_end - pd.a_begin), k);
+        Kokkos::fence();
+        auto fl = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.ms_.flags);
+        if (fl(1) > 0) throw ContactError("mortar: a weighted gap couples more than " +
+                                                std::to_string(kMortarMaxEntries) + " dofs");
+      }
     }
     Kokkos::fence();
   }

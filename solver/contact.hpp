@@ -1,12 +1,19 @@
 #pragma once
 // Contact pairs on the Tpetra system: replicated boundary displacements, the search and
 // projection kernels, and assembly of the contact residual and tangent into owned objects.
+#include <stdexcept>
 #include <vector>
 
-#include "kernels/contact_kts.hpp"
+#include "kernels/contact_mortar.hpp"
 #include "solver/system.hpp"
 
 namespace iga {
+
+/// A contact state the discretisation cannot represent (thrown by update / assembly); the
+/// Newton loop reports it as non-convergence of the load step.
+struct ContactError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 
 /// Host copy of one pair's slave point state, for output and convergence checks.
 struct ContactPointState {
@@ -31,8 +38,17 @@ class ContactPairData {
   double augment();
   void reset_multipliers();
   double max_active_gap_ratio() const;
+  /// Slave points (KTS: quadrature points; mortar: segment quadrature points in use).
   ContactPointState state() const;
   ContactSummary summary() const;
+  /// The contact potential at the last update: KTS sum_q w <lambda - eps g>^2 / (2 eps),
+  /// mortar sum_A w_A lambda_A^2 / (2 eps) (the penalty potential when the multipliers are 0).
+  double potential() const;
+  bool mortar() const { return mortar_; }
+  /// Mortar: weighted gaps g_A, weights w_A and multipliers lambda_A per slave control point.
+  std::vector<double> weighted_gaps() const;
+  std::vector<double> mortar_weights() const;
+  std::vector<double> mortar_multipliers() const;
 
   // used by ContactAssembly
   CurveData slave, master;
@@ -40,9 +56,16 @@ class ContactPairData {
   std::vector<GO> slave_gid, master_gid;   // global cp ids of the curves' control points
   int p_begin = 0, p_end = 0;              // this rank's slave points
   double thickness = 1;
+  // mortar
+  MortarState ms_;
+  int slots = 0;                           // quadrature slots per slave element
+  int a_begin = 0, a_end = 0;              // this rank's slave control points
 
  private:
   ContactPair pair_;
+  int index_ = 0;
+  bool mortar_ = false;
+  GaussRule gauss_;
   RCP<const Map> replicated_;
   RCP<Import> importer_;
   double h_min_ = 1;

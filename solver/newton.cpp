@@ -72,7 +72,12 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
       double increment = 1.0;  // last ||du|| / ||u|| (max norms)
       for (int it = 0; it <= P.newton.max_iterations; ++it) {
         ContactContribution cc;
-        residual(lambda, cc);
+        try {
+          residual(lambda, cc);
+        } catch (const ContactError& e) {   // e.g. the mortar segmentation of a diverging state
+          why = e.what();
+          break;
+        }
         sys.zero_dirichlet(*r);
         const double norm = r->norm2();
         if (aug == 0 && it == 0) ref = norm;

@@ -37,14 +37,6 @@ std::string ring_and_block(int p, double block_y, const std::string& method = "k
   return os.str();
 }
 
-double potential(const ContactPairData& c) {
-  const auto st = c.state();
-  double pi = 0;
-  for (size_t i = 0; i < st.gap.size(); ++i)
-    if (st.active[i]) pi += 0.5 / c.pair().penalty * st.pressure[i] * st.pressure[i] * st.weight[i];
-  return pi;
-}
-
 }  // namespace
 
 class ProjectionDegree : public ::testing::TestWithParam<int> {};
@@ -91,14 +83,15 @@ TEST_P(ProjectionDegree, CurvedNurbsToRoundOffAndBeyondTheEnds) {
 
 INSTANTIATE_TEST_SUITE_P(Degrees, ProjectionDegree, ::testing::Values(2, 3, 4));
 
-class TangentDegree : public ::testing::TestWithParam<std::tuple<int, bool>> {};
+class TangentDegree : public ::testing::TestWithParam<std::tuple<int, bool, const char*>> {};
 
 // K_c against central differences of f_c, and f_c against differences of the potential
 // Pi = sum w <lambda - eps g>^2 / (2 eps) (the penalty potential when lambda = 0).
 TEST_P(TangentDegree, ContactTangentMatchesFiniteDifferences) {
   const int p = std::get<0>(GetParam());
   const bool with_multipliers = std::get<1>(GetParam());
-  const Problem P = parse_problem(ring_and_block(p, 1.985), "tangent.yaml");
+  const std::string method = std::get<2>(GetParam());
+  const Problem P = parse_problem(ring_and_block(p, 1.985, method), "tangent.yaml");
   System sys(P, Tpetra::getDefaultComm());
   std::vector<ContactPairData> pairs{ContactPairData(sys, 0)};
   Vector u0(sys.owned_map());
@@ -116,7 +109,7 @@ TEST_P(TangentDegree, ContactTangentMatchesFiniteDifferences) {
     pairs[0].update(u0);
   }
   const ContactContribution c0 = assemble_contact(sys, pairs);
-  ASSERT_GT(c0.active, 5);
+  ASSERT_GT(c0.active, method.rfind("mortar", 0) == 0 ? 1 : 5);  // slave points or control points
   // the dofs of both contact curves
   std::vector<GO> dofs;
   for (GO g : pairs[0].slave_gid) dofs.insert(dofs.end(), {2 * g, 2 * g + 1});
@@ -130,7 +123,7 @@ TEST_P(TangentDegree, ContactTangentMatchesFiniteDifferences) {
       Vector u(u0, Teuchos::Copy);
       u.getLocalViewHost(Tpetra::Access::ReadWrite)(l, 0) += s;
       pairs[0].update(u);
-      pi = potential(pairs[0]);
+      pi = pairs[0].potential();
       return assemble_contact(sys, pairs).f;
     };
     double pp, pm;
@@ -150,13 +143,15 @@ TEST_P(TangentDegree, ContactTangentMatchesFiniteDifferences) {
     fp->update(-1.0, Ke, 1.0);
     worst = std::max(worst, fp->norm2());
   }
-  std::printf("  p = %d: max |K_c e_j - FD| = %.2e of max |K_c e_j| = %.2e; max |f_c - dPi/du| = %.2e\n", p, worst,
+  std::printf("  %s p = %d: max |K_c e_j - FD| = %.2e of max |K_c e_j| = %.2e; max |f_c - dPi/du| = %.2e\n", method.c_str(), p, worst,
               kscale, worst_f);
   EXPECT_LT(worst, 1e-6 * kscale);
   EXPECT_LT(worst_f, 1e-6 * c0.f->normInf());
 }
 
-INSTANTIATE_TEST_SUITE_P(Degrees, TangentDegree, ::testing::Combine(::testing::Values(2, 3), ::testing::Bool()));
+INSTANTIATE_TEST_SUITE_P(Degrees, TangentDegree,
+                         ::testing::Combine(::testing::Values(2, 3, 4), ::testing::Bool(),
+                                            ::testing::Values("kts_penalty", "mortar_penalty")));
 
 // Newton with the consistent tangent converges quadratically: the last steps square the error.
 TEST(Newton, ConvergesQuadraticallyOnCurvedContact) {
@@ -176,14 +171,17 @@ TEST(Newton, ConvergesQuadraticallyOnCurvedContact) {
   EXPECT_TRUE(seen);
 }
 
-TEST(Equilibrium, ContactForceEqualsReactions) {
+class Equilibrium : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(Equilibrium, ContactForceEqualsReactions) {
   const Solved s = solve_text(read(IGACONTACT_SOURCE_DIR "/examples/two_blocks_middle.yaml"), Tpetra::getDefaultComm(), {},
-                              {});
-  ASSERT_TRUE(s.res.converged);
+                              {std::string("contact.0.method=") + GetParam(), "solver.linear.tolerance=1e-12"});
+  ASSERT_TRUE(s.res.converged) << s.res.message;
   const ContactSummary c = s.res.contact[0].summary();
   const auto R = reactions_json(*s.sys, *s.res.residual);
   const double Rlower = R["lower"]["south"][1].get<double>(), Rupper = R["upper"]["north"][1].get<double>();
-  std::printf("  contact force (%.10g, %.10g), reactions lower %.10g, upper %.10g\n", c.fx, c.fy, Rlower, Rupper);
+  std::printf("  %s: contact force (%.10g, %.10g), reactions lower %.10g, upper %.10g\n", GetParam(), c.fx, c.fy, Rlower,
+              Rupper);
   // the force on the upper (slave) block balances its support, and the lower block's support
   // carries the same force: F_slave = -R_upper = R_lower (as vectors)
   const double Rlx = R["lower"]["south"][0].get<double>(), Rux = R["upper"]["north"][0].get<double>();
@@ -196,6 +194,10 @@ TEST(Equilibrium, ContactForceEqualsReactions) {
   // larger than the vertical component
   EXPECT_GE(c.normal_force, std::hypot(c.fx, c.fy) * (1 - 1e-12));
 }
+
+// (kts_alm is left out: with more slave points than master dofs it over-constrains the gap and
+// the multipliers do not settle; see docs/contact-methods.md.)
+INSTANTIATE_TEST_SUITE_P(Methods, Equilibrium, ::testing::Values("kts_penalty", "mortar_penalty", "mortar_alm"));
 
 // KTS does not pass the contact patch test exactly (the report saw about 4 %); the total
 // force still equals the applied load, and kts_alm closes the gap.
@@ -217,9 +219,12 @@ TEST(PatchTest, KtsTransmitsTheLoadAndAlmClosesTheGap) {
 }
 
 // Hertz line contact of the wheel example: p0 and a within 5 % of Hertz for the computed load.
-TEST(Hertz, WheelPeakPressureAndHalfWidth) {
-  const Solved s = solve_text(read(IGACONTACT_SOURCE_DIR "/examples/wheel.yaml"));
-  ASSERT_TRUE(s.res.converged);
+class Hertz : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(Hertz, WheelPeakPressureAndHalfWidth) {
+  const Solved s = solve_text(read(IGACONTACT_SOURCE_DIR "/examples/wheel.yaml"), Tpetra::getDefaultComm(), {},
+                              {std::string("contact.0.method=") + GetParam()});
+  ASSERT_TRUE(s.res.converged) << s.res.message;
   const ContactSummary c = s.res.contact[0].summary();
   const double R = 1.0, E = 1000.0, nu = 0.3;
   const double Estar = 1.0 / (2 * (1 - nu * nu) / E);
@@ -234,9 +239,11 @@ TEST(Hertz, WheelPeakPressureAndHalfWidth) {
       const double t = st.gap[i] / (st.gap[i] - st.gap[i + 1]);
       edge = std::abs(st.x[i] + t * (st.x[i + 1] - st.x[i]));
     }
-  std::printf("  P = %.5g: p0 = %.5g (Hertz %.5g, %+.2f %%), a = %.5g (Hertz %.5g, %+.2f %%), active length %.5g\n", Pn,
+  std::printf("  %s: P = %.5g: p0 = %.5g (Hertz %.5g, %+.2f %%), a = %.5g (Hertz %.5g, %+.2f %%), active length %.5g\n", GetParam(), Pn,
               c.max_pressure, p0, 100 * (c.max_pressure / p0 - 1), edge, a, 100 * (edge / a - 1), c.contact_length);
   EXPECT_LT(a / R, 0.1);
   EXPECT_NEAR(c.max_pressure, p0, 0.05 * p0);
   EXPECT_NEAR(edge, a, 0.05 * a);
 }
+
+INSTANTIATE_TEST_SUITE_P(Methods, Hertz, ::testing::Values("kts_penalty", "mortar_penalty"));

@@ -49,3 +49,14 @@ TEST(OneVersusTwoRanks, TwoBlocksContact) {
   compare_one_and_many(read(IGACONTACT_SOURCE_DIR "/examples/two_blocks_middle.yaml"),
                        {"solver.linear.tolerance=1e-13"}, 1e-10);
 }
+
+TEST(OneVersusTwoRanks, TwoBlocksMortarAlm) {
+  compare_one_and_many(read(IGACONTACT_SOURCE_DIR "/examples/two_blocks_middle.yaml"),
+                       {"solver.linear.tolerance=1e-13", "contact.0.method=mortar_alm"}, 1e-10);
+}
+
+TEST(OneVersusTwoRanks, WheelMortarPenalty) {
+  compare_one_and_many(read(IGACONTACT_SOURCE_DIR "/examples/wheel.yaml"),
+                       {"solver.linear.tolerance=1e-13", "solver.linear.max_iterations=5000", "contact.0.method=mortar_penalty"},
+                       1e-9);
+}

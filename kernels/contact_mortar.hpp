@@ -1,0 +1,272 @@
+#pragma once
+// Segment-to-segment mortar contact (frictionless, normal) between NURBS boundary curves,
+// for any degree 1..5 of either curve. Penalty or augmented Lagrangian on weighted gaps.
+//
+// Weighted gap of slave control point A (reference slave measure dGamma_0, thickness t):
+//   g_A = \int_{Gamma_s} R_A(xi) g(xi) dGamma_0,   w_A = \int_{Gamma_s} R_A dGamma_0 (fixed)
+//   g(xi) = (x_s(xi) - rho(eta(xi))) . n(eta),  eta(xi) the closest-point projection
+// Multiplier (a pressure) and potential
+//   lambda_A = <lbar_A - eps g_A / w_A>,   Pi = sum_A w_A / (2 eps) lambda_A^2
+//   (penalty: lbar = 0; ALM: lbar <- lambda between Newton solves). Pressure field
+//   p(xi) = sum_A lambda_A R_A(xi): a uniform lambda transmits a uniform pressure exactly
+//   (partition of unity), which is why mortar passes the contact patch test.
+// Residual and tangent
+//   f_c = -sum_A lambda_A delta g_A = -\int p(xi) N dGamma_0          (per quadrature point)
+//   K_c = sum_{A active} eps / w_A delta g_A (x) delta g_A             (per slave cp A)
+//         - \int p(xi) G dGamma_0                                      (per quadrature point)
+//   with delta g = N . delta u and Delta delta g = G of the pointwise gap (contact_kts.hpp).
+//   The segment end points move with u, but the integrand is continuous across them, so
+//   their derivatives cancel and the linearisation above is consistent.
+// Segments: a slave element [a, b] is cut where master knots project onto it: for a master
+//   knot eta_k with rho_k, t_k the cut xi solves (x_s(xi) - rho_k) . t_k = 0 (the slave point
+//   whose closest master point is the knot); candidate knots are those of the master elements
+//   in the search-grid cells that the slave element's box overlaps. Each segment gets its own
+//   Gauss rule, so the integrand is smooth on every piece.
+// Layout: the slave quadrature points are slots of SlavePoints, kMortarMaxSegments x nq per
+//   slave element (element-major, segments in increasing xi); unused slots have span = -1.
+//   Per slave control point A: w_A, g_A, lbar_A, lambda_A, active_A (views over slave cps).
+// Cost per slave element: ~ (candidates) x 10 Newton steps x 20 (p + 1) flops for the cuts;
+//   per slave cp A: (p + 1) elements x slots x basis evaluation ~ 15 (p + 1)^2 flops.
+#include "kernels/contact_kts.hpp"
+
+namespace iga {
+
+constexpr int kMortarMaxSegments = 16;
+constexpr int kMortarMaxEntries = 160;   // dofs of one delta g_A
+
+struct MortarState {
+  Kokkos::View<double*, MemSpace> wA, gA, lbar, lambda;
+  Kokkos::View<int*, MemSpace> active, covered;
+  Kokkos::View<int*, MemSpace> flags;   // [0] segment overflow, [1] entry overflow
+};
+
+/// Reference control point positions (for the reference Jacobian).
+struct RefCP {
+  Kokkos::View<double* [2], MemSpace> X;
+  KOKKOS_INLINE_FUNCTION double operator()(int i, int c) const { return X(i, c); }
+};
+
+/// Cuts of slave element e by the master knots, and its quadrature slots.
+struct MortarSegments {
+  CurveData s, m;
+  SlavePoints sp;
+  SearchGrid grid;
+  GaussRule gauss;
+  double thickness = 1;
+  Kokkos::View<int*, MemSpace> flags;
+
+  KOKKOS_INLINE_FUNCTION int slots() const { return kMortarMaxSegments * gauss.n; }
+
+  // root of (x_s(xi) - rho) . t on [a, b] (bracketed Newton); false if no sign change
+  KOKKOS_INLINE_FUNCTION bool cut(double a, double b, const double rho[2], const double t[2], double& xi) const {
+    const CurrentCP cp{s.X, s.u};
+    double R[3][kMaxBasis1D], x[2], dx[2], ddx[2];
+    curve_eval(s.nb, s.p, s.U.data(), cp, s.w, a, x, dx, ddx, R);
+    double fa = (x[0] - rho[0]) * t[0] + (x[1] - rho[1]) * t[1];
+    curve_eval(s.nb, s.p, s.U.data(), cp, s.w, b, x, dx, ddx, R);
+    const double fb = (x[0] - rho[0]) * t[0] + (x[1] - rho[1]) * t[1];
+    if ((fa > 0 && fb > 0) || (fa < 0 && fb < 0) || fa == 0 || fb == 0) return false;
+    double lo = a, hi = b;
+    const bool up = fa < 0;   // f increasing from lo to hi
+    xi = a + (b - a) * fa / (fa - fb);
+    for (int it = 0; it < 100; ++it) {
+      curve_eval(s.nb, s.p, s.U.data(), cp, s.w, xi, x, dx, ddx, R);
+      const double f = (x[0] - rho[0]) * t[0] + (x[1] - rho[1]) * t[1];
+      const double fp = dx[0] * t[0] + dx[1] * t[1];
+      if (f == 0) break;
+      if ((f < 0) == up) lo = xi; else hi = xi;
+      double nxi = fp != 0 ? xi - f / fp : 0.5 * (lo + hi);
+      if (!(nxi > lo && nxi < hi)) nxi = 0.5 * (lo + hi);
+      const double moved = kmath::fabs(nxi - xi);
+      xi = nxi;
+      if (moved <= 1e-16 * (b - a) || hi - lo <= 1e-16 * (b - a)) break;
+    }
+    return true;
+  }
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int e) const {
+    const int span = s.span(e);
+    const double a = s.U(span), b = s.U(span + 1);
+    double bp[kMortarMaxSegments + 1];
+    int nbp = 0;
+    bool overflow = false;
+    // box of the slave element (its current control points hold it)
+    double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+    for (int k = span - s.p; k <= span; ++k)
+      for (int c = 0; c < 2; ++c) {
+        const double v = s.X(k, c) + s.u(k, c);
+        lo[c] = v < lo[c] ? v : lo[c];
+        hi[c] = v > hi[c] ? v : hi[c];
+      }
+    const int cx0 = static_cast<int>(kmath::floor((lo[0] - grid.x0) / grid.h)), cx1 = static_cast<int>(kmath::floor((hi[0] - grid.x0) / grid.h));
+    const int cy0 = static_cast<int>(kmath::floor((lo[1] - grid.y0) / grid.h)), cy1 = static_cast<int>(kmath::floor((hi[1] - grid.y0) / grid.h));
+    const CurrentCP mcp{m.X, m.u};
+    for (int cy = cy0 < 0 ? 0 : cy0; cy <= cy1 && cy < grid.ny; ++cy)
+      for (int cx = cx0 < 0 ? 0 : cx0; cx <= cx1 && cx < grid.nx; ++cx) {
+        const int cell = cx + cy * grid.nx;
+        for (int k = grid.start(cell); k < grid.start(cell + 1); ++k) {
+          const int me = grid.elems(k);
+          for (int end = 0; end < 2; ++end) {
+            const double eta = m.U(m.span(me) + end);
+            double R[3][kMaxBasis1D], rho[2], t[2], dd[2];
+            curve_eval(m.nb, m.p, m.U.data(), mcp, m.w, eta, rho, t, dd, R);
+            double xi;
+            if (!cut(a, b, rho, t, xi)) continue;
+            if (xi <= a + 1e-12 * (b - a) || xi >= b - 1e-12 * (b - a)) continue;
+            bool dup = false;
+            for (int j = 0; j < nbp; ++j) dup = dup || kmath::fabs(bp[j] - xi) <= 1e-12 * (b - a);
+            if (dup) continue;
+            if (nbp + 1 >= kMortarMaxSegments) { overflow = true; continue; }
+            bp[nbp++] = xi;
+          }
+        }
+      }
+    if (overflow) Kokkos::atomic_add(&flags(0), 1);
+    // sorted cut points with the element ends
+    for (int i = 1; i < nbp; ++i)
+      for (int j = i; j > 0 && bp[j - 1] > bp[j]; --j) {
+        const double tmp = bp[j]; bp[j] = bp[j - 1]; bp[j - 1] = tmp;
+      }
+    double cuts[kMortarMaxSegments + 1];
+    cuts[0] = a;
+    for (int j = 0; j < nbp; ++j) cuts[j + 1] = bp[j];
+    cuts[nbp + 1] = b;
+    const int base = e * slots();
+    const RefCP ref{s.X};
+    for (int seg = 0; seg < kMortarMaxSegments; ++seg)
+      for (int q = 0; q < gauss.n; ++q) {
+        const int i = base + seg * gauss.n + q;
+        sp.melem(i) = -1;   // slots move between updates: no warm start
+        if (seg > nbp) {
+          sp.span(i) = -1;
+          sp.xi(i) = a;
+          sp.weight(i) = 0;
+          continue;
+        }
+        const double h = 0.5 * (cuts[seg + 1] - cuts[seg]);
+        const double xi = cuts[seg] + h * (gauss.x[q] + 1.0);
+        double R[3][kMaxBasis1D], X[2], dX[2], ddX[2];
+        curve_eval(s.nb, s.p, s.U.data(), ref, s.w, xi, X, dX, ddX, R);
+        sp.span(i) = span;
+        sp.xi(i) = xi;
+        sp.weight(i) = gauss.w[q] * h * kmath::sqrt(dX[0] * dX[0] + dX[1] * dX[1]) * thickness;
+      }
+  }
+};
+
+/// Loops over the valid quadrature slots in the support of slave control point A:
+/// f(i, R_A(xi_i), Rs, slave span). Support: slave elements with span in [A, A + p].
+template <class F>
+KOKKOS_INLINE_FUNCTION void for_each_support_point(const CurveData& s, const SlavePoints& sp, int slots, int A,
+                                                   const F& f) {
+  // first element whose span is >= A (element spans increase)
+  int lo = 0, hi = s.ne;
+  while (lo < hi) {
+    const int mid = (lo + hi) / 2;
+    if (s.span(mid) < A) lo = mid + 1; else hi = mid;
+  }
+  for (int e = lo; e < s.ne && s.span(e) <= A + s.p; ++e)
+    for (int i = e * slots; i < (e + 1) * slots; ++i) {
+      if (sp.span(i) < 0 || !sp.valid(i)) continue;
+      double R[3][kMaxBasis1D], x[2], dx[2], ddx[2];
+      const int span = curve_eval(s.nb, s.p, s.U.data(), CurrentCP{s.X, s.u}, s.w, sp.xi(i), x, dx, ddx, R);
+      const int a = A - (span - s.p);
+      if (a < 0 || a > s.p) continue;
+      f(i, R[0][a], R, span);
+    }
+}
+
+/// Weighted gaps, multipliers and the active set of every slave control point.
+struct MortarGaps {
+  CurveData s;
+  SlavePoints sp;
+  MortarState ms;
+  double eps = 0;
+  double touch = 0;   // gaps below this count as touching (round-off of exactly closed gaps)
+  int slots = 1;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int A) const {
+    double g = 0;
+    int cov = 0;
+    const SlavePoints& p = sp;
+    for_each_support_point(s, sp, slots, A, [&](int i, double RA, const double (*)[kMaxBasis1D], int) {
+      g += RA * p.weight(i) * p.gap(i);
+      cov = 1;
+    });
+    ms.gA(A) = g;
+    ms.covered(A) = cov;
+    const double l = ms.lbar(A) - eps * g / ms.wA(A);
+    ms.active(A) = cov && l >= -eps * touch ? 1 : 0;
+    ms.lambda(A) = cov && l > 0 ? l : 0.0;
+  }
+};
+
+/// Pressure at the quadrature slots: p(xi) = sum_A lambda_A R_A(xi).
+struct MortarPointPressure {
+  CurveData s;
+  SlavePoints sp;
+  MortarState ms;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int i) const {
+    if (sp.span(i) < 0 || !sp.valid(i)) { sp.pressure(i) = 0; return; }
+    double R[3][kMaxBasis1D], x[2], dx[2], ddx[2];
+    const int span = curve_eval(s.nb, s.p, s.U.data(), CurrentCP{s.X, s.u}, s.w, sp.xi(i), x, dx, ddx, R);
+    double pr = 0;
+    for (int a = 0; a <= s.p; ++a) pr += ms.lambda(span - s.p + a) * R[0][a];
+    sp.pressure(i) = pr;
+  }
+};
+
+/// delta g_A over the overlap dofs (2 lid + c) of slave control point A; returns the count,
+/// or -1 when more than kMortarMaxEntries dofs.
+KOKKOS_INLINE_FUNCTION int mortar_gap_variation(const CurveData& s, const CurveData& m, const SlavePoints& sp,
+                                                int slots, int A, int dof[kMortarMaxEntries],
+                                                double val[kMortarMaxEntries]) {
+  int n = 0;
+  bool over = false;
+  auto add = [&](int d, double v) {
+    for (int k = 0; k < n; ++k)
+      if (dof[k] == d) { val[k] += v; return; }
+    if (n == kMortarMaxEntries) { over = true; return; }
+    dof[n] = d;
+    val[n++] = v;
+  };
+  for_each_support_point(s, sp, slots, A, [&](int i, double RA, const double (*Rs)[kMaxBasis1D], int span) {
+    const double w = RA * sp.weight(i);
+    const double nn[2] = {sp.normal(i, 0), sp.normal(i, 1)};
+    for (int a = 0; a <= s.p; ++a)
+      for (int c = 0; c < 2; ++c) add(2 * s.lid(span - s.p + a) + c, w * Rs[0][a] * nn[c]);
+    double Rm[3][kMaxBasis1D], rho[2], t[2], dd[2];
+    const int ms = curve_eval(m.nb, m.p, m.U.data(), CurrentCP{m.X, m.u}, m.w, sp.mxi(i), rho, t, dd, Rm);
+    for (int b = 0; b <= m.p; ++b)
+      for (int c = 0; c < 2; ++c) add(2 * m.lid(ms - m.p + b) + c, -w * Rm[0][b] * nn[c]);
+  });
+  return over ? -1 : n;
+}
+
+/// K_c += eps / w_A delta g_A (x) delta g_A for the active slave control points [a_begin, ...).
+template <class LocalMatrix>
+struct AssembleMortarGap {
+  CurveData s, m;
+  SlavePoints sp;
+  MortarState ms;
+  double eps = 0;
+  int slots = 1, a_begin = 0;
+  LocalMatrix K;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
+    const int A = a_begin + k;
+    if (!ms.active(A)) return;
+    int dof[kMortarMaxEntries];
+    double val[kMortarMaxEntries], row[kMortarMaxEntries];
+    const int n = mortar_gap_variation(s, m, sp, slots, A, dof, val);
+    if (n < 0) { Kokkos::atomic_add(&ms.flags(1), 1); return; }
+    const double c = eps / ms.wA(A);
+    for (int r = 0; r < n; ++r) {
+      for (int q = 0; q < n; ++q) row[q] = c * val[r] * val[q];
+      K.sumIntoValues(dof[r], dof, n, row, false, true);
+    }
+  }
+};
+
+}  // namespace iga
