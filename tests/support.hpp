@@ -5,6 +5,7 @@
 #include <cmath>
 #include <functional>
 #include <random>
+#include <fstream>
 #include <sstream>
 #include <string>
 
@@ -21,6 +22,14 @@ struct Solved {
   SolveResult res;
   std::vector<std::vector<double>> disp;   // per body, on rank 0
 };
+
+/// The whole text of a file (an example problem).
+inline std::string read(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
 
 inline Solved solve_text(const std::string& yaml, RCP<const Comm> comm = Tpetra::getDefaultComm(),
                          const std::function<void(System&)>& setup = {},

@@ -12,13 +12,6 @@ using namespace iga::test;
 
 namespace {
 
-std::string read(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 // A curved master (outer arc of a quarter annulus, radius 2, from 45 to 135 degrees, top at
 // (0, 2)) and a slave that is either a flat block bottom or the inner arc of a ring.
 std::string ring_and_block(int p, double block_y, const std::string& method = "kts_penalty") {

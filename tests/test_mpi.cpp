@@ -13,13 +13,6 @@ using namespace iga;
 using namespace iga::test;
 
 namespace {
-std::string read(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 void compare_one_and_many(const std::string& yaml, const std::vector<std::string>& sets, double tol) {
   auto world = Tpetra::getDefaultComm();
   ASSERT_GE(world->getSize(), 2) << "run this test with mpiexec -n 2";
