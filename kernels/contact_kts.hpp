@@ -64,13 +64,34 @@ struct SlavePoints {
   Kokkos::View<double* [2], MemSpace> normal;  // master outward normal at the projection
 };
 
-/// Search grid over master element boxes (built by build_search_grid).
+/// Search grid over master element boxes: a uniform grid of cell size h from (x0, y0), of
+/// which only the non-empty cells are stored (a curve crosses O(M) of the grid's cells, not
+/// O(M^2)): their ids cx + nx cy sorted in `key`, element ids of key[c] in
+/// elems[start[c] .. start[c + 1]).
 struct SearchGrid {
   double x0 = 0, y0 = 0, h = 1;
   int nx = 1, ny = 1;
-  Kokkos::View<int*, MemSpace> start;   // ncells + 1
-  Kokkos::View<int*, MemSpace> elems;   // element ids per cell
+  Kokkos::View<long long*, MemSpace> key;   // non-empty cell ids, increasing
+  Kokkos::View<int*, MemSpace> start;       // nkeys + 1
+  Kokkos::View<int*, MemSpace> elems;       // element ids per cell
   Kokkos::View<double* [4], MemSpace> box;  // per master element: xmin, ymin, xmax, ymax
+
+  /// Range [k0, k1) of elems in cell (cx, cy); empty outside the grid or for an empty cell.
+  KOKKOS_INLINE_FUNCTION void cell_range(int cx, int cy, int& k0, int& k1) const {
+    k0 = k1 = 0;
+    if (cx < 0 || cy < 0 || cx >= nx || cy >= ny) return;
+    const long long c = cx + static_cast<long long>(nx) * cy;
+    int lo = 0, hi = static_cast<int>(key.extent(0));
+    while (lo < hi) {
+      const int mid = (lo + hi) / 2;
+      if (key(mid) < c) lo = mid + 1; else hi = mid;
+    }
+    if (lo < static_cast<int>(key.extent(0)) && key(lo) == c) { k0 = start(lo); k1 = start(lo + 1); }
+  }
+  /// Cell index of coordinate x along x (d = 0) or y (d = 1), unclamped.
+  KOKKOS_INLINE_FUNCTION int cell_of(double x, int d) const {
+    return static_cast<int>(kmath::floor((x - (d == 0 ? x0 : y0)) / h));
+  }
 };
 
 /// Squared distance from x to an axis-aligned box.
@@ -87,41 +108,49 @@ KOKKOS_INLINE_FUNCTION double box_distance2(const SearchGrid& g, int e, const do
 /// element by more than 1e-10 of the element's length). Points on the curve itself (gap 0,
 /// as augmented Lagrangian solutions have) are judged by that sign, not by a ratio to the
 /// distance, which round-off would decide.
-/// `warm` (>= 0): start Newton from xi as given (the previous projection) instead of sampling.
+/// `warm`: start Newton from xi as given (the previous projection) instead of sampling.
+/// rho, t: the curve point and tangent at the returned xi.
+/// Newton converges quadratically, so once a Newton step is below 1e-9 of the element's
+/// parameter length the error after it is ~ 1e-18 of it: the loop stops there (a gradient
+/// step, taken where f' >= 0 far from the curve, converges linearly and never stops it).
+/// Cost: (3 cold) + iterations + 1 curve evaluations of ~ (12 p^2 + 30 p) flops each.
 KOKKOS_INLINE_FUNCTION double project_on_element(const CurveData& m, int s, const double x[2], double& xi,
-                                                 bool& inside, bool warm = false) {
+                                                 bool& inside, double rho[2], double tan[2], bool warm = false) {
   const CurrentCP cp{m.X, m.u};
   const double a = m.U(s), b = m.U(s + 1);
+  const double* U = m.U.data();
   double R[3][kMaxBasis1D], r[2], t[2], dd[2];
   if (!warm || xi < a || xi > b) {
     double best = 1e300;
     const int ns = 2;
     for (int k = 0; k <= ns; ++k) {
       const double s_xi = a + (b - a) * k / ns;
-      curve_eval(m.nb, m.p, m.U.data(), cp, m.w, s_xi, r, t, dd, R);
+      curve_eval_span(s, m.p, U, cp, m.w, s_xi, r, t, dd, R);
       const double d2 = (x[0] - r[0]) * (x[0] - r[0]) + (x[1] - r[1]) * (x[1] - r[1]);
       if (d2 < best) { best = d2; xi = s_xi; }
     }
   }
   for (int it = 0; it < 50; ++it) {
-    curve_eval(m.nb, m.p, m.U.data(), cp, m.w, xi, r, t, dd, R);
+    curve_eval_span(s, m.p, U, cp, m.w, xi, r, t, dd, R);
     const double dx = x[0] - r[0], dy = x[1] - r[1];
     const double f = dx * t[0] + dy * t[1];
     const double fp = -(t[0] * t[0] + t[1] * t[1]) + dx * dd[0] + dy * dd[1];
     // Newton; a non-descent step (f' >= 0 far from the curve) falls back to a gradient step
-    const double step = fp < 0.0 ? -f / fp : f / (t[0] * t[0] + t[1] * t[1]);
+    const bool newton = fp < 0.0;
+    const double step = newton ? -f / fp : f / (t[0] * t[0] + t[1] * t[1]);
     double nxi = xi + step;
     if (nxi < a) nxi = a;
     if (nxi > b) nxi = b;
     const double moved = kmath::fabs(nxi - xi);
     xi = nxi;
-    if (moved <= 1e-15 * (b - a)) break;
+    if (moved <= 1e-15 * (b - a) || (newton && moved <= 1e-9 * (b - a))) break;
   }
-  curve_eval(m.nb, m.p, m.U.data(), cp, m.w, xi, r, t, dd, R);
+  curve_eval_span(s, m.p, U, cp, m.w, xi, r, t, dd, R);
   const double dx = x[0] - r[0], dy = x[1] - r[1];
   const double f = dx * t[0] + dy * t[1];
   const double tol = 1e-10 * (t[0] * t[0] + t[1] * t[1]) * (b - a);
   inside = !((xi <= a && f < -tol) || (xi >= b && f > tol));
+  for (int c = 0; c < 2; ++c) { rho[c] = r[c]; tan[c] = t[c]; }
   return dx * dx + dy * dy;
 }
 
@@ -139,48 +168,73 @@ struct ProjectSlavePoints {
     sp.gap(i) = 1e300;
     sp.pressure(i) = 0;
     if (sp.span(i) < 0) return;   // an unused mortar slot
-    curve_eval(s.nb, s.p, s.U.data(), CurrentCP{s.X, s.u}, s.w, sp.xi(i), x, t, dd, R);
+    curve_eval_span(sp.span(i), s.p, s.U.data(), CurrentCP{s.X, s.u}, s.w, sp.xi(i), x, t, dd, R);
     sp.x(i, 0) = x[0];
     sp.x(i, 1) = x[1];
-    const int cx = static_cast<int>(kmath::floor((x[0] - grid.x0) / grid.h));
-    const int cy = static_cast<int>(kmath::floor((x[1] - grid.y0) / grid.h));
-    if (cx < 0 || cy < 0 || cx >= grid.nx || cy >= grid.ny) return;
-    const int cell = cx + cy * grid.nx;
-    double best = 1e300, bxi = 0;
+    int k0, kc1;
+    grid.cell_range(grid.cell_of(x[0], 0), grid.cell_of(x[1], 1), k0, kc1);
+    if (k0 == kc1) return;   // no master element near
+    double best = 1e300, bxi = 0, brho[2] = {0, 0}, bt[2] = {1, 0}, r[2], tn[2];
     int bspan = -1, belem = -1;
+    auto keep = [&](const double rr[2], const double tt[2]) {
+      for (int c = 0; c < 2; ++c) { brho[c] = rr[c]; bt[c] = tt[c]; }
+    };
     // warm start: the previous projection's element, from its parameter
     const int prev = sp.melem(i);
     bool settled = false;
     if (prev >= 0) {
       double xi = sp.mxi(i);
       bool inside;
-      const double d2 = project_on_element(m, m.span(prev), x, xi, inside, true);
-      if (inside) { best = d2; bxi = xi; bspan = m.span(prev); belem = prev; }
+      const double d2 = project_on_element(m, m.span(prev), x, xi, inside, r, tn, true);
+      if (inside) { best = d2; bxi = xi; bspan = m.span(prev); belem = prev; keep(r, tn); }
       // strictly inside its element: the closest point moved continuously, keep it
       settled = inside && xi > m.U(m.span(prev)) && xi < m.U(m.span(prev) + 1);
     }
-    for (int k = settled ? grid.start(cell + 1) : grid.start(cell); k < grid.start(cell + 1); ++k) {
+    // candidates of the cell in the order of their box distance, nearest first: an element
+    // whose box is farther than the best projection so far cannot hold a nearer one, so the
+    // search usually ends after the one or two elements whose boxes hold the point. The
+    // first 64 candidates are ordered (a bit mask marks those tried); any beyond follow in
+    // cell order.
+    const int k1 = settled ? k0 : kc1;
+    const int kord = k1 - k0 < 64 ? k1 - k0 : 64;
+    unsigned long long tried = 0;
+    for (int pass = 0; pass < kord; ++pass) {
+      int kbest = -1;
+      double dbest = best;
+      for (int k = 0; k < kord; ++k) {
+        if (tried >> k & 1ull) continue;
+        const double d = box_distance2(grid, grid.elems(k0 + k), x);
+        if (d < dbest) { dbest = d; kbest = k; }
+      }
+      if (kbest < 0) break;   // every box left is farther than the best projection
+      tried |= 1ull << kbest;
+      const int e = grid.elems(k0 + kbest);
+      if (e == belem) continue;
+      double xi;
+      bool inside;
+      const double d2 = project_on_element(m, m.span(e), x, xi, inside, r, tn);
+      // the nearest orthogonal projection
+      if (inside && d2 < best) { best = d2; bxi = xi; bspan = m.span(e); belem = e; keep(r, tn); }
+    }
+    for (int k = k0 + kord; k < k1; ++k) {
       const int e = grid.elems(k);
-      // an element whose box is farther than the best projection cannot hold a nearer one
       if (e == belem || box_distance2(grid, e, x) >= best) continue;
       double xi;
       bool inside;
-      const double d2 = project_on_element(m, m.span(e), x, xi, inside);
-      // the nearest orthogonal projection
-      if (inside && d2 < best) { best = d2; bxi = xi; bspan = m.span(e); belem = e; }
+      const double d2 = project_on_element(m, m.span(e), x, xi, inside, r, tn);
+      if (inside && d2 < best) { best = d2; bxi = xi; bspan = m.span(e); belem = e; keep(r, tn); }
     }
     sp.melem(i) = belem;
     // none: beyond the master's ends, or outside a kink; not in contact
     if (bspan < 0) return;
-    curve_eval(m.nb, m.p, m.U.data(), CurrentCP{m.X, m.u}, m.w, bxi, x, t, dd, R);
     double n[2];
-    side_normal(m.side, m.orientation, t, n);
+    side_normal(m.side, m.orientation, bt, n);
     sp.valid(i) = 1;
     sp.mspan(i) = bspan;
     sp.mxi(i) = bxi;
     sp.normal(i, 0) = n[0];
     sp.normal(i, 1) = n[1];
-    sp.gap(i) = (sp.x(i, 0) - x[0]) * n[0] + (sp.x(i, 1) - x[1]) * n[1];
+    sp.gap(i) = (sp.x(i, 0) - brho[0]) * n[0] + (sp.x(i, 1) - brho[1]) * n[1];
     const double pr = sp.lambda(i) - eps * sp.gap(i);
     sp.pressure(i) = pr > 0 ? pr : 0.0;
   }
@@ -212,8 +266,10 @@ struct AssembleKts {
     const double w = sp.weight(i);
     // slave basis at xi_s
     double Rs[3][kMaxBasis1D], Rm[3][kMaxBasis1D], xs[2], ts[2], dds[2], rho[2], t[2], mm[2];
-    const int ss = curve_eval(s.nb, s.p, s.U.data(), CurrentCP{s.X, s.u}, s.w, sp.xi(i), xs, ts, dds, Rs);
-    const int ms = curve_eval(m.nb, m.p, m.U.data(), CurrentCP{m.X, m.u}, m.w, sp.mxi(i), rho, t, mm, Rm);
+    const int ss = sp.span(i);
+    curve_eval_span(ss, s.p, s.U.data(), CurrentCP{s.X, s.u}, s.w, sp.xi(i), xs, ts, dds, Rs);
+    const int ms = sp.mspan(i);
+    curve_eval_span(ms, m.p, m.U.data(), CurrentCP{m.X, m.u}, m.w, sp.mxi(i), rho, t, mm, Rm);
     const double n[2] = {sp.normal(i, 0), sp.normal(i, 1)};
     const double a11 = t[0] * t[0] + t[1] * t[1];
     const double nm = n[0] * mm[0] + n[1] * mm[1];

@@ -57,20 +57,20 @@ struct MortarSegments {
 
   KOKKOS_INLINE_FUNCTION int slots() const { return kMortarMaxSegments * gauss.n; }
 
-  // root of (x_s(xi) - rho) . t on [a, b] (bracketed Newton); false if no sign change
-  KOKKOS_INLINE_FUNCTION bool cut(double a, double b, const double rho[2], const double t[2], double& xi) const {
+  // root of (x_s(xi) - rho) . t on the slave element [a, b] of span `span` (bracketed
+  // Newton); xa, xb are the slave's current points at a and b. false if no sign change.
+  KOKKOS_INLINE_FUNCTION bool cut(int span, double a, double b, const double xa[2], const double xb[2],
+                                  const double rho[2], const double t[2], double& xi) const {
     const CurrentCP cp{s.X, s.u};
     double R[3][kMaxBasis1D], x[2], dx[2], ddx[2];
-    curve_eval(s.nb, s.p, s.U.data(), cp, s.w, a, x, dx, ddx, R);
-    double fa = (x[0] - rho[0]) * t[0] + (x[1] - rho[1]) * t[1];
-    curve_eval(s.nb, s.p, s.U.data(), cp, s.w, b, x, dx, ddx, R);
-    const double fb = (x[0] - rho[0]) * t[0] + (x[1] - rho[1]) * t[1];
+    const double fa = (xa[0] - rho[0]) * t[0] + (xa[1] - rho[1]) * t[1];
+    const double fb = (xb[0] - rho[0]) * t[0] + (xb[1] - rho[1]) * t[1];
     if ((fa > 0 && fb > 0) || (fa < 0 && fb < 0) || fa == 0 || fb == 0) return false;
     double lo = a, hi = b;
     const bool up = fa < 0;   // f increasing from lo to hi
     xi = a + (b - a) * fa / (fa - fb);
     for (int it = 0; it < 100; ++it) {
-      curve_eval(s.nb, s.p, s.U.data(), cp, s.w, xi, x, dx, ddx, R);
+      curve_eval_span(span, s.p, s.U.data(), cp, s.w, xi, x, dx, ddx, R);
       const double f = (x[0] - rho[0]) * t[0] + (x[1] - rho[1]) * t[1];
       const double fp = dx[0] * t[0] + dx[1] * t[1];
       if (f == 0) break;
@@ -98,20 +98,27 @@ struct MortarSegments {
         lo[c] = v < lo[c] ? v : lo[c];
         hi[c] = v > hi[c] ? v : hi[c];
       }
-    const int cx0 = static_cast<int>(kmath::floor((lo[0] - grid.x0) / grid.h)), cx1 = static_cast<int>(kmath::floor((hi[0] - grid.x0) / grid.h));
-    const int cy0 = static_cast<int>(kmath::floor((lo[1] - grid.y0) / grid.h)), cy1 = static_cast<int>(kmath::floor((hi[1] - grid.y0) / grid.h));
+    const int cx0 = grid.cell_of(lo[0], 0), cx1 = grid.cell_of(hi[0], 0);
+    const int cy0 = grid.cell_of(lo[1], 1), cy1 = grid.cell_of(hi[1], 1);
     const CurrentCP mcp{m.X, m.u};
+    double xa[2], xb[2];
+    {
+      double R[3][kMaxBasis1D], dx[2], ddx[2];
+      curve_eval_span(span, s.p, s.U.data(), CurrentCP{s.X, s.u}, s.w, a, xa, dx, ddx, R);
+      curve_eval_span(span, s.p, s.U.data(), CurrentCP{s.X, s.u}, s.w, b, xb, dx, ddx, R);
+    }
     for (int cy = cy0 < 0 ? 0 : cy0; cy <= cy1 && cy < grid.ny; ++cy)
       for (int cx = cx0 < 0 ? 0 : cx0; cx <= cx1 && cx < grid.nx; ++cx) {
-        const int cell = cx + cy * grid.nx;
-        for (int k = grid.start(cell); k < grid.start(cell + 1); ++k) {
+        int k0, k1;
+        grid.cell_range(cx, cy, k0, k1);
+        for (int k = k0; k < k1; ++k) {
           const int me = grid.elems(k);
           for (int end = 0; end < 2; ++end) {
             const double eta = m.U(m.span(me) + end);
             double R[3][kMaxBasis1D], rho[2], t[2], dd[2];
             curve_eval(m.nb, m.p, m.U.data(), mcp, m.w, eta, rho, t, dd, R);
             double xi;
-            if (!cut(a, b, rho, t, xi)) continue;
+            if (!cut(span, a, b, xa, xb, rho, t, xi)) continue;
             if (xi <= a + 1e-12 * (b - a) || xi >= b - 1e-12 * (b - a)) continue;
             bool dup = false;
             for (int j = 0; j < nbp; ++j) dup = dup || kmath::fabs(bp[j] - xi) <= 1e-12 * (b - a);
@@ -146,7 +153,7 @@ struct MortarSegments {
         const double h = 0.5 * (cuts[seg + 1] - cuts[seg]);
         const double xi = cuts[seg] + h * (gauss.x[q] + 1.0);
         double R[3][kMaxBasis1D], X[2], dX[2], ddX[2];
-        curve_eval(s.nb, s.p, s.U.data(), ref, s.w, xi, X, dX, ddX, R);
+        curve_eval_span(span, s.p, s.U.data(), ref, s.w, xi, X, dX, ddX, R);
         sp.span(i) = span;
         sp.xi(i) = xi;
         sp.weight(i) = gauss.w[q] * h * kmath::sqrt(dX[0] * dX[0] + dX[1] * dX[1]) * thickness;
@@ -169,7 +176,8 @@ KOKKOS_INLINE_FUNCTION void for_each_support_point(const CurveData& s, const Sla
     for (int i = e * slots; i < (e + 1) * slots; ++i) {
       if (sp.span(i) < 0 || !sp.valid(i)) continue;
       double R[3][kMaxBasis1D], x[2], dx[2], ddx[2];
-      const int span = curve_eval(s.nb, s.p, s.U.data(), CurrentCP{s.X, s.u}, s.w, sp.xi(i), x, dx, ddx, R);
+      const int span = sp.span(i);
+      curve_eval_span(span, s.p, s.U.data(), CurrentCP{s.X, s.u}, s.w, sp.xi(i), x, dx, ddx, R);
       const int a = A - (span - s.p);
       if (a < 0 || a > s.p) continue;
       f(i, R[0][a], R, span);
@@ -210,7 +218,8 @@ struct MortarPointPressure {
   KOKKOS_INLINE_FUNCTION void operator()(const int i) const {
     if (sp.span(i) < 0 || !sp.valid(i)) { sp.pressure(i) = 0; return; }
     double R[3][kMaxBasis1D], x[2], dx[2], ddx[2];
-    const int span = curve_eval(s.nb, s.p, s.U.data(), CurrentCP{s.X, s.u}, s.w, sp.xi(i), x, dx, ddx, R);
+    const int span = sp.span(i);
+    curve_eval_span(span, s.p, s.U.data(), CurrentCP{s.X, s.u}, s.w, sp.xi(i), x, dx, ddx, R);
     double pr = 0;
     for (int a = 0; a <= s.p; ++a) pr += ms.lambda(span - s.p + a) * R[0][a];
     sp.pressure(i) = pr;
@@ -237,7 +246,8 @@ KOKKOS_INLINE_FUNCTION int mortar_gap_variation(const CurveData& s, const CurveD
     for (int a = 0; a <= s.p; ++a)
       for (int c = 0; c < 2; ++c) add(2 * s.lid(span - s.p + a) + c, w * Rs[0][a] * nn[c]);
     double Rm[3][kMaxBasis1D], rho[2], t[2], dd[2];
-    const int ms = curve_eval(m.nb, m.p, m.U.data(), CurrentCP{m.X, m.u}, m.w, sp.mxi(i), rho, t, dd, Rm);
+    const int ms = sp.mspan(i);
+    curve_eval_span(ms, m.p, m.U.data(), CurrentCP{m.X, m.u}, m.w, sp.mxi(i), rho, t, dd, Rm);
     for (int b = 0; b <= m.p; ++b)
       for (int c = 0; c < 2; ++c) add(2 * m.lid(ms - m.p + b) + c, -w * Rm[0][b] * nn[c]);
   });

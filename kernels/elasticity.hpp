@@ -12,8 +12,9 @@
 // Per element: nen = (p0+1)(p1+1) functions, nq = (p0+1)(p1+1) Gauss points (tensor rule).
 //
 // Cost per quadrature point, stated for the benchmarks (P = p0 = p1, nen = (P+1)^2):
-//   basis     : ~ 2 (6 P^2 + 10 P) for the 1-D derivatives + 20 nen for the rational map,
-//               Jacobian and inverse                                    ~ 20 nen + 12 P^2 flops
+//   basis     : 1-D B-spline derivatives once per element and direction at the P + 1 Gauss
+//               abscissae (amortised ~ 2 (6 P^2 + 10 P) / (P + 1) per point), sum-factorised
+//               rational map, Jacobian, inverse and gradients (nurbs_grad_1d)  ~ 25 nen + 9 P + 30 flops
 //   stiffness : nen (nen + 1) / 2 blocks of 2 x 2, ~ 13 flops each      ~ 6.5 nen^2 flops
 //   reads     : the element's nen control points (3 doubles) and knots   24 nen bytes / element
 //   writes    : (2 nen)^2 matrix entries summed atomically               8 (2 nen)^2 bytes / element
@@ -35,14 +36,20 @@ KOKKOS_INLINE_FUNCTION void element_stiffness(const PatchData& pd, const Materia
   const int s0 = pd.span0(e % pd.ne[0]), s1 = pd.span1(e / pd.ne[0]);
   const double ua = pd.U0(s0), ub = pd.U0(s0 + 1), va = pd.U1(s1), vb = pd.U1(s1 + 1);
   const double hu = 0.5 * (ub - ua), hv = 0.5 * (vb - va);
+  const double D00 = mat.D[0][0], D01 = mat.D[0][1], D11 = mat.D[1][1], D22 = mat.D[2][2];
+  // per element: 1-D B-spline values and derivatives at the Gauss abscissae of each direction
+  // (tensor product: (p0 + 1) + (p1 + 1) 1-D evaluations instead of 2 per quadrature point)
+  // and the homogeneous control points
+  double Nq[kMaxGauss][3][kMaxBasis1D], Mq[kMaxGauss][3][kMaxBasis1D], cw[MaxNen][3];
+  for (int q = 0; q < g0.n; ++q) bspline_ders(s0, ua + hu * (g0.x[q] + 1.0), pd.p[0], pd.U0.data(), 1, Nq[q]);
+  for (int q = 0; q < g1.n; ++q) bspline_ders(s1, va + hv * (g1.x[q] + 1.0), pd.p[1], pd.U1.data(), 1, Mq[q]);
+  element_homogeneous_cp<P>(pd, s0, s1, cw);
   for (int i = 0; i < 2 * nen; ++i)
     for (int j = 0; j < 2 * nen; ++j) Ke[i][j] = 0.0;
-  const double D00 = mat.D[0][0], D01 = mat.D[0][1], D11 = mat.D[1][1], D22 = mat.D[2][2];
   double R[MaxNen], dR[MaxNen][2], x[2];
   for (int qj = 0; qj < g1.n; ++qj)
     for (int qi = 0; qi < g0.n; ++qi) {
-      const double u = ua + hu * (g0.x[qi] + 1.0), v = va + hv * (g1.x[qj] + 1.0);
-      const double det = nurbs_grad<P>(pd, s0, s1, u, v, R, dR, x);
+      const double det = nurbs_grad_1d<P>(pd.p[0], pd.p[1], Nq[qi], Mq[qj], cw, R, dR, x);
       const double wq = kmath::fabs(det) * g0.w[qi] * g1.w[qj] * hu * hv;
       for (int a = 0; a < nen; ++a) {
         const double ax = dR[a][0] * wq, ay = dR[a][1] * wq;

@@ -38,11 +38,14 @@ KOKKOS_INLINE_FUNCTION int find_span(int nb, int p, double u, const double* U) {
   return mid;
 }
 
-/// B-spline basis functions and derivatives up to order nd (<= 2) at u in span `span`.
-KOKKOS_INLINE_FUNCTION void bspline_ders(int span, double u, int p, const double* U, int nd,
-                                         double ders[3][kMaxBasis1D]) {
+/// B-spline basis functions and derivatives up to order nd (<= 2) at u in span `span`, for
+/// the compile-time degree p (loops unrolled); bspline_ders below picks p at run time.
+template <int p>
+KOKKOS_INLINE_FUNCTION void bspline_ders_p(int span, double u, const double* U, int nd,
+                                           double ders[3][kMaxBasis1D]) {
   double left[kMaxBasis1D], right[kMaxBasis1D];
   double ndu[kMaxBasis1D][kMaxBasis1D];
+  double inv[kMaxBasis1D][kMaxBasis1D];   // inv[j][r] = 1 / ndu[j][r] (knot differences)
   double a[2][kMaxBasis1D];
   ndu[0][0] = 1.0;
   for (int j = 1; j <= p; ++j) {
@@ -51,7 +54,8 @@ KOKKOS_INLINE_FUNCTION void bspline_ders(int span, double u, int p, const double
     double saved = 0.0;
     for (int r = 0; r < j; ++r) {
       ndu[j][r] = right[r + 1] + left[j - r];
-      const double temp = ndu[r][j - 1] / ndu[j][r];
+      inv[j][r] = 1.0 / ndu[j][r];
+      const double temp = ndu[r][j - 1] * inv[j][r];
       ndu[r][j] = saved + right[r + 1] * temp;
       saved = left[j - r] * temp;
     }
@@ -68,17 +72,17 @@ KOKKOS_INLINE_FUNCTION void bspline_ders(int span, double u, int p, const double
       double d = 0.0;
       const int rk = r - k, pk = p - k;
       if (r >= k) {
-        a[s2][0] = a[s1][0] / ndu[pk + 1][rk];
+        a[s2][0] = a[s1][0] * inv[pk + 1][rk];
         d = a[s2][0] * ndu[rk][pk];
       }
       const int j1 = (rk >= -1) ? 1 : -rk;
       const int j2 = (r - 1 <= pk) ? k - 1 : p - r;
       for (int j = j1; j <= j2; ++j) {
-        a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][rk + j];
+        a[s2][j] = (a[s1][j] - a[s1][j - 1]) * inv[pk + 1][rk + j];
         d += a[s2][j] * ndu[rk + j][pk];
       }
       if (r <= pk) {
-        a[s2][k] = -a[s1][k - 1] / ndu[pk + 1][r];
+        a[s2][k] = -a[s1][k - 1] * inv[pk + 1][r];
         d += a[s2][k] * ndu[r][pk];
       }
       ders[k][r] = d;
@@ -92,6 +96,21 @@ KOKKOS_INLINE_FUNCTION void bspline_ders(int span, double u, int p, const double
   }
 }
 
+/// B-spline basis functions and derivatives up to order nd (<= 2) at u in span `span`: the
+/// one switch from the run-time degree to bspline_ders_p (degrees 1..kMaxDegree; the problem
+/// loader rejects others before any kernel runs).
+KOKKOS_INLINE_FUNCTION void bspline_ders(int span, double u, int p, const double* U, int nd,
+                                         double ders[3][kMaxBasis1D]) {
+  switch (p) {
+    case 1: bspline_ders_p<1>(span, u, U, nd, ders); break;
+    case 2: bspline_ders_p<2>(span, u, U, nd, ders); break;
+    case 3: bspline_ders_p<3>(span, u, U, nd, ders); break;
+    case 4: bspline_ders_p<4>(span, u, U, nd, ders); break;
+    case 5: bspline_ders_p<5>(span, u, U, nd, ders); break;
+    default: Kokkos::abort("bspline_ders: degree outside 1..5");
+  }
+}
+
 /// Rational (NURBS) curve basis R_j and its first two derivatives from B-spline derivatives
 /// and the weights w[j] of the p + 1 active control points.
 KOKKOS_INLINE_FUNCTION void rationalize_1d(int p, const double ders[3][kMaxBasis1D],
@@ -102,21 +121,21 @@ KOKKOS_INLINE_FUNCTION void rationalize_1d(int p, const double ders[3][kMaxBasis
     W1 += ders[1][j] * w[j];
     W2 += ders[2][j] * w[j];
   }
+  const double iW = 1.0 / W;
   for (int j = 0; j <= p; ++j) {
-    R[0][j] = ders[0][j] * w[j] / W;
-    R[1][j] = (ders[1][j] * w[j] - R[0][j] * W1) / W;
-    R[2][j] = (ders[2][j] * w[j] - 2.0 * R[1][j] * W1 - R[0][j] * W2) / W;
+    R[0][j] = ders[0][j] * w[j] * iW;
+    R[1][j] = (ders[1][j] * w[j] - R[0][j] * W1) * iW;
+    R[2][j] = (ders[2][j] * w[j] - 2.0 * R[1][j] * W1 - R[0][j] * W2) * iW;
   }
 }
 
-/// Point, first and second parametric derivative of a NURBS curve at u.
-/// cp(i, 0..1) are the (current) control point positions, wgt(i) the weights.
-/// Returns the span used, so callers can gather the active control points.
+/// Point, first and second parametric derivative of a NURBS curve at u in the given span
+/// (U[span] <= u <= U[span + 1]). cp(i, 0..1) are the (current) control point positions,
+/// wgt(i) the weights.
 template <class CPView, class WView>
-KOKKOS_INLINE_FUNCTION int curve_eval(int nb, int p, const double* U, const CPView& cp,
-                                      const WView& wgt, double u, double x[2], double dx[2],
-                                      double ddx[2], double R[3][kMaxBasis1D]) {
-  const int span = find_span(nb, p, u, U);
+KOKKOS_INLINE_FUNCTION void curve_eval_span(int span, int p, const double* U, const CPView& cp, const WView& wgt,
+                                            double u, double x[2], double dx[2], double ddx[2],
+                                            double R[3][kMaxBasis1D]) {
   double ders[3][kMaxBasis1D], w[kMaxBasis1D];
   bspline_ders(span, u, p, U, 2, ders);
   for (int j = 0; j <= p; ++j) w[j] = wgt(span - p + j);
@@ -130,6 +149,16 @@ KOKKOS_INLINE_FUNCTION int curve_eval(int nb, int p, const double* U, const CPVi
       ddx[c] += R[2][j] * cp(i, c);
     }
   }
+}
+
+/// As curve_eval_span, with the span found from u. Returns the span used, so callers can
+/// gather the active control points.
+template <class CPView, class WView>
+KOKKOS_INLINE_FUNCTION int curve_eval(int nb, int p, const double* U, const CPView& cp,
+                                      const WView& wgt, double u, double x[2], double dx[2],
+                                      double ddx[2], double R[3][kMaxBasis1D]) {
+  const int span = find_span(nb, p, u, U);
+  curve_eval_span(span, p, U, cp, wgt, u, x, dx, ddx, R);
   return span;
 }
 

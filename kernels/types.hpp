@@ -57,52 +57,82 @@ void dispatch_degree(int p, F&& f) {
   }
 }
 
+/// Control points of the element with spans (s0, s1) in homogeneous form, cw[a] = (w x, w y, w),
+/// a = i + j (p0 + 1).
+template <int P, class PD>
+KOKKOS_INLINE_FUNCTION void element_homogeneous_cp(const PD& pd, int s0, int s1, double cw[(P + 1) * (P + 1)][3]) {
+  const int p0 = pd.p[0], p1 = pd.p[1];
+  for (int j = 0; j <= p1; ++j)
+    for (int i = 0; i <= p0; ++i) {
+      const int g = s0 - p0 + i + (s1 - p1 + j) * pd.n[0];
+      const double w = pd.cp(g, 2);
+      double* c = cw[i + j * (p0 + 1)];
+      c[0] = w * pd.cp(g, 0);
+      c[1] = w * pd.cp(g, 1);
+      c[2] = w;
+    }
+}
+
+/// NURBS basis R_a, physical gradients and the point x from the 1-D B-spline values and first
+/// derivatives N[0..1][i] (along u) and M[0..1][j] (along v) and the homogeneous control
+/// points cw. Returns det(dx/dxi). The weighted sums are sum-factorised (over i, then j):
+///   S = sum_ij N_i M_j cw_ij,  S_u = sum_ij N_i' M_j cw_ij,  S_v = sum_ij N_i M_j' cw_ij
+///   W = S_2, x = S_0..1 / W, x_u = (S_u - x W_u) / W, R_a = w_a N_i M_j / W,
+///   R_a,u = (w_a N_i' M_j - R_a W_u) / W,  grad R_a = J^{-T} (R_a,u, R_a,v)
+/// Cost: 12 nen + 9 (p1 + 1) (sums) + 13 nen (basis and gradients) + ~ 20 flops.
+template <int P>
+KOKKOS_INLINE_FUNCTION double nurbs_grad_1d(int p0, int p1, const double N[][kMaxBasis1D], const double M[][kMaxBasis1D],
+                                            const double cw[(P + 1) * (P + 1)][3], double R[(P + 1) * (P + 1)],
+                                            double dR[(P + 1) * (P + 1)][2], double x[2]) {
+  double S[3] = {0, 0, 0}, Su[3] = {0, 0, 0}, Sv[3] = {0, 0, 0};
+  for (int j = 0; j <= p1; ++j) {
+    double A[3] = {0, 0, 0}, B[3] = {0, 0, 0};
+    for (int i = 0; i <= p0; ++i) {
+      const double* c = cw[i + j * (p0 + 1)];
+      for (int k = 0; k < 3; ++k) {
+        A[k] += N[0][i] * c[k];
+        B[k] += N[1][i] * c[k];
+      }
+    }
+    for (int k = 0; k < 3; ++k) {
+      S[k] += M[0][j] * A[k];
+      Su[k] += M[0][j] * B[k];
+      Sv[k] += M[1][j] * A[k];
+    }
+  }
+  const double iW = 1.0 / S[2], Wu = Su[2], Wv = Sv[2];
+  x[0] = S[0] * iW;
+  x[1] = S[1] * iW;
+  const double xu = (Su[0] - x[0] * Wu) * iW, xv = (Sv[0] - x[0] * Wv) * iW;
+  const double yu = (Su[1] - x[1] * Wu) * iW, yv = (Sv[1] - x[1] * Wv) * iW;
+  const double det = xu * yv - xv * yu, idet = 1.0 / det;
+  // dR/dx = J^{-T} dR/dxi, J = [[xu, xv], [yu, yv]]
+  const double i00 = yv * idet, i01 = -xv * idet, i10 = -yu * idet, i11 = xu * idet;
+  for (int j = 0; j <= p1; ++j)
+    for (int i = 0; i <= p0; ++i) {
+      const int a = i + j * (p0 + 1);
+      const double w = cw[a][2] * iW;
+      R[a] = w * N[0][i] * M[0][j];
+      const double Ru = w * N[1][i] * M[0][j] - R[a] * Wu * iW;
+      const double Rv = w * N[0][i] * M[1][j] - R[a] * Wv * iW;
+      dR[a][0] = i00 * Ru + i10 * Rv;
+      dR[a][1] = i01 * Ru + i11 * Rv;
+    }
+  return det;
+}
+
 /// NURBS basis R_a and physical gradients at parametric point (u, v) of the element with
-/// spans (s0, s1). `xy` are the reference positions used for the geometry map. Returns
-/// det(dx/dxi). a = i + j (p0 + 1) numbers the (p0 + 1)(p1 + 1) active functions.
+/// spans (s0, s1), on the reference geometry. Returns det(dx/dxi). a = i + j (p0 + 1)
+/// numbers the (p0 + 1)(p1 + 1) active functions.
 template <int P, class PD>
 KOKKOS_INLINE_FUNCTION double nurbs_grad(const PD& pd, int s0, int s1, double u, double v,
                                          double R[(P + 1) * (P + 1)],
                                          double dR[(P + 1) * (P + 1)][2], double x[2]) {
-  const int p0 = pd.p[0], p1 = pd.p[1];
-  double N[3][kMaxBasis1D], M[3][kMaxBasis1D];
-  bspline_ders(s0, u, p0, pd.U0.data(), 1, N);
-  bspline_ders(s1, v, p1, pd.U1.data(), 1, M);
-  double W = 0, Wu = 0, Wv = 0;
-  for (int j = 0; j <= p1; ++j)
-    for (int i = 0; i <= p0; ++i) {
-      const double w = pd.cp(s0 - p0 + i + (s1 - p1 + j) * pd.n[0], 2);
-      W += N[0][i] * M[0][j] * w;
-      Wu += N[1][i] * M[0][j] * w;
-      Wv += N[0][i] * M[1][j] * w;
-    }
-  double J[2][2] = {{0, 0}, {0, 0}};
-  x[0] = x[1] = 0;
-  for (int j = 0; j <= p1; ++j)
-    for (int i = 0; i <= p0; ++i) {
-      const int a = i + j * (p0 + 1);
-      const int g = s0 - p0 + i + (s1 - p1 + j) * pd.n[0];
-      const double w = pd.cp(g, 2);
-      R[a] = N[0][i] * M[0][j] * w / W;
-      const double Ru = (N[1][i] * M[0][j] * w - R[a] * Wu) / W;
-      const double Rv = (N[0][i] * M[1][j] * w - R[a] * Wv) / W;
-      dR[a][0] = Ru; dR[a][1] = Rv;
-      for (int c = 0; c < 2; ++c) {
-        x[c] += R[a] * pd.cp(g, c);
-        J[c][0] += Ru * pd.cp(g, c);
-        J[c][1] += Rv * pd.cp(g, c);
-      }
-    }
-  const double det = J[0][0] * J[1][1] - J[0][1] * J[1][0];
-  // dR/dx = J^{-T} dR/dxi
-  const double inv[2][2] = {{J[1][1] / det, -J[0][1] / det}, {-J[1][0] / det, J[0][0] / det}};
-  const int nen = (p0 + 1) * (p1 + 1);
-  for (int a = 0; a < nen; ++a) {
-    const double gu = dR[a][0], gv = dR[a][1];
-    dR[a][0] = inv[0][0] * gu + inv[1][0] * gv;
-    dR[a][1] = inv[0][1] * gu + inv[1][1] * gv;
-  }
-  return det;
+  double N[3][kMaxBasis1D], M[3][kMaxBasis1D], cw[(P + 1) * (P + 1)][3];
+  bspline_ders(s0, u, pd.p[0], pd.U0.data(), 1, N);
+  bspline_ders(s1, v, pd.p[1], pd.U1.data(), 1, M);
+  element_homogeneous_cp<P>(pd, s0, s1, cw);
+  return nurbs_grad_1d<P>(pd.p[0], pd.p[1], N, M, cw, R, dR, x);
 }
 
 }  // namespace iga

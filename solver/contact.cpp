@@ -138,38 +138,54 @@ ContactPairData::ContactPairData(const System& sys, int index) : pair_(sys.probl
   cps.erase(std::unique(cps.begin(), cps.end()), cps.end());
   replicated_ = sys.cp_dof_map(cps);
   importer_ = rcp(new Import(sys.owned_map(), replicated_));
+  for (int which = 0; which < 2; ++which) {
+    const auto& gid = which == 0 ? slave_gid : master_gid;
+    Kokkos::View<int* [2], MemSpace> rep("replicated_lid", gid.size());
+    auto h = Kokkos::create_mirror_view(rep);
+    for (size_t k = 0; k < gid.size(); ++k)
+      for (int d = 0; d < 2; ++d) h(k, d) = replicated_->getLocalElement(2 * gid[k] + d);
+    Kokkos::deep_copy(rep, h);
+    (which == 0 ? slave_rep_ : master_rep_) = rep;
+  }
 }
 
 void ContactPairData::update(const Vector& u) {
   Vector ur(replicated_);
   ur.doImport(u, *importer_, Tpetra::INSERT);
-  auto h = ur.getLocalViewHost(Tpetra::Access::ReadOnly);
-  for (CurveData* c : {&slave, &master}) {
-    const auto& gid = c == &slave ? slave_gid : master_gid;
-    auto hu = Kokkos::create_mirror_view(c->u);
-    for (int k = 0; k < c->nb; ++k)
-      for (int d = 0; d < 2; ++d) hu(k, d) = h(replicated_->getLocalElement(2 * gid[k] + d), 0);
-    Kokkos::deep_copy(c->u, hu);
+  {
+    auto v = ur.getLocalViewDevice(Tpetra::Access::ReadOnly);
+    for (CurveData* c : {&slave, &master}) {
+      const auto rep = c == &slave ? slave_rep_ : master_rep_;
+      const auto cu = c->u;
+      Kokkos::parallel_for("iga::GatherCurveDisplacements", Kokkos::RangePolicy<ExecSpace>(0, c->nb), KOKKOS_LAMBDA(const int k) {
+        cu(k, 0) = v(rep(k, 0), 0);
+        cu(k, 1) = v(rep(k, 1), 0);
+      });
+    }
   }
-  // search grid over the master element boxes (convex hull of their control points)
-  auto hX = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), master.X);
-  auto hU = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), master.u);
-  auto hspan = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), master.span);
-  std::vector<std::array<double, 4>> box(master.ne);
+  // search grid over the master element boxes (convex hull of their current control points)
   Kokkos::View<double* [4], MemSpace> dbox("boxes", master.ne);
-  auto hbox = Kokkos::create_mirror_view(dbox);
+  {
+    const CurveData m = master;
+    Kokkos::parallel_for("iga::MasterElementBoxes", Kokkos::RangePolicy<ExecSpace>(0, m.ne), KOKKOS_LAMBDA(const int e) {
+      double b[4] = {1e300, 1e300, -1e300, -1e300};
+      for (int k = m.span(e) - m.p; k <= m.span(e); ++k) {
+        const double x = m.X(k, 0) + m.u(k, 0), y = m.X(k, 1) + m.u(k, 1);
+        b[0] = x < b[0] ? x : b[0];
+        b[1] = y < b[1] ? y : b[1];
+        b[2] = x > b[2] ? x : b[2];
+        b[3] = y > b[3] ? y : b[3];
+      }
+      for (int c = 0; c < 4; ++c) dbox(e, c) = b[c];
+    });
+  }
+  auto hbox = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), dbox);
+  std::vector<std::array<double, 4>> box(master.ne);
   double ext = 0, X0 = 1e300, Y0 = 1e300, X1 = -1e300, Y1 = -1e300;
   for (int e = 0; e < master.ne; ++e) {
-    auto& b = box[e];
-    b = {1e300, 1e300, -1e300, -1e300};
-    for (int k = hspan(e) - master.p; k <= hspan(e); ++k) {
-      const double x = hX(k, 0) + hU(k, 0), y = hX(k, 1) + hU(k, 1);
-      b = {std::min(b[0], x), std::min(b[1], y), std::max(b[2], x), std::max(b[3], y)};
-    }
-    ext = std::max({ext, b[2] - b[0], b[3] - b[1]});
-    for (int c = 0; c < 4; ++c) hbox(e, c) = b[c];
+    box[e] = {hbox(e, 0), hbox(e, 1), hbox(e, 2), hbox(e, 3)};
+    ext = std::max({ext, hbox(e, 2) - hbox(e, 0), hbox(e, 3) - hbox(e, 1)});
   }
-  Kokkos::deep_copy(dbox, hbox);
   const double margin = std::max(ext, 1e-12);
   for (auto& b : box) {
     b = {b[0] - margin, b[1] - margin, b[2] + margin, b[3] + margin};
@@ -181,19 +197,28 @@ void ContactPairData::update(const Vector& u) {
   grid.y0 = Y0;
   grid.nx = std::max(1, static_cast<int>(std::ceil((X1 - X0) / grid.h)));
   grid.ny = std::max(1, static_cast<int>(std::ceil((Y1 - Y0) / grid.h)));
-  std::vector<std::vector<int>> cells(static_cast<size_t>(grid.nx) * grid.ny);
+  // (cell, element) pairs sorted by cell: only the non-empty cells are stored
+  std::vector<std::pair<long long, int>> pairs;
+  pairs.reserve(4 * static_cast<size_t>(master.ne));
   for (int e = 0; e < master.ne; ++e) {
     const auto& b = box[e];
     const int i0 = std::max(0, static_cast<int>((b[0] - X0) / grid.h)), i1 = std::min(grid.nx - 1, static_cast<int>((b[2] - X0) / grid.h));
     const int j0 = std::max(0, static_cast<int>((b[1] - Y0) / grid.h)), j1 = std::min(grid.ny - 1, static_cast<int>((b[3] - Y0) / grid.h));
     for (int j = j0; j <= j1; ++j)
-      for (int i = i0; i <= i1; ++i) cells[i + j * grid.nx].push_back(e);
+      for (int i = i0; i <= i1; ++i) pairs.emplace_back(i + static_cast<long long>(grid.nx) * j, e);
   }
-  std::vector<int> start(cells.size() + 1, 0), elems;
-  for (size_t c = 0; c < cells.size(); ++c) {
-    start[c + 1] = start[c] + static_cast<int>(cells[c].size());
-    elems.insert(elems.end(), cells[c].begin(), cells[c].end());
+  std::sort(pairs.begin(), pairs.end());
+  std::vector<long long> key;
+  std::vector<int> start, elems(pairs.size());
+  for (size_t k = 0; k < pairs.size(); ++k) {
+    if (k == 0 || pairs[k].first != pairs[k - 1].first) {
+      key.push_back(pairs[k].first);
+      start.push_back(static_cast<int>(k));
+    }
+    elems[k] = pairs[k].second;
   }
+  start.push_back(static_cast<int>(pairs.size()));
+  grid.key = dview("grid_key", key);
   grid.start = dview("grid_start", start);
   grid.elems = dview("grid_elems", elems);
   grid.box = dbox;

@@ -68,6 +68,7 @@ class ContactPairData {
   GaussRule gauss_;
   RCP<const Map> replicated_;
   RCP<Import> importer_;
+  Kokkos::View<int* [2], MemSpace> slave_rep_, master_rep_;   // replicated dof LIDs of the curves' cps
   double h_min_ = 1;
 };
 
