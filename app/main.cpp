@@ -87,7 +87,8 @@ void describe(const iga::Problem& P, int ranks, std::ostream& os) {
   }
   const char* lm[] = {"cg", "gmres", "direct"};
   const char* pc[] = {"muelu", "ilut", "relaxation", "none"};
-  os << "  total " << dofs << " dofs on " << ranks << " rank(s); linear solver "
+  os << "  total " << dofs << " dofs on " << ranks << " rank(s) x " << iga::ExecSpace::concurrency() << " "
+     << iga::ExecSpace::name() << " thread(s); linear solver "
      << lm[static_cast<int>(P.linear.method)];
   if (P.linear.method != iga::LinearMethod::Direct) os << " + " << pc[static_cast<int>(P.linear.preconditioner)];
   os << "\n";

@@ -5,7 +5,9 @@
 //   BM_Scatter<P>           nonzeros/s (element matrices summed into the Tpetra local matrix)
 //   BM_ContactProjection/M  projections/s on a degree-2 master curve of M elements
 //   BM_SpMV / BM_StreamCopy GB/s of the assembled elasticity matrix, and the copy limit
-// Run: build/bin/bench_kernels [--benchmark_filter=...]
+// Rates are per wall-clock second (UseRealTime), so that threaded runs count every thread.
+// Run: build/bin/bench_kernels [--benchmark_filter=...]; with the OpenMP Trilinos,
+//      OMP_NUM_THREADS=1 and 2 build-omp/bin/bench_kernels (the context line names the space).
 #include <benchmark/benchmark.h>
 #include <Tpetra_Core.hpp>
 
@@ -168,25 +170,28 @@ void BM_StreamCopy(benchmark::State& st) {
 
 }  // namespace
 
-BENCHMARK_TEMPLATE(BM_Basis, 1)->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(BM_Basis, 2)->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(BM_Basis, 3)->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(BM_Basis, 4)->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(BM_ElementStiffness, 1)->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(BM_ElementStiffness, 2)->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(BM_ElementStiffness, 3)->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(BM_ElementStiffness, 4)->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(BM_Scatter, 1)->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(BM_Scatter, 2)->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(BM_Scatter, 3)->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(BM_Scatter, 4)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_ContactProjection)->ArgNames({"M", "warm"})->ArgsProduct({{16, 64, 256, 1024, 4096}, {0, 1}})->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_SpMV)->Arg(64)->Arg(256)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_StreamCopy)->Arg(1 << 16)->Arg(1 << 25)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_Basis, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_Basis, 2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_Basis, 3)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_Basis, 4)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_ElementStiffness, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_ElementStiffness, 2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_ElementStiffness, 3)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_ElementStiffness, 4)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_Scatter, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_Scatter, 2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_Scatter, 3)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_Scatter, 4)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_ContactProjection)->ArgNames({"M", "warm"})->ArgsProduct({{16, 64, 256, 1024, 4096}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_SpMV)->Arg(64)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_StreamCopy)->Arg(1 << 16)->Arg(1 << 25)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 int main(int argc, char** argv) {
   Tpetra::ScopeGuard guard(&argc, &argv);
   benchmark::Initialize(&argc, argv);
+  // threads: the kernels run on Tpetra's default execution space (OMP_NUM_THREADS for OpenMP)
+  benchmark::AddCustomContext("kokkos execution space", ExecSpace::name());
+  benchmark::AddCustomContext("kokkos threads", std::to_string(ExecSpace::concurrency()));
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();

@@ -23,6 +23,23 @@ find_package(MPI REQUIRED COMPONENTS CXX)
 find_package(Trilinos 13.2 REQUIRED COMPONENTS Tpetra Belos Ifpack2 Amesos2 MueLu)
 message(STATUS "Trilinos ${Trilinos_VERSION} from ${Trilinos_DIR}")
 
+# Kokkos backends of this Trilinos, from its KokkosCore_config.h. With OpenMP our kernels
+# (Kokkos headers with OpenMP pragmas) are compiled and linked with the compiler's OpenMP.
+find_file(IGACONTACT_KOKKOS_CONFIG KokkosCore_config.h PATHS ${Trilinos_INCLUDE_DIRS} NO_DEFAULT_PATH)
+set(IGACONTACT_KOKKOS_OPENMP OFF)
+if(IGACONTACT_KOKKOS_CONFIG)
+  file(STRINGS "${IGACONTACT_KOKKOS_CONFIG}" _omp REGEX "^#define KOKKOS_ENABLE_OPENMP")
+  if(_omp)
+    set(IGACONTACT_KOKKOS_OPENMP ON)
+  endif()
+endif()
+if(IGACONTACT_KOKKOS_OPENMP)
+  find_package(OpenMP REQUIRED COMPONENTS CXX)
+  message(STATUS "Kokkos OpenMP backend: kernels run on OMP_NUM_THREADS threads per rank")
+else()
+  message(STATUS "Kokkos Serial backend only: one thread per MPI rank")
+endif()
+
 set(HDF5_PREFER_PARALLEL ON)
 find_package(HDF5 REQUIRED COMPONENTS C)
 if(NOT HDF5_IS_PARALLEL)
@@ -38,3 +55,6 @@ target_include_directories(igacontact_stack SYSTEM INTERFACE
 target_link_libraries(igacontact_stack INTERFACE
   ${Trilinos_LIBRARIES} ${Trilinos_TPL_LIBRARIES} ${HDF5_C_LIBRARIES}
   yaml-cpp nlohmann_json::nlohmann_json MPI::MPI_CXX)
+if(IGACONTACT_KOKKOS_OPENMP)
+  target_link_libraries(igacontact_stack INTERFACE OpenMP::OpenMP_CXX)
+endif()

@@ -129,6 +129,8 @@ nlohmann::json write_results(const System& sys, const SolveResult& res, const st
   summary["load_factor"] = res.lambda;
   summary["dofs"] = sys.num_dofs();
   summary["ranks"] = sys.comm()->getSize();
+  summary["execution_space"] = ExecSpace::name();
+  summary["threads_per_rank"] = ExecSpace::concurrency();
   summary["newton_iterations"] = res.newton_iterations;
   summary["linear_iterations"] = res.linear_iterations;
   summary["reactions"] = reactions_json(sys, *res.residual);
