@@ -1,5 +1,6 @@
 #include "solver/system.hpp"
 
+#include <Teuchos_TimeMonitor.hpp>
 #include <Tpetra_Details_makeColMap.hpp>
 
 #include <algorithm>
@@ -138,44 +139,67 @@ RCP<Vector> System::export_vector(const Vector& overlap) const {
 
 RCP<Matrix> System::assemble_stiffness() const {
   // 1) graph of the overlapping rows: control point couplings through shared elements
+  auto t1 = rcp(new Teuchos::TimeMonitor(*Teuchos::TimeMonitor::getNewTimer("2.1) Assembly: graph")));
+  // On a tensor-product patch control points (i, j) and (i', j') share an element exactly when
+  // i' lies in the 1-D coupling range [lo0(i), hi0(i)] of i and j' in [lo1(j), hi1(j)], the
+  // union of the supports of the non-empty spans s in [i, i + p]: contiguous. The rows are the
+  // control points this rank's elements touch; columns are restricted to those too (a coupling
+  // through another rank's element is a coupling of the global matrix as well, so the union
+  // over ranks is the global pattern). Columns come out sorted (overlap ids follow global ids,
+  // j' outer, i' inner). Two passes over the rows (count, fill), no sorting.
   const LO nov = static_cast<LO>(overlap_->getNodeNumElements() / 2);
-  std::vector<std::vector<LO>> nbr(nov);
-  for (size_t b = 0; b < bodies_.size(); ++b) {
-    const BodyData& bd = bodies_[b];
-    const Patch& pt = P_.bodies[b].patch;
-    const auto& lid = bd.lid;
-    const auto sp0 = pt.element_spans(0), sp1 = pt.element_spans(1);
-    std::vector<LO> el;
-    for (int e = bd.e_begin; e < bd.e_end; ++e) {
-      const int s0 = sp0[e % sp0.size()], s1 = sp1[e / sp0.size()];
-      el.clear();
-      for (int j = s1 - pt.degree[1]; j <= s1; ++j)
-        for (int i = s0 - pt.degree[0]; i <= s0; ++i) el.push_back(lid[pt.index(i, j)]);
-      for (LO r : el) nbr[r].insert(nbr[r].end(), el.begin(), el.end());
+  struct Range { std::vector<int> lo, hi; };
+  auto coupling = [](const Patch& pt, int d) {
+    const auto spans = pt.element_spans(d);
+    const int p = pt.degree[d], n = static_cast<int>(pt.knots[d].size()) - p - 1;
+    Range r{std::vector<int>(n), std::vector<int>(n)};
+    size_t first = 0, last = 0;
+    for (int i = 0; i < n; ++i) {
+      while (first < spans.size() && spans[first] < i) ++first;                 // first span >= i
+      while (last + 1 < spans.size() && spans[last + 1] <= i + p) ++last;       // last span <= i + p
+      r.lo[i] = spans[first] - p;
+      r.hi[i] = spans[last];
+    }
+    return r;
+  };
+  Teuchos::ArrayRCP<size_t> rowptr(2 * nov + 1, 0);
+  std::vector<Range> r0(bodies_.size()), r1(bodies_.size());
+  Teuchos::ArrayRCP<LO> cols;
+  for (int pass = 0; pass < 2; ++pass) {
+    if (pass == 1) {
+      for (LO r = 0; r < 2 * nov; ++r) rowptr[r + 1] += rowptr[r];
+      cols = Teuchos::ArrayRCP<LO>(rowptr[2 * nov]);
+    }
+    for (size_t b = 0; b < bodies_.size(); ++b) {
+      const Patch& pt = P_.bodies[b].patch;
+      const auto& lid = bodies_[b].lid;
+      if (pass == 0) { r0[b] = coupling(pt, 0); r1[b] = coupling(pt, 1); }
+      const int n0 = static_cast<int>(r0[b].lo.size()), n1 = static_cast<int>(r1[b].lo.size());
+      for (int j = 0; j < n1; ++j)
+        for (int i = 0; i < n0; ++i) {
+          const LO row = lid[pt.index(i, j)];
+          if (row < 0) continue;
+          size_t k = pass == 0 ? 0 : rowptr[2 * row];
+          for (int jj = r1[b].lo[j]; jj <= r1[b].hi[j]; ++jj)
+            for (int ii = r0[b].lo[i]; ii <= r0[b].hi[i]; ++ii) {
+              const LO c = lid[pt.index(ii, jj)];
+              if (c < 0) continue;
+              if (pass == 1) { cols[k] = 2 * c; cols[k + 1] = 2 * c + 1; }
+              k += 2;
+            }
+          if (pass == 0) { rowptr[2 * row + 1] = k; rowptr[2 * row + 2] = k; }
+          else std::copy(cols.begin() + rowptr[2 * row], cols.begin() + rowptr[2 * row + 1], cols.begin() + rowptr[2 * row + 1]);
+        }
     }
   }
-  Teuchos::ArrayRCP<size_t> rowptr(2 * nov + 1);
-  rowptr[0] = 0;
-  for (LO r = 0; r < nov; ++r) {
-    auto& v = nbr[r];
-    std::sort(v.begin(), v.end());
-    v.erase(std::unique(v.begin(), v.end()), v.end());
-    rowptr[2 * r + 1] = rowptr[2 * r] + 2 * v.size();
-    rowptr[2 * r + 2] = rowptr[2 * r + 1] + 2 * v.size();
-  }
-  Teuchos::ArrayRCP<LO> cols(rowptr[2 * nov]);
-  for (LO r = 0; r < nov; ++r)
-    for (int c = 0; c < 2; ++c) {
-      size_t k = rowptr[2 * r + c];
-      for (LO l : nbr[r]) { cols[k++] = 2 * l; cols[k++] = 2 * l + 1; }
-    }
-  nbr.clear();
   RCP<Graph> graph = rcp(new Graph(overlap_, overlap_, rowptr, cols));
   graph->fillComplete(owned_, owned_);
+  t1 = Teuchos::null;
 
   // 2) element loop: Kokkos kernel summing element matrices into the local matrix
   RCP<Matrix> A = rcp(new Matrix(graph));
   {
+    Teuchos::TimeMonitor t2(*Teuchos::TimeMonitor::getNewTimer("2.2) Assembly: element loop"));
     auto lcl = A->getLocalMatrixDevice();
     for (size_t b = 0; b < bodies_.size(); ++b) {
       const BodyData& bd = bodies_[b];
@@ -188,8 +212,9 @@ RCP<Matrix> System::assemble_stiffness() const {
     }
     Kokkos::fence();
   }
-  A->fillComplete(owned_, owned_);
   // 3) sum overlapping rows into the owned matrix
+  Teuchos::TimeMonitor t3(*Teuchos::TimeMonitor::getNewTimer("2.3) Assembly: fillComplete + export"));
+  A->fillComplete(owned_, owned_);
   return export_matrix(A);
 }
 
