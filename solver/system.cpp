@@ -137,63 +137,118 @@ RCP<Vector> System::export_vector(const Vector& overlap) const {
   return v;
 }
 
+// 1-D coupling range of every control point index along direction d of a patch: the union of
+// the supports [s - p, s] of the non-empty spans s in [i, i + p].
+System::CouplingRange System::coupling_range(const Patch& pt, int d) {
+  const auto spans = pt.element_spans(d);
+  const int p = pt.degree[d], n = static_cast<int>(pt.knots[d].size()) - p - 1;
+  CouplingRange r{std::vector<int>(n), std::vector<int>(n)};
+  size_t first = 0, last = 0;
+  for (int i = 0; i < n; ++i) {
+    while (first < spans.size() && spans[first] < i) ++first;            // first span >= i
+    while (last + 1 < spans.size() && spans[last + 1] <= i + p) ++last;  // last span <= i + p
+    r.lo[i] = spans[first] - p;
+    r.hi[i] = spans[last];
+  }
+  return r;
+}
+
+// CSR of the dof rows 2 row_of(b, a) + c (control point a of body b; -1: not a row here)
+// with the columns 2 col_of(b, a') + c' of the control points a' it couples with (-1: left
+// out). Columns are sorted when col_of increases with the global id (j' outer, i' inner).
+// Two passes over the control points (count, fill), no sorting.
+template <class RowOf, class ColOf>
+void System::coupling_csr(LO nrows, RowOf row_of, ColOf col_of, Teuchos::ArrayRCP<size_t>& rowptr,
+                          Teuchos::ArrayRCP<LO>& cols) const {
+  rowptr = Teuchos::ArrayRCP<size_t>(2 * nrows + 1, 0);
+  for (int pass = 0; pass < 2; ++pass) {
+    if (pass == 1) {
+      for (LO r = 0; r < 2 * nrows; ++r) rowptr[r + 1] += rowptr[r];
+      cols = Teuchos::ArrayRCP<LO>(rowptr[2 * nrows]);
+    }
+    for (size_t b = 0; b < bodies_.size(); ++b) {
+      const Patch& pt = P_.bodies[b].patch;
+      const CouplingRange r0 = coupling_range(pt, 0), r1 = coupling_range(pt, 1);
+      const int n0 = static_cast<int>(r0.lo.size()), n1 = static_cast<int>(r1.lo.size());
+      for (int j = 0; j < n1; ++j)
+        for (int i = 0; i < n0; ++i) {
+          const LO row = row_of(b, pt.index(i, j));
+          if (row < 0) continue;
+          size_t k = pass == 0 ? 0 : rowptr[2 * row];
+          for (int jj = r1.lo[j]; jj <= r1.hi[j]; ++jj)
+            for (int ii = r0.lo[i]; ii <= r0.hi[i]; ++ii) {
+              const LO c = col_of(b, pt.index(ii, jj));
+              if (c < 0) continue;
+              if (pass == 1) { cols[k] = 2 * c; cols[k + 1] = 2 * c + 1; }
+              k += 2;
+            }
+          if (pass == 0) rowptr[2 * row + 1] = rowptr[2 * row + 2] = k;
+          else std::copy(cols.begin() + rowptr[2 * row], cols.begin() + rowptr[2 * row + 1], cols.begin() + rowptr[2 * row + 1]);
+        }
+    }
+  }
+}
+
+// The global pattern of this rank's owned rows (several ranks): columns are every control point
+// coupled with an owned one, in increasing global id.
+RCP<const Graph> System::owned_graph() const {
+  const bool any = owned_->getNodeNumElements() > 0;
+  const GO first = any ? owned_->getMinGlobalIndex() / 2 : 0, last = any ? owned_->getMaxGlobalIndex() / 2 + 1 : 0;
+  auto owned_row = [&](size_t b, int a) -> LO {
+    const GO g = bodies_[b].cp_offset + a;
+    return g >= first && g < last ? static_cast<LO>(g - first) : -1;
+  };
+  // mark the coupled control points (one pass of the row loop with every column allowed)
+  std::vector<LO> colpos(num_cps_, -1);
+  {
+    Teuchos::ArrayRCP<size_t> rp;
+    Teuchos::ArrayRCP<LO> cc;
+    coupling_csr(static_cast<LO>(last - first), owned_row, [&](size_t b, int a) {
+      colpos[bodies_[b].cp_offset + a] = 0;
+      return -1;
+    }, rp, cc);
+  }
+  // column map: the owned control points first, in the row order (local column = local row
+  // for them, as Tpetra's own column maps have it and Ifpack2's relaxation expects), then the
+  // others in increasing global id
+  std::vector<GO> dofs;
+  auto add = [&](GO g) {
+    colpos[g] = static_cast<LO>(dofs.size() / 2);
+    dofs.push_back(2 * g);
+    dofs.push_back(2 * g + 1);
+  };
+  for (GO g = first; g < last; ++g) add(g);
+  for (GO g = 0; g < num_cps_; ++g)
+    if (colpos[g] == 0 && (g < first || g >= last)) add(g);
+  RCP<const Map> colmap = rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(), dofs, 0, comm_));
+  Teuchos::ArrayRCP<size_t> rowptr;
+  Teuchos::ArrayRCP<LO> cols;
+  coupling_csr(static_cast<LO>(last - first), owned_row,
+               [&](size_t b, int a) { return colpos[bodies_[b].cp_offset + a]; }, rowptr, cols);
+  for (LO r = 0; r < 2 * static_cast<LO>(last - first); ++r) std::sort(cols.begin() + rowptr[r], cols.begin() + rowptr[r + 1]);
+  RCP<Graph> g = rcp(new Graph(owned_, colmap, rowptr, cols));
+  g->fillComplete(owned_, owned_);
+  return g;
+}
+
 RCP<Matrix> System::assemble_stiffness() const {
   // 1) graph of the overlapping rows: control point couplings through shared elements
   auto t1 = rcp(new Teuchos::TimeMonitor(*Teuchos::TimeMonitor::getNewTimer("2.1) Assembly: graph")));
   // On a tensor-product patch control points (i, j) and (i', j') share an element exactly when
   // i' lies in the 1-D coupling range [lo0(i), hi0(i)] of i and j' in [lo1(j), hi1(j)], the
-  // union of the supports of the non-empty spans s in [i, i + p]: contiguous. The rows are the
-  // control points this rank's elements touch; columns are restricted to those too (a coupling
-  // through another rank's element is a coupling of the global matrix as well, so the union
-  // over ranks is the global pattern). Columns come out sorted (overlap ids follow global ids,
-  // j' outer, i' inner). Two passes over the rows (count, fill), no sorting.
+  // union of the supports of the non-empty spans s in [i, i + p]: contiguous. The overlap
+  // rows are the control points this rank's elements touch, their columns restricted to
+  // those too (a coupling through another rank's element is one of the global matrix as well).
   const LO nov = static_cast<LO>(overlap_->getNodeNumElements() / 2);
-  struct Range { std::vector<int> lo, hi; };
-  auto coupling = [](const Patch& pt, int d) {
-    const auto spans = pt.element_spans(d);
-    const int p = pt.degree[d], n = static_cast<int>(pt.knots[d].size()) - p - 1;
-    Range r{std::vector<int>(n), std::vector<int>(n)};
-    size_t first = 0, last = 0;
-    for (int i = 0; i < n; ++i) {
-      while (first < spans.size() && spans[first] < i) ++first;                 // first span >= i
-      while (last + 1 < spans.size() && spans[last + 1] <= i + p) ++last;       // last span <= i + p
-      r.lo[i] = spans[first] - p;
-      r.hi[i] = spans[last];
-    }
-    return r;
-  };
-  Teuchos::ArrayRCP<size_t> rowptr(2 * nov + 1, 0);
-  std::vector<Range> r0(bodies_.size()), r1(bodies_.size());
+  const auto& ovl = bodies_;
+  Teuchos::ArrayRCP<size_t> rowptr;
   Teuchos::ArrayRCP<LO> cols;
-  for (int pass = 0; pass < 2; ++pass) {
-    if (pass == 1) {
-      for (LO r = 0; r < 2 * nov; ++r) rowptr[r + 1] += rowptr[r];
-      cols = Teuchos::ArrayRCP<LO>(rowptr[2 * nov]);
-    }
-    for (size_t b = 0; b < bodies_.size(); ++b) {
-      const Patch& pt = P_.bodies[b].patch;
-      const auto& lid = bodies_[b].lid;
-      if (pass == 0) { r0[b] = coupling(pt, 0); r1[b] = coupling(pt, 1); }
-      const int n0 = static_cast<int>(r0[b].lo.size()), n1 = static_cast<int>(r1[b].lo.size());
-      for (int j = 0; j < n1; ++j)
-        for (int i = 0; i < n0; ++i) {
-          const LO row = lid[pt.index(i, j)];
-          if (row < 0) continue;
-          size_t k = pass == 0 ? 0 : rowptr[2 * row];
-          for (int jj = r1[b].lo[j]; jj <= r1[b].hi[j]; ++jj)
-            for (int ii = r0[b].lo[i]; ii <= r0[b].hi[i]; ++ii) {
-              const LO c = lid[pt.index(ii, jj)];
-              if (c < 0) continue;
-              if (pass == 1) { cols[k] = 2 * c; cols[k + 1] = 2 * c + 1; }
-              k += 2;
-            }
-          if (pass == 0) { rowptr[2 * row + 1] = k; rowptr[2 * row + 2] = k; }
-          else std::copy(cols.begin() + rowptr[2 * row], cols.begin() + rowptr[2 * row + 1], cols.begin() + rowptr[2 * row + 1]);
-        }
-    }
-  }
+  coupling_csr(nov, [&](size_t b, int a) { return ovl[b].lid[a]; }, [&](size_t b, int a) { return ovl[b].lid[a]; },
+               rowptr, cols);
   RCP<Graph> graph = rcp(new Graph(overlap_, overlap_, rowptr, cols));
   graph->fillComplete(owned_, owned_);
+  // on several ranks, the owned rows' global pattern, into which the overlap rows are summed
+  if (!overlap_->isSameAs(*owned_) && owned_graph_.is_null()) owned_graph_ = owned_graph();
   t1 = Teuchos::null;
 
   // 2) element loop: Kokkos kernel summing element matrices into the local matrix
@@ -212,10 +267,14 @@ RCP<Matrix> System::assemble_stiffness() const {
     }
     Kokkos::fence();
   }
-  // 3) sum overlapping rows into the owned matrix
+  // 3) sum overlapping rows into the owned matrix (static graph: only values move)
   Teuchos::TimeMonitor t3(*Teuchos::TimeMonitor::getNewTimer("2.3) Assembly: fillComplete + export"));
   A->fillComplete(owned_, owned_);
-  return export_matrix(A);
+  if (owned_graph_.is_null()) return A;
+  RCP<Matrix> K = rcp(new Matrix(owned_graph_));
+  K->doExport(*A, Export(overlap_, owned_), Tpetra::ADD);
+  K->fillComplete(owned_, owned_);
+  return K;
 }
 
 RCP<Vector> System::assemble_loads(double lambda) const {

@@ -89,6 +89,14 @@ class System {
   std::vector<int> dirichlet_lids_;
   struct UserTraction { int body; Side side; TractionFunction t; };
   std::vector<UserTraction> user_tractions_;
+  mutable RCP<const Graph> owned_graph_;   // several ranks: global pattern of the owned rows
+
+  struct CouplingRange { std::vector<int> lo, hi; };
+  static CouplingRange coupling_range(const Patch& pt, int d);
+  template <class RowOf, class ColOf>
+  void coupling_csr(LO nrows, RowOf row_of, ColOf col_of, Teuchos::ArrayRCP<size_t>& rowptr,
+                    Teuchos::ArrayRCP<LO>& cols) const;
+  RCP<const Graph> owned_graph() const;
 };
 
 /// Owned-range split of n items over `size` ranks: [begin, end) of `rank`.
