@@ -81,10 +81,11 @@ void TangentBuilder::rebuild(const RCP<Matrix>& K_c) {
   Kokkos::deep_copy(ptr, hp);
   Kokkos::deep_copy(ind, hi);
   Kokkos::deep_copy(map, hm);
-  // column map and import: K_el's, or K_el's columns followed by the new ones
-  // (Map and Import construction are collective: every rank takes the same branch)
+  // column map: K_el's, or K_el's columns followed by the new ones (Map construction is
+  // collective: every rank takes the same branch). fillComplete, not expertStaticFillComplete:
+  // with the latter Ifpack2's Gauss-Seidel and MueLu ran 1.4-1.8x slower on K_T (measured at
+  // 1.7e5 dofs), the graph lacking what fillComplete sets up.
   RCP<const Map> colT = colA;
-  RCP<const Import> imp = K_->getCrsGraph()->getImporter();
   int mine = newcols.empty() ? 0 : 1, any = 0;
   Teuchos::reduceAll(*K_->getComm(), Teuchos::REDUCE_MAX, 1, &mine, &any);
   if (any) {
@@ -92,10 +93,9 @@ void TangentBuilder::rebuild(const RCP<Matrix>& K_c) {
     gids.insert(gids.end(), newcols.begin(), newcols.end());
     colT = rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(),
                        Teuchos::ArrayView<const GO>(gids.data(), gids.size()), colA->getIndexBase(), K_->getComm()));
-    imp = rcp(new Import(K_->getDomainMap(), colT));
   }
   RCP<Graph> g = rcp(new Graph(K_->getRowMap(), colT, ptr, ind));
-  g->expertStaticFillComplete(K_->getDomainMap(), K_->getRangeMap(), imp, K_->getCrsGraph()->getExporter());
+  g->fillComplete(K_->getDomainMap(), K_->getRangeMap());
   KT_ = rcp(new Matrix(g));
   map_ = map;
 }
