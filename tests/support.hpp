@@ -43,6 +43,37 @@ inline Solved solve_text(const std::string& yaml, RCP<const Comm> comm = Tpetra:
   return s;
 }
 
+/// A curved master (outer arc of a quarter annulus, radius 2, from 45 to 135 degrees, top at
+/// (0, 2)) and a block whose flat bottom at block_y cuts into it (or, ring_is_master false,
+/// the block bottom as master). Degree p in both bodies; the block's refinement is
+/// `block_refine` besides the degree elevation.
+struct RingAndBlock {
+  int p = 2;
+  double block_y = 1.985;
+  std::string method = "kts_penalty";
+  bool ring_is_master = true;
+  int quadrature_points = 4;                          // 0: the method's default
+  std::string block_refine = "subdivide: [5, 2]";
+  std::string yaml() const {
+    std::ostringstream os;
+    os << "bodies:\n"
+       << "  - name: ring\n    material: {youngs_modulus: 1000.0, poisson_ratio: 0.3}\n"
+       << "    geometry: {quarter_annulus: {center: [0, 0], inner_radius: 1.0, outer_radius: 2.0, start_angle: 45}}\n"
+       << "    refine: {degree_elevate: [" << p - 2 << ", " << p - 1 << "], subdivide: [7, 2]}\n"
+       << "    boundary: {south: {displacement: {x: 0, y: 0}}}\n"
+       << "  - name: block\n    material: {youngs_modulus: 500.0, poisson_ratio: 0.25}\n"
+       << "    geometry: {rectangle: {origin: [-0.5, " << block_y << "], size: [1.0, 0.5]}}\n"
+       << "    refine: {degree_elevate: " << p - 1 << ", " << block_refine << "}\n"
+       << "    boundary: {north: {displacement: {x: 0, y: -0.01}}}\n";
+    const std::string ring = "{body: ring, side: north}", block = "{body: block, side: south}";
+    os << "contact:\n  - {master: " << (ring_is_master ? ring : block) << ", slave: " << (ring_is_master ? block : ring)
+       << ", method: " << method << ", penalty: 1.0e4";
+    if (quadrature_points > 0) os << ", quadrature_points: " << quadrature_points;
+    os << "}\n";
+    return os.str();
+  }
+};
+
 struct Exact {
   std::function<std::array<double, 2>(double, double)> u;        // displacement
   std::function<std::array<double, 3>(double, double)> sigma;    // sxx, syy, sxy

@@ -12,22 +12,12 @@ using namespace iga::test;
 
 namespace {
 
-// A curved master (outer arc of a quarter annulus, radius 2, from 45 to 135 degrees, top at
-// (0, 2)) and a slave that is either a flat block bottom or the inner arc of a ring.
 std::string ring_and_block(int p, double block_y, const std::string& method = "kts_penalty") {
-  std::ostringstream os;
-  os << "bodies:\n"
-     << "  - name: ring\n    material: {youngs_modulus: 1000.0, poisson_ratio: 0.3}\n"
-     << "    geometry: {quarter_annulus: {center: [0, 0], inner_radius: 1.0, outer_radius: 2.0, start_angle: 45}}\n"
-     << "    refine: {degree_elevate: [" << p - 2 << ", " << p - 1 << "], subdivide: [7, 2]}\n"
-     << "    boundary: {south: {displacement: {x: 0, y: 0}}}\n"
-     << "  - name: block\n    material: {youngs_modulus: 500.0, poisson_ratio: 0.25}\n"
-     << "    geometry: {rectangle: {origin: [-0.5, " << block_y << "], size: [1.0, 0.5]}}\n"
-     << "    refine: {degree_elevate: " << p - 1 << ", subdivide: [5, 2]}\n"
-     << "    boundary: {north: {displacement: {x: 0, y: -0.01}}}\n"
-     << "contact:\n  - {master: {body: ring, side: north}, slave: {body: block, side: south}, method: " << method
-     << ", penalty: 1.0e4, quadrature_points: 4}\n";
-  return os.str();
+  test::RingAndBlock rb;
+  rb.p = p;
+  rb.block_y = block_y;
+  rb.method = method;
+  return rb.yaml();
 }
 
 }  // namespace

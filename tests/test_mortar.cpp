@@ -116,24 +116,15 @@ std::vector<double> reference_weighted_gaps(const HostCurve& s, const HostCurve&
   return gA;
 }
 
-// A ring (outer arc of radius 2, 45..135 degrees) and a flat block whose bottom cuts into it.
+// The ring and block of tests/support.hpp with non-uniform slave knots, mortar penalty.
 std::string ring_and_block(int p, bool ring_is_master, int qp) {
-  std::ostringstream os;
-  os << "bodies:\n"
-     << "  - name: ring\n    material: {youngs_modulus: 1000.0, poisson_ratio: 0.3}\n"
-     << "    geometry: {quarter_annulus: {center: [0, 0], inner_radius: 1.0, outer_radius: 2.0, start_angle: 45}}\n"
-     << "    refine: {degree_elevate: [" << p - 2 << ", " << p - 1 << "], subdivide: [7, 2]}\n"
-     << "    boundary: {south: {displacement: {x: 0, y: 0}}}\n"
-     << "  - name: block\n    material: {youngs_modulus: 500.0, poisson_ratio: 0.25}\n"
-     << "    geometry: {rectangle: {origin: [-0.5, 1.985], size: [1.0, 0.5]}}\n"
-     << "    refine: {degree_elevate: " << p - 1 << ", insert_knots: [[0.13, 0.37, 0.52, 0.81], [0.5]]}\n"
-     << "    boundary: {north: {displacement: {x: 0, y: -0.01}}}\n";
-  const std::string ring = "{body: ring, side: north}", block = "{body: block, side: south}";
-  os << "contact:\n  - {master: " << (ring_is_master ? ring : block) << ", slave: " << (ring_is_master ? block : ring)
-     << ", method: mortar_penalty, penalty: 1.0e4";
-  if (qp > 0) os << ", quadrature_points: " << qp;
-  os << "}\n";
-  return os.str();
+  test::RingAndBlock rb;
+  rb.p = p;
+  rb.method = "mortar_penalty";
+  rb.ring_is_master = ring_is_master;
+  rb.quadrature_points = qp;
+  rb.block_refine = "insert_knots: [[0.13, 0.37, 0.52, 0.81], [0.5]]";
+  return rb.yaml();
 }
 
 }  // namespace
