@@ -77,6 +77,11 @@ KOKKOS_INLINE_FUNCTION int element_cp(const PatchData& pd, int e, int a) {
 
 /// Assembles the elements [e_begin, e_end) of one patch into A (atomic sums: correct on
 /// threaded and GPU backends where elements share control points).
+/// One matrix (orow empty): rows and columns are the overlap numbering pd.lid.
+/// Owned + ghost (several ranks): the row of control point a goes to A, the owned rows'
+/// matrix, at local row orow(a) with columns ocol(.), when a is owned here; otherwise to G,
+/// the few shared rows, at row grow(a) with columns pd.lid(.). (An owned control point couples
+/// with every control point of its elements, so ocol is defined wherever it is used.)
 template <int P, class LocalMatrix>
 struct AssembleElasticity {
   PatchData pd;
@@ -84,6 +89,8 @@ struct AssembleElasticity {
   GaussRule g0, g1;
   int e_begin = 0;
   LocalMatrix A;
+  LocalMatrix G = {};
+  Kokkos::View<const int*, MemSpace> orow = {}, ocol = {}, grow = {};
 
   KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
     constexpr int MaxDof = 2 * (P + 1) * (P + 1);
@@ -91,13 +98,22 @@ struct AssembleElasticity {
     double Ke[MaxDof][MaxDof];
     element_stiffness<P>(pd, mat, g0, g1, e, Ke);
     const int nen = pd.nen();
-    int cols[MaxDof];
+    int cols[MaxDof], gcols[MaxDof];
+    const bool split = orow.extent(0) > 0;
     for (int a = 0; a < nen; ++a) {
-      const int l = pd.lid(element_cp(pd, e, a));
-      cols[2 * a] = 2 * l;
-      cols[2 * a + 1] = 2 * l + 1;
+      const int cp = element_cp(pd, e, a);
+      const int l = pd.lid(cp), o = split ? ocol(cp) : l;
+      cols[2 * a] = 2 * o;
+      cols[2 * a + 1] = 2 * o + 1;
+      gcols[2 * a] = 2 * l;
+      gcols[2 * a + 1] = 2 * l + 1;
     }
-    for (int r = 0; r < 2 * nen; ++r) A.sumIntoValues(cols[r], cols, 2 * nen, Ke[r], false, true);
+    for (int r = 0; r < 2 * nen; ++r) {
+      const int cp = element_cp(pd, e, r / 2);
+      if (!split) A.sumIntoValues(cols[r], cols, 2 * nen, Ke[r], false, true);
+      else if (orow(cp) >= 0) A.sumIntoValues(2 * orow(cp) + r % 2, cols, 2 * nen, Ke[r], false, true);
+      else G.sumIntoValues(2 * grow(cp) + r % 2, gcols, 2 * nen, Ke[r], false, true);
+    }
   }
 
   void run(int e_end) {

@@ -189,9 +189,13 @@ void System::coupling_csr(LO nrows, RowOf row_of, ColOf col_of, Teuchos::ArrayRC
   }
 }
 
-// The global pattern of this rank's owned rows (several ranks): columns are every control point
-// coupled with an owned one, in increasing global id.
-RCP<const Graph> System::owned_graph() const {
+// Several ranks: the global pattern of this rank's owned rows (columns: every control point
+// coupled with an owned one, owned ones first in row order, as Tpetra's own column maps have
+// it and Ifpack2's relaxation expects, then the others in increasing global id), and the ghost
+// rows: control points this rank's elements touch but another rank owns, with the overlap
+// numbering as columns. Per body and control point: owned row, owned column, ghost row.
+std::unique_ptr<System::OwnedGhost> System::owned_ghost() const {
+  auto og = std::make_unique<OwnedGhost>();
   const bool any = owned_->getNodeNumElements() > 0;
   const GO first = any ? owned_->getMinGlobalIndex() / 2 : 0, last = any ? owned_->getMaxGlobalIndex() / 2 + 1 : 0;
   auto owned_row = [&](size_t b, int a) -> LO {
@@ -208,9 +212,6 @@ RCP<const Graph> System::owned_graph() const {
       return -1;
     }, rp, cc);
   }
-  // column map: the owned control points first, in the row order (local column = local row
-  // for them, as Tpetra's own column maps have it and Ifpack2's relaxation expects), then the
-  // others in increasing global id
   std::vector<GO> dofs;
   auto add = [&](GO g) {
     colpos[g] = static_cast<LO>(dofs.size() / 2);
@@ -228,7 +229,39 @@ RCP<const Graph> System::owned_graph() const {
   for (LO r = 0; r < 2 * static_cast<LO>(last - first); ++r) std::sort(cols.begin() + rowptr[r], cols.begin() + rowptr[r + 1]);
   RCP<Graph> g = rcp(new Graph(owned_, colmap, rowptr, cols));
   g->fillComplete(owned_, owned_);
-  return g;
+  og->owned = g;
+  // ghost rows, in increasing global id
+  std::vector<GO> ghost_dofs;
+  std::vector<std::vector<int>> grow(bodies_.size());
+  for (size_t b = 0; b < bodies_.size(); ++b) {
+    const auto& lid = bodies_[b].lid;
+    grow[b].assign(lid.size(), -1);
+    for (size_t a = 0; a < lid.size(); ++a)
+      if (lid[a] >= 0 && owned_row(b, static_cast<int>(a)) < 0) {
+        grow[b][a] = static_cast<int>(ghost_dofs.size() / 2);
+        ghost_dofs.push_back(2 * (bodies_[b].cp_offset + static_cast<GO>(a)));
+        ghost_dofs.push_back(2 * (bodies_[b].cp_offset + static_cast<GO>(a)) + 1);
+      }
+  }
+  og->ghost_map = rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(), ghost_dofs, 0, comm_));
+  coupling_csr(static_cast<LO>(ghost_dofs.size() / 2), [&](size_t b, int a) { return grow[b][a]; },
+               [&](size_t b, int a) { return bodies_[b].lid[a]; }, rowptr, cols);
+  RCP<Graph> gg = rcp(new Graph(og->ghost_map, overlap_, rowptr, cols));
+  gg->fillComplete(owned_, og->ghost_map);
+  og->ghost = gg;
+  og->exporter = rcp(new Export(og->ghost_map, owned_));
+  for (size_t b = 0; b < bodies_.size(); ++b) {
+    const size_t n = bodies_[b].lid.size();
+    std::vector<int> orow(n), ocol(n);
+    for (size_t a = 0; a < n; ++a) {
+      orow[a] = owned_row(b, static_cast<int>(a));
+      ocol[a] = colpos[bodies_[b].cp_offset + static_cast<GO>(a)];
+    }
+    og->orow.push_back(to_device("orow", orow));
+    og->ocol.push_back(to_device("ocol", ocol));
+    og->grow.push_back(to_device("grow", grow[b]));
+  }
+  return og;
 }
 
 RCP<Matrix> System::assemble_stiffness() const {
@@ -236,43 +269,57 @@ RCP<Matrix> System::assemble_stiffness() const {
   auto t1 = rcp(new Teuchos::TimeMonitor(*Teuchos::TimeMonitor::getNewTimer("2.1) Assembly: graph")));
   // On a tensor-product patch control points (i, j) and (i', j') share an element exactly when
   // i' lies in the 1-D coupling range [lo0(i), hi0(i)] of i and j' in [lo1(j), hi1(j)], the
-  // union of the supports of the non-empty spans s in [i, i + p]: contiguous. The overlap
-  // rows are the control points this rank's elements touch, their columns restricted to
-  // those too (a coupling through another rank's element is one of the global matrix as well).
-  const LO nov = static_cast<LO>(overlap_->getNodeNumElements() / 2);
-  const auto& ovl = bodies_;
-  Teuchos::ArrayRCP<size_t> rowptr;
-  Teuchos::ArrayRCP<LO> cols;
-  coupling_csr(nov, [&](size_t b, int a) { return ovl[b].lid[a]; }, [&](size_t b, int a) { return ovl[b].lid[a]; },
-               rowptr, cols);
-  RCP<Graph> graph = rcp(new Graph(overlap_, overlap_, rowptr, cols));
-  graph->fillComplete(owned_, owned_);
-  // on several ranks, the owned rows' global pattern, into which the overlap rows are summed
-  if (!overlap_->isSameAs(*owned_) && owned_graph_.is_null()) owned_graph_ = owned_graph();
+  // union of the supports of the non-empty spans s in [i, i + p]: contiguous (coupling_csr).
+  // One rank: the overlap rows are the owned rows. Several: the owned rows' global pattern and
+  // the ghost rows (owned_ghost), built once.
+  const bool one = overlap_->isSameAs(*owned_);
+  RCP<const Graph> graph;
+  if (one) {
+    const LO nov = static_cast<LO>(overlap_->getNodeNumElements() / 2);
+    Teuchos::ArrayRCP<size_t> rowptr;
+    Teuchos::ArrayRCP<LO> cols;
+    coupling_csr(nov, [&](size_t b, int a) { return bodies_[b].lid[a]; }, [&](size_t b, int a) { return bodies_[b].lid[a]; },
+                 rowptr, cols);
+    RCP<Graph> g = rcp(new Graph(overlap_, overlap_, rowptr, cols));
+    g->fillComplete(owned_, owned_);
+    graph = g;
+  } else {
+    if (!split_) split_ = owned_ghost();
+    graph = split_->owned;
+  }
   t1 = Teuchos::null;
 
-  // 2) element loop: Kokkos kernel summing element matrices into the local matrix
-  RCP<Matrix> A = rcp(new Matrix(graph));
+  // 2) element loop: Kokkos kernel summing element matrices into the local matrices
+  RCP<Matrix> K = rcp(new Matrix(graph));
+  RCP<Matrix> G = one ? Teuchos::null : rcp(new Matrix(split_->ghost));
   {
     Teuchos::TimeMonitor t2(*Teuchos::TimeMonitor::getNewTimer("2.2) Assembly: element loop"));
-    auto lcl = A->getLocalMatrixDevice();
+    auto lk = K->getLocalMatrixDevice();
+    decltype(lk) lg;
+    if (!one) lg = G->getLocalMatrixDevice();
     for (size_t b = 0; b < bodies_.size(); ++b) {
       const BodyData& bd = bodies_[b];
       if (bd.e_end <= bd.e_begin) continue;
       const GaussRule g0 = gauss_rule(bd.pd.p[0] + 1), g1 = gauss_rule(bd.pd.p[1] + 1);
       dispatch_degree(std::max(bd.pd.p[0], bd.pd.p[1]), [&](auto P) {
-        AssembleElasticity<decltype(P)::value, decltype(lcl)> k{bd.pd, bd.mat, g0, g1, bd.e_begin, lcl};
+        AssembleElasticity<decltype(P)::value, decltype(lk)> k{bd.pd, bd.mat, g0, g1, bd.e_begin, lk};
+        if (!one) {
+          k.G = lg;
+          k.orow = split_->orow[b];
+          k.ocol = split_->ocol[b];
+          k.grow = split_->grow[b];
+        }
         k.run(bd.e_end);
       });
     }
     Kokkos::fence();
   }
-  // 3) sum overlapping rows into the owned matrix (static graph: only values move)
+  // 3) several ranks: sum the ghost rows into their owners' rows (static graphs: values only)
   Teuchos::TimeMonitor t3(*Teuchos::TimeMonitor::getNewTimer("2.3) Assembly: fillComplete + export"));
-  A->fillComplete(owned_, owned_);
-  if (owned_graph_.is_null()) return A;
-  RCP<Matrix> K = rcp(new Matrix(owned_graph_));
-  K->doExport(*A, Export(overlap_, owned_), Tpetra::ADD);
+  if (!one) {
+    G->fillComplete(owned_, split_->ghost_map);
+    K->doExport(*G, *split_->exporter, Tpetra::ADD);
+  }
   K->fillComplete(owned_, owned_);
   return K;
 }

@@ -1,4 +1,5 @@
 #pragma once
+#include <memory>
 // The discretised problem on this rank: dof numbering, the Tpetra maps, the element
 // partition, assembly of the elastic stiffness and loads, Dirichlet conditions.
 //
@@ -89,14 +90,22 @@ class System {
   std::vector<int> dirichlet_lids_;
   struct UserTraction { int body; Side side; TractionFunction t; };
   std::vector<UserTraction> user_tractions_;
-  mutable RCP<const Graph> owned_graph_;   // several ranks: global pattern of the owned rows
+  // Several ranks: element rows of owned control points go straight into the owned rows'
+  // global pattern, the few others into a "ghost" matrix whose rows are exported (built once).
+  struct OwnedGhost {
+    RCP<const Graph> owned, ghost;
+    RCP<const Map> ghost_map;
+    RCP<const Export> exporter;   // ghost rows -> owned rows
+    std::vector<Kokkos::View<const int*, MemSpace>> orow, ocol, grow;   // per body, per cp
+  };
+  mutable std::unique_ptr<OwnedGhost> split_;
 
   struct CouplingRange { std::vector<int> lo, hi; };
   static CouplingRange coupling_range(const Patch& pt, int d);
   template <class RowOf, class ColOf>
   void coupling_csr(LO nrows, RowOf row_of, ColOf col_of, Teuchos::ArrayRCP<size_t>& rowptr,
                     Teuchos::ArrayRCP<LO>& cols) const;
-  RCP<const Graph> owned_graph() const;
+  std::unique_ptr<OwnedGhost> owned_ghost() const;
 };
 
 /// Owned-range split of n items over `size` ranks: [begin, end) of `rank`.
