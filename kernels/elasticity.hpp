@@ -98,10 +98,10 @@ struct AssembleElasticity {
     double Ke[MaxDof][MaxDof];
     element_stiffness<P>(pd, mat, g0, g1, e, Ke);
     const int nen = pd.nen();
-    int cols[MaxDof], gcols[MaxDof];
+    int cols[MaxDof], gcols[MaxDof], cps[MaxDof / 2];
     const bool split = orow.extent(0) > 0;
     for (int a = 0; a < nen; ++a) {
-      const int cp = element_cp(pd, e, a);
+      const int cp = cps[a] = element_cp(pd, e, a);
       const int l = pd.lid(cp), o = split ? ocol(cp) : l;
       cols[2 * a] = 2 * o;
       cols[2 * a + 1] = 2 * o + 1;
@@ -109,7 +109,7 @@ struct AssembleElasticity {
       gcols[2 * a + 1] = 2 * l + 1;
     }
     for (int r = 0; r < 2 * nen; ++r) {
-      const int cp = element_cp(pd, e, r / 2);
+      const int cp = cps[r / 2];
       if (!split) A.sumIntoValues(cols[r], cols, 2 * nen, Ke[r], false, true);
       else if (orow(cp) >= 0) A.sumIntoValues(2 * orow(cp) + r % 2, cols, 2 * nen, Ke[r], false, true);
       else G.sumIntoValues(2 * grow(cp) + r % 2, gcols, 2 * nen, Ke[r], false, true);
