@@ -174,22 +174,25 @@ struct ProjectSlavePoints {
     int k0, kc1;
     grid.cell_range(grid.cell_of(x[0], 0), grid.cell_of(x[1], 1), k0, kc1);
     if (k0 == kc1) return;   // no master element near
-    double best = 1e300, bxi = 0, brho[2] = {0, 0}, bt[2] = {1, 0}, r[2], tn[2];
+    double best = 1e300, bxi = 0, brho[2] = {0, 0}, bt[2] = {1, 0};
     int bspan = -1, belem = -1;
-    auto keep = [&](const double rr[2], const double tt[2]) {
-      for (int c = 0; c < 2; ++c) { brho[c] = rr[c]; bt[c] = tt[c]; }
-    };
-    // warm start: the previous projection's element, from its parameter
-    const int prev = sp.melem(i);
-    bool settled = false;
-    if (prev >= 0) {
-      double xi = sp.mxi(i);
+    // projects onto master element e (from xi when warm); the nearest orthogonal projection is
+    // kept. Returns whether it landed inside the element.
+    auto consider = [&](int e, double xi, bool warm) {
+      double r[2], tn[2];
       bool inside;
-      const double d2 = project_on_element(m, m.span(prev), x, xi, inside, r, tn, true);
-      if (inside) { best = d2; bxi = xi; bspan = m.span(prev); belem = prev; keep(r, tn); }
-      // strictly inside its element: the closest point moved continuously, keep it
-      settled = inside && xi > m.U(m.span(prev)) && xi < m.U(m.span(prev) + 1);
-    }
+      const double d2 = project_on_element(m, m.span(e), x, xi, inside, r, tn, warm);
+      if (inside && d2 < best) {
+        best = d2; bxi = xi; bspan = m.span(e); belem = e;
+        for (int c = 0; c < 2; ++c) { brho[c] = r[c]; bt[c] = tn[c]; }
+      }
+      return inside;
+    };
+    // warm start: the previous projection's element, from its parameter; kept without search
+    // when it lands strictly inside (the closest point moved continuously)
+    const int prev = sp.melem(i);
+    const bool settled = prev >= 0 && consider(prev, sp.mxi(i), true) && bxi > m.U(m.span(prev)) &&
+                         bxi < m.U(m.span(prev) + 1);
     // candidates of the cell in the order of their box distance, nearest first: an element
     // whose box is farther than the best projection so far cannot hold a nearer one, so the
     // search usually ends after the one or two elements whose boxes hold the point. The
@@ -209,20 +212,11 @@ struct ProjectSlavePoints {
       if (kbest < 0) break;   // every box left is farther than the best projection
       tried |= 1ull << kbest;
       const int e = grid.elems(k0 + kbest);
-      if (e == belem) continue;
-      double xi;
-      bool inside;
-      const double d2 = project_on_element(m, m.span(e), x, xi, inside, r, tn);
-      // the nearest orthogonal projection
-      if (inside && d2 < best) { best = d2; bxi = xi; bspan = m.span(e); belem = e; keep(r, tn); }
+      if (e != belem) consider(e, 0.0, false);
     }
     for (int k = k0 + kord; k < k1; ++k) {
       const int e = grid.elems(k);
-      if (e == belem || box_distance2(grid, e, x) >= best) continue;
-      double xi;
-      bool inside;
-      const double d2 = project_on_element(m, m.span(e), x, xi, inside, r, tn);
-      if (inside && d2 < best) { best = d2; bxi = xi; bspan = m.span(e); belem = e; keep(r, tn); }
+      if (e != belem && box_distance2(grid, e, x) < best) consider(e, 0.0, false);
     }
     sp.melem(i) = belem;
     // none: beyond the master's ends, or outside a kink; not in contact

@@ -179,31 +179,28 @@ void ContactPairData::update(const Vector& u) {
       for (int c = 0; c < 4; ++c) dbox(e, c) = b[c];
     });
   }
+  // grid cells of twice the largest box size; each box, grown by that size, goes into the
+  // cells it overlaps
   auto hbox = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), dbox);
-  std::vector<std::array<double, 4>> box(master.ne);
   double ext = 0, X0 = 1e300, Y0 = 1e300, X1 = -1e300, Y1 = -1e300;
   for (int e = 0; e < master.ne; ++e) {
-    box[e] = {hbox(e, 0), hbox(e, 1), hbox(e, 2), hbox(e, 3)};
     ext = std::max({ext, hbox(e, 2) - hbox(e, 0), hbox(e, 3) - hbox(e, 1)});
+    X0 = std::min(X0, hbox(e, 0)); Y0 = std::min(Y0, hbox(e, 1));
+    X1 = std::max(X1, hbox(e, 2)); Y1 = std::max(Y1, hbox(e, 3));
   }
   const double margin = std::max(ext, 1e-12);
-  for (auto& b : box) {
-    b = {b[0] - margin, b[1] - margin, b[2] + margin, b[3] + margin};
-    X0 = std::min(X0, b[0]); Y0 = std::min(Y0, b[1]); X1 = std::max(X1, b[2]); Y1 = std::max(Y1, b[3]);
-  }
   SearchGrid grid;
   grid.h = 2 * margin;
-  grid.x0 = X0;
-  grid.y0 = Y0;
-  grid.nx = std::max(1, static_cast<int>(std::ceil((X1 - X0) / grid.h)));
-  grid.ny = std::max(1, static_cast<int>(std::ceil((Y1 - Y0) / grid.h)));
+  grid.x0 = X0 - margin;
+  grid.y0 = Y0 - margin;
+  grid.nx = std::max(1, static_cast<int>(std::ceil((X1 - X0 + 2 * margin) / grid.h)));
+  grid.ny = std::max(1, static_cast<int>(std::ceil((Y1 - Y0 + 2 * margin) / grid.h)));
   // (cell, element) pairs sorted by cell: only the non-empty cells are stored
   std::vector<std::pair<long long, int>> pairs;
   pairs.reserve(4 * static_cast<size_t>(master.ne));
   for (int e = 0; e < master.ne; ++e) {
-    const auto& b = box[e];
-    const int i0 = std::max(0, static_cast<int>((b[0] - X0) / grid.h)), i1 = std::min(grid.nx - 1, static_cast<int>((b[2] - X0) / grid.h));
-    const int j0 = std::max(0, static_cast<int>((b[1] - Y0) / grid.h)), j1 = std::min(grid.ny - 1, static_cast<int>((b[3] - Y0) / grid.h));
+    const int i0 = std::max(0, grid.cell_of(hbox(e, 0) - margin, 0)), i1 = std::min(grid.nx - 1, grid.cell_of(hbox(e, 2) + margin, 0));
+    const int j0 = std::max(0, grid.cell_of(hbox(e, 1) - margin, 1)), j1 = std::min(grid.ny - 1, grid.cell_of(hbox(e, 3) + margin, 1));
     for (int j = j0; j <= j1; ++j)
       for (int i = i0; i <= i1; ++i) pairs.emplace_back(i + static_cast<long long>(grid.nx) * j, e);
   }

@@ -153,40 +153,52 @@ System::CouplingRange System::coupling_range(const Patch& pt, int d) {
   return r;
 }
 
+// Calls f(b, row, a') for every control point a' of body b coupled with a control point a that
+// is a row here (row = row_of(b, a) >= 0), rows in patch order, a' with j' outer, i' inner
+// (so in increasing global id).
+template <class RowOf, class F>
+void System::for_each_coupling(RowOf row_of, F f) const {
+  for (size_t b = 0; b < bodies_.size(); ++b) {
+    const Patch& pt = P_.bodies[b].patch;
+    const CouplingRange r0 = coupling_range(pt, 0), r1 = coupling_range(pt, 1);
+    const int n0 = static_cast<int>(r0.lo.size()), n1 = static_cast<int>(r1.lo.size());
+    for (int j = 0; j < n1; ++j)
+      for (int i = 0; i < n0; ++i) {
+        const LO row = row_of(b, pt.index(i, j));
+        if (row < 0) continue;
+        for (int jj = r1.lo[j]; jj <= r1.hi[j]; ++jj)
+          for (int ii = r0.lo[i]; ii <= r0.hi[i]; ++ii) f(b, row, pt.index(ii, jj));
+      }
+  }
+}
+
 // CSR of the dof rows 2 row_of(b, a) + c (control point a of body b; -1: not a row here)
 // with the columns 2 col_of(b, a') + c' of the control points a' it couples with (-1: left
-// out). Columns are sorted when col_of increases with the global id (j' outer, i' inner).
-// Two passes over the control points (count, fill), no sorting.
+// out). Columns are sorted when col_of increases with the global id. Two passes (count,
+// fill), no sorting; the y row of a control point repeats its x row.
 template <class RowOf, class ColOf>
 void System::coupling_csr(LO nrows, RowOf row_of, ColOf col_of, Teuchos::ArrayRCP<size_t>& rowptr,
                           Teuchos::ArrayRCP<LO>& cols) const {
   rowptr = Teuchos::ArrayRCP<size_t>(2 * nrows + 1, 0);
-  for (int pass = 0; pass < 2; ++pass) {
-    if (pass == 1) {
-      for (LO r = 0; r < 2 * nrows; ++r) rowptr[r + 1] += rowptr[r];
-      cols = Teuchos::ArrayRCP<LO>(rowptr[2 * nrows]);
-    }
-    for (size_t b = 0; b < bodies_.size(); ++b) {
-      const Patch& pt = P_.bodies[b].patch;
-      const CouplingRange r0 = coupling_range(pt, 0), r1 = coupling_range(pt, 1);
-      const int n0 = static_cast<int>(r0.lo.size()), n1 = static_cast<int>(r1.lo.size());
-      for (int j = 0; j < n1; ++j)
-        for (int i = 0; i < n0; ++i) {
-          const LO row = row_of(b, pt.index(i, j));
-          if (row < 0) continue;
-          size_t k = pass == 0 ? 0 : rowptr[2 * row];
-          for (int jj = r1.lo[j]; jj <= r1.hi[j]; ++jj)
-            for (int ii = r0.lo[i]; ii <= r0.hi[i]; ++ii) {
-              const LO c = col_of(b, pt.index(ii, jj));
-              if (c < 0) continue;
-              if (pass == 1) { cols[k] = 2 * c; cols[k + 1] = 2 * c + 1; }
-              k += 2;
-            }
-          if (pass == 0) rowptr[2 * row + 1] = rowptr[2 * row + 2] = k;
-          else std::copy(cols.begin() + rowptr[2 * row], cols.begin() + rowptr[2 * row + 1], cols.begin() + rowptr[2 * row + 1]);
-        }
-    }
+  for_each_coupling(row_of, [&](size_t b, LO row, int a) {
+    if (col_of(b, a) >= 0) rowptr[2 * row + 1] += 2;
+  });
+  for (LO r = 0; r < nrows; ++r) {
+    rowptr[2 * r + 2] = rowptr[2 * r + 1];                  // y row: as many as the x row
+    rowptr[2 * r + 1] += rowptr[2 * r];
+    rowptr[2 * r + 2] += rowptr[2 * r + 1];
   }
+  cols = Teuchos::ArrayRCP<LO>(rowptr[2 * nrows]);
+  std::vector<size_t> next(rowptr.begin(), rowptr.begin() + 2 * nrows);
+  for_each_coupling(row_of, [&](size_t b, LO row, int a) {
+    const LO c = col_of(b, a);
+    if (c < 0) return;
+    for (int d = 0; d < 2; ++d) {
+      size_t& k = next[2 * row + d];
+      cols[k++] = 2 * c;
+      cols[k++] = 2 * c + 1;
+    }
+  });
 }
 
 // Several ranks: the global pattern of this rank's owned rows (columns: every control point
@@ -202,16 +214,9 @@ std::unique_ptr<System::OwnedGhost> System::owned_ghost() const {
     const GO g = bodies_[b].cp_offset + a;
     return g >= first && g < last ? static_cast<LO>(g - first) : -1;
   };
-  // mark the coupled control points (one pass of the row loop with every column allowed)
+  // mark the control points coupled with owned ones
   std::vector<LO> colpos(num_cps_, -1);
-  {
-    Teuchos::ArrayRCP<size_t> rp;
-    Teuchos::ArrayRCP<LO> cc;
-    coupling_csr(static_cast<LO>(last - first), owned_row, [&](size_t b, int a) {
-      colpos[bodies_[b].cp_offset + a] = 0;
-      return -1;
-    }, rp, cc);
-  }
+  for_each_coupling(owned_row, [&](size_t b, LO, int a) { colpos[bodies_[b].cp_offset + a] = 0; });
   std::vector<GO> dofs;
   auto add = [&](GO g) {
     colpos[g] = static_cast<LO>(dofs.size() / 2);

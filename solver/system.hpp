@@ -102,6 +102,8 @@ class System {
 
   struct CouplingRange { std::vector<int> lo, hi; };
   static CouplingRange coupling_range(const Patch& pt, int d);
+  template <class RowOf, class F>
+  void for_each_coupling(RowOf row_of, F f) const;
   template <class RowOf, class ColOf>
   void coupling_csr(LO nrows, RowOf row_of, ColOf col_of, Teuchos::ArrayRCP<size_t>& rowptr,
                     Teuchos::ArrayRCP<LO>& cols) const;

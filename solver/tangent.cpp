@@ -50,34 +50,38 @@ void TangentBuilder::rebuild(const RCP<Matrix>& K_c) {
     std::sort(extra.begin(), extra.end());
     extra.erase(std::unique(extra.begin(), extra.end()), extra.end());
   }
+  // contact couplings K_el lacks (rows are sorted): K_T's entry count
+  const auto in_A = [&](LO r, LO c) {
+    const LO* cols = A.graph.entries.data();
+    return std::binary_search(cols + A.graph.row_map(r), cols + A.graph.row_map(r + 1), c);
+  };
+  size_t nnz = A.nnz();
+  for (const auto& rc : extra) nnz += in_A(rc.first, rc.second) ? 0 : 1;
   // row-wise merge; map(k) = position in K_T of K_el's entry k
   using local_graph = Graph::local_graph_device_type;
   typename local_graph::row_map_type::non_const_type ptr(Kokkos::view_alloc(Kokkos::WithoutInitializing, "tangent_rowptr"), n + 1);
-  auto hp = Kokkos::create_mirror_view(ptr);
+  typename local_graph::entries_type::non_const_type ind(Kokkos::view_alloc(Kokkos::WithoutInitializing, "tangent_colind"), nnz);
   Kokkos::View<size_t*, MemSpace> map(Kokkos::view_alloc(Kokkos::WithoutInitializing, "tangent_map"), A.nnz());
+  auto hp = Kokkos::create_mirror_view(ptr);
+  auto hi = Kokkos::create_mirror_view(ind);
   auto hm = Kokkos::create_mirror_view(map);
-  std::vector<LO> out;
-  out.reserve(A.nnz() + extra.size());
-  size_t e = 0;
+  size_t e = 0, out = 0;
   for (LO r = 0; r < n; ++r) {
-    hp(r) = out.size();
+    hp(r) = out;
     size_t k = A.graph.row_map(r);
     const size_t kend = A.graph.row_map(r + 1);
     while (k < kend || (e < extra.size() && extra[e].first == r)) {
       const bool has_e = e < extra.size() && extra[e].first == r;
       if (k < kend && (!has_e || A.graph.entries(k) <= extra[e].second)) {
         if (has_e && A.graph.entries(k) == extra[e].second) ++e;
-        hm(k++) = out.size();
-        out.push_back(A.graph.entries(k - 1));
+        hm(k) = out;
+        hi(out++) = A.graph.entries(k++);
       } else {
-        out.push_back(extra[e++].second);
+        hi(out++) = extra[e++].second;
       }
     }
   }
-  hp(n) = out.size();
-  typename local_graph::entries_type::non_const_type ind(Kokkos::view_alloc(Kokkos::WithoutInitializing, "tangent_colind"), out.size());
-  auto hi = Kokkos::create_mirror_view(ind);
-  for (size_t k = 0; k < out.size(); ++k) hi(k) = out[k];
+  hp(n) = out;
   Kokkos::deep_copy(ptr, hp);
   Kokkos::deep_copy(ind, hi);
   Kokkos::deep_copy(map, hm);
