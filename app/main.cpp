@@ -10,8 +10,13 @@
 #include <Teuchos_CommHelpers.hpp>
 #include <sys/resource.h>
 
+#include <unistd.h>
+
 #include <cctype>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -192,7 +197,30 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
+// Transparent huge pages for the large arrays (matrix values and indices, Krylov vectors,
+// MueLu's levels). Where the kernel grants them only on request (transparent_hugepage/enabled
+// is "madvise", Debian's default), glibc's malloc asks for them when started with the
+// tunable glibc.malloc.hugetlb=1 (glibc >= 2.35; older ones ignore it): the program sets it
+// and re-executes itself, before MPI starts. First-touch page faults of 4 KiB pages were
+// half of the assembly and tangent stages at 6.6e5 dofs on our 2-core VM
+// (docs/performance.md). IGACONTACT_HUGEPAGES=0 turns this off.
+void request_huge_pages(char** argv) {
+  const char* off = std::getenv("IGACONTACT_HUGEPAGES");
+  if (off && std::strcmp(off, "0") == 0) return;
+  const char* tun = std::getenv("GLIBC_TUNABLES");
+  if (tun && std::strstr(tun, "glibc.malloc.hugetlb")) return;   // set already (or by us)
+  std::ifstream thp("/sys/kernel/mm/transparent_hugepage/enabled");
+  std::string mode;
+  std::getline(thp, mode);
+  if (mode.find("[madvise]") == std::string::npos) return;   // "always": no need; "never": no use
+  std::string value = tun && *tun ? std::string(tun) + ":" : std::string();
+  value += "glibc.malloc.hugetlb=1";
+  if (setenv("GLIBC_TUNABLES", value.c_str(), 1) != 0) return;
+  execv("/proc/self/exe", argv);   // returns only on failure: run on without
+}
+
 int main(int argc, char** argv) {
+  request_huge_pages(argv);
   int code = 0;
   {
     Tpetra::ScopeGuard guard(&argc, &argv);

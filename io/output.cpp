@@ -5,6 +5,8 @@
 #include <Teuchos_TimeMonitor.hpp>
 
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -131,8 +133,11 @@ nlohmann::json write_results(const System& sys, const SolveResult& res, const st
   summary["ranks"] = sys.comm()->getSize();
   summary["execution_space"] = ExecSpace::name();
   summary["threads_per_rank"] = ExecSpace::concurrency();
+  const char* tun = std::getenv("GLIBC_TUNABLES");
+  summary["malloc_huge_pages"] = tun != nullptr && std::strstr(tun, "glibc.malloc.hugetlb=1") != nullptr;
   summary["newton_iterations"] = res.newton_iterations;
   summary["linear_iterations"] = res.linear_iterations;
+  summary["tangent_pattern_builds"] = res.tangent_rebuilds;
   summary["reactions"] = reactions_json(sys, *res.residual);
   if (!res.converged) summary["message"] = res.message;
   if (root) fs::create_directories(dir);

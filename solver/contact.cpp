@@ -345,8 +345,13 @@ ContactSummary ContactPairData::summary() const {
 
 ContactContribution assemble_contact(const System& sys, std::vector<ContactPairData>& pairs) {
   // 1) the dofs this rank's contributions couple: overlap map and graph. A group is a set
-  //    of control points coupled all to all: the element pair of an active quadrature point
-  //    (KTS, and the mortar pressure term), or the support of delta g_A (mortar).
+  //    of control points coupled all to all: the element pair of a quadrature point (KTS,
+  //    and the mortar pressure term), or the support of delta g_A (mortar). The pattern is
+  //    reserved beyond what is active now: every point with a projection, with its master
+  //    element widened by one neighbour on each side, and every weighted gap with such
+  //    points; only active ones get values. So K_T's pattern, rebuilt when K_c has a
+  //    nonzero outside it (tangent.hpp), seldom changes as the contact zone grows or
+  //    points slide: once per run on the scaling problem, where it was twice per load step.
   std::vector<GO> cps;
   std::vector<std::vector<GO>> groups;
   int active = 0;
@@ -355,27 +360,26 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
     auto valid = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.valid);
     auto gap = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.gap);
     auto lam = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.lambda);
-    auto pr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.pressure);
     auto sspan = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.span);
     auto mspan = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.mspan);
+    const int nm = static_cast<int>(pd.master_gid.size());
     auto point_group = [&](int i) {
       std::vector<GO> g;
       for (int a = sspan(i) - pd.slave.p; a <= sspan(i); ++a) g.push_back(pd.slave_gid[a]);
-      for (int b = mspan(i) - pd.master.p; b <= mspan(i); ++b) g.push_back(pd.master_gid[b]);
+      for (int b = std::max(0, mspan(i) - pd.master.p - 1); b <= std::min(nm - 1, mspan(i) + 1); ++b)
+        g.push_back(pd.master_gid[b]);
       return g;
     };
     for (int i = pd.p_begin; i < pd.p_end; ++i) {
       if (sspan(i) < 0 || !valid(i)) continue;
-      if (pd.mortar() ? !(pr(i) > 0) : lam(i) - pd.pair().penalty * gap(i) < 0) continue;
-      if (!pd.mortar()) ++active;
+      if (!pd.mortar() && lam(i) - pd.pair().penalty * gap(i) >= 0) ++active;
       groups.push_back(point_group(i));
     }
     if (pd.mortar()) {
       auto act = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.ms_.active);
       auto espan = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.slave.span);
       for (int A = pd.a_begin; A < pd.a_end; ++A) {
-        if (!act(A)) continue;
-        ++active;
+        if (act(A)) ++active;
         std::vector<GO> g;
         for (int e = 0; e < pd.slave.ne; ++e) {
           if (espan(e) < A || espan(e) > A + pd.slave.p) continue;
@@ -387,7 +391,7 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
         }
         std::sort(g.begin(), g.end());
         g.erase(std::unique(g.begin(), g.end()), g.end());
-        groups.push_back(std::move(g));
+        if (!g.empty()) groups.push_back(std::move(g));
       }
     }
   }

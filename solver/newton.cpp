@@ -164,6 +164,7 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
   ContactContribution cc;
   residual(res.lambda, cc);
   res.residual = r;
+  res.tangent_rebuilds = tangent.rebuilds();
   return res;
 }
 

@@ -227,14 +227,20 @@ std::unique_ptr<System::OwnedGhost> System::owned_ghost() const {
   for (GO g = 0; g < num_cps_; ++g)
     if (colpos[g] == 0 && (g < first || g >= last)) add(g);
   RCP<const Map> colmap = rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(), dofs, 0, comm_));
+
   Teuchos::ArrayRCP<size_t> rowptr;
   Teuchos::ArrayRCP<LO> cols;
   coupling_csr(static_cast<LO>(last - first), owned_row,
                [&](size_t b, int a) { return colpos[bodies_[b].cp_offset + a]; }, rowptr, cols);
-  for (LO r = 0; r < 2 * static_cast<LO>(last - first); ++r) std::sort(cols.begin() + rowptr[r], cols.begin() + rowptr[r + 1]);
+  // rows come out in global order: only those coupling control points owned below this
+  // rank's (numbered after the owned ones) need sorting
+  for (LO r = 0; r < 2 * static_cast<LO>(last - first); ++r)
+    if (!std::is_sorted(cols.begin() + rowptr[r], cols.begin() + rowptr[r + 1]))
+      std::sort(cols.begin() + rowptr[r], cols.begin() + rowptr[r + 1]);
   RCP<Graph> g = rcp(new Graph(owned_, colmap, rowptr, cols));
   g->fillComplete(owned_, owned_);
   og->owned = g;
+
   // ghost rows, in increasing global id
   std::vector<GO> ghost_dofs;
   std::vector<std::vector<int>> grow(bodies_.size());
@@ -294,11 +300,13 @@ RCP<Matrix> System::assemble_stiffness() const {
   }
   t1 = Teuchos::null;
 
-  // 2) element loop: Kokkos kernel summing element matrices into the local matrices
-  RCP<Matrix> K = rcp(new Matrix(graph));
-  RCP<Matrix> G = one ? Teuchos::null : rcp(new Matrix(split_->ghost));
+  // 2) element loop: Kokkos kernel summing element matrices into the local matrices (whose
+  //    values are allocated here, zeroed: first touch of the matrix' largest array)
+  RCP<Matrix> K, G;
   {
     Teuchos::TimeMonitor t2(*Teuchos::TimeMonitor::getNewTimer("2.2) Assembly: element loop"));
+    K = rcp(new Matrix(graph));
+    if (!one) G = rcp(new Matrix(split_->ghost));
     auto lk = K->getLocalMatrixDevice();
     decltype(lk) lg;
     if (!one) lg = G->getLocalMatrixDevice();
@@ -432,28 +440,36 @@ void System::apply_dirichlet(Matrix& A) const {
   Kokkos::fence();
 }
 
+const Point3& System::control_point(GO g) const {
+  size_t b = 0;
+  while (b + 1 < bodies_.size() && bodies_[b + 1].cp_offset <= g) ++b;
+  return P_.bodies[b].patch.cp[g - bodies_[b].cp_offset];
+}
+
 RCP<MultiVector> System::rigid_body_modes() const {
   RCP<MultiVector> Z = rcp(new MultiVector(owned_, 3));
   auto h = Z->getLocalViewHost(Tpetra::Access::OverwriteAll);
-  auto X = coordinates();
-  auto x = X->getLocalViewHost(Tpetra::Access::ReadOnly);
   for (size_t l = 0; l < owned_->getNodeNumElements(); ++l) {
-    const int c = owned_->getGlobalElement(l) % 2;
+    const GO dof = owned_->getGlobalElement(l);
+    const auto& cp = control_point(dof / 2);
+    const int c = static_cast<int>(dof % 2);
     h(l, 0) = c == 0 ? 1.0 : 0.0;
     h(l, 1) = c == 1 ? 1.0 : 0.0;
-    h(l, 2) = c == 0 ? -x(l, 1) : x(l, 0);
+    h(l, 2) = c == 0 ? -cp[1] : cp[0];
   }
   return Z;
 }
 
 RCP<MultiVector> System::coordinates() const {
-  RCP<MultiVector> X = rcp(new MultiVector(owned_, 2));
+  // one row per owned control point: MueLu's node map (node g holds dofs 2 g, 2 g + 1)
+  const size_t n = owned_->getNodeNumElements() / 2;
+  std::vector<GO> gids(n);
+  for (size_t l = 0; l < n; ++l) gids[l] = owned_->getGlobalElement(2 * l) / 2;
+  RCP<const Map> nodes = rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(), gids.data(), n, 0, comm_));
+  RCP<MultiVector> X = rcp(new MultiVector(nodes, 2));
   auto h = X->getLocalViewHost(Tpetra::Access::OverwriteAll);
-  for (size_t l = 0; l < owned_->getNodeNumElements(); ++l) {
-    const GO g = owned_->getGlobalElement(l) / 2;
-    size_t b = 0;
-    while (b + 1 < bodies_.size() && bodies_[b + 1].cp_offset <= g) ++b;
-    const auto& cp = P_.bodies[b].patch.cp[g - bodies_[b].cp_offset];
+  for (size_t l = 0; l < n; ++l) {
+    const auto& cp = control_point(gids[l]);
     h(l, 0) = cp[0];
     h(l, 1) = cp[1];
   }

@@ -67,8 +67,11 @@ class System {
 
   /// Rigid-body modes (x, y translation, rotation) on the owned dofs: MueLu's nullspace.
   RCP<MultiVector> rigid_body_modes() const;
-  /// Reference coordinates of the owned control points, one row per dof (MueLu).
+  /// Reference coordinates of the owned control points, one row per control point (MueLu).
   RCP<MultiVector> coordinates() const;
+
+  /// Reference position of global control point g.
+  const Point3& control_point(GO g) const;
 
   /// Builds an overlapping map from global control point ids (sorted, unique): dofs 2g, 2g+1.
   RCP<const Map> cp_dof_map(const std::vector<GO>& cps, bool replicated_ok = true) const;

@@ -116,8 +116,12 @@ bool TangentBuilder::sum_into(const Matrix& K_c) {
     typename Matrix::nonconst_values_host_view_type gv("vals", n);
     size_t got = 0;
     K_c.getGlobalRowCopy(g, gc, gv, got);
-    const LO summed = KT_->sumIntoGlobalValues(g, static_cast<LO>(got), gv.data(), gc.data());
-    if (summed != static_cast<LO>(got)) return false;
+    // K_c's pattern is reserved wider than its values (contact.cpp): only nonzeros must fit
+    size_t nz = 0;
+    for (size_t k = 0; k < got; ++k)
+      if (gv(k) != 0.0) { gc(nz) = gc(k); gv(nz) = gv(k); ++nz; }
+    const LO summed = KT_->sumIntoGlobalValues(g, static_cast<LO>(nz), gv.data(), gc.data());
+    if (summed != static_cast<LO>(nz)) return false;
   }
   return true;
 }
