@@ -348,7 +348,7 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
   //    of control points coupled all to all: the element pair of a quadrature point (KTS,
   //    and the mortar pressure term), or the support of delta g_A (mortar). The pattern is
   //    reserved beyond what is active now: every point with a projection, with its master
-  //    element widened by one neighbour on each side, and every weighted gap with such
+  //    element widened by two neighbours on each side, and every weighted gap with such
   //    points; only active ones get values. So K_T's pattern, rebuilt when K_c has a
   //    nonzero outside it (tangent.hpp), seldom changes as the contact zone grows or
   //    points slide: once per run on the scaling problem, where it was twice per load step.
@@ -363,10 +363,13 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
     auto sspan = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.span);
     auto mspan = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.mspan);
     const int nm = static_cast<int>(pd.master_gid.size());
+    // two elements each side: on the scaling problem at 6.6e5 dofs the edge of the slave
+    // block slides across more than one master element (one gave two builds there)
+    constexpr int kWiden = 2;
     auto point_group = [&](int i) {
       std::vector<GO> g;
       for (int a = sspan(i) - pd.slave.p; a <= sspan(i); ++a) g.push_back(pd.slave_gid[a]);
-      for (int b = std::max(0, mspan(i) - pd.master.p - 1); b <= std::min(nm - 1, mspan(i) + 1); ++b)
+      for (int b = std::max(0, mspan(i) - pd.master.p - kWiden); b <= std::min(nm - 1, mspan(i) + kWiden); ++b)
         g.push_back(pd.master_gid[b]);
       return g;
     };
