@@ -177,7 +177,7 @@ TEST_P(Equilibrium, ContactForceEqualsReactions) {
   // larger than the vertical component
   EXPECT_GE(c.normal_force, std::hypot(c.fx, c.fy) * (1 - 1e-12));
   // the contact pattern reserved at the first iteration (every projected point, master
-  // element widened by a neighbour) holds all later couplings: K_T's pattern is built once
+  // element widened by two neighbours) holds all later couplings: K_T's pattern is built once
   std::printf("  %s: K_T pattern built %d time(s)\n", GetParam(), s.res.tangent_rebuilds);
   EXPECT_EQ(s.res.tangent_rebuilds, 1);
 }
