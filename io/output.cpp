@@ -138,6 +138,7 @@ nlohmann::json write_results(const System& sys, const SolveResult& res, const st
   summary["newton_iterations"] = res.newton_iterations;
   summary["linear_iterations"] = res.linear_iterations;
   summary["tangent_pattern_builds"] = res.tangent_rebuilds;
+  summary["preconditioner_builds"] = res.preconditioner_builds;
   summary["reactions"] = reactions_json(sys, *res.residual);
   if (!res.converged) summary["message"] = res.message;
   if (root) fs::create_directories(dir);

@@ -1,8 +1,11 @@
 #include "model/problem.hpp"
 
+#include <MueLu_MasterList.hpp>
+#include <Teuchos_XMLParameterListHelpers.hpp>
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -95,6 +98,12 @@ struct Reader {
     try { v = n.as<long>(); } catch (const YAML::Exception&) { fail(key, n, "expected an integer"); }
     if (v < -1000000000L || v > 1000000000L) fail(key, n, "integer out of range");
     return static_cast<int>(v);
+  }
+  bool boolean(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsScalar()) fail(key, n, "expected true or false");
+    bool v;
+    try { v = n.as<bool>(); } catch (const YAML::Exception&) { fail(key, n, "expected true or false"); }
+    return v;
   }
   std::string string(const YAML::Node& n, const std::string& key) const {
     if (!n.IsScalar()) fail(key, n, "expected a string");
@@ -397,6 +406,37 @@ void apply_override(const std::string& file, YAML::Node root, const std::string&
   }
 }
 
+// solver.linear.muelu_xml: a MueLu XML parameter list (MueLu's own format), relative to the
+// problem file's folder. Checked here, so that a bad file stops the run before anything is
+// solved or written: it must parse, and every top-level name must be a MueLu parameter
+// (MueLu's master list) or a "level N" sublist.
+std::string muelu_xml(const Reader& R, const YAML::Node& n) {
+  const std::string key = "solver.linear.muelu_xml";
+  std::string path = R.string(n, key);
+  if (path.empty()) R.fail(key, n, "must not be empty");
+  const auto slash = R.file.find_last_of('/');
+  if (path[0] != '/' && slash != std::string::npos) path = R.file.substr(0, slash + 1) + path;
+  std::error_code ec;   // a regular file only: Teuchos' XML reader loops on a folder or a device
+  if (!std::filesystem::is_regular_file(path, ec) || !std::ifstream(path)) R.fail(key, n, "cannot read " + path);
+  Teuchos::RCP<Teuchos::ParameterList> list;
+  try {
+    list = Teuchos::getParametersFromXmlFile(path);
+  } catch (const std::exception& e) {
+    // Teuchos' message ends with the reason, after the throwing source line and test
+    std::string why = e.what();
+    while (!why.empty() && std::isspace(static_cast<unsigned char>(why.back()))) why.pop_back();
+    why = why.substr(why.find_last_of('\n') + 1);
+    R.fail(key, n, "not a Teuchos XML parameter list: " + why);
+  }
+  const Teuchos::RCP<const Teuchos::ParameterList> master = MueLu::MasterList::List();
+  for (auto it = list->begin(); it != list->end(); ++it) {
+    const std::string& name = list->name(it);
+    if (master->isParameter(name) || name.rfind("level ", 0) == 0) continue;
+    R.fail(key, n, "'" + name + "' is not a MueLu parameter");
+  }
+  return path;
+}
+
 Problem build(const Reader& R, const YAML::Node& root) {
   Problem P;
   P.file = R.file;
@@ -481,7 +521,8 @@ Problem build(const Reader& R, const YAML::Node& root) {
     }
     if (s["linear"]) {
       const YAML::Node l = s["linear"];
-      R.keys(l, "solver.linear", {"method", "preconditioner", "tolerance", "max_iterations"});
+      R.keys(l, "solver.linear", {"method", "preconditioner", "tolerance", "max_iterations", "muelu_xml",
+                                   "reuse_preconditioner"});
       if (l["method"]) {
         const std::string m = R.string(l["method"], "solver.linear.method");
         if (m == "cg") P.linear.method = LinearMethod::CG;
@@ -503,6 +544,9 @@ Problem build(const Reader& R, const YAML::Node& root) {
         P.linear.max_iterations = R.integer(l["max_iterations"], "solver.linear.max_iterations");
         if (P.linear.max_iterations < 1) R.fail("solver.linear.max_iterations", l["max_iterations"], "must be >= 1");
       }
+      if (l["muelu_xml"]) P.linear.muelu_xml = muelu_xml(R, l["muelu_xml"]);
+      if (l["reuse_preconditioner"])
+        P.linear.reuse_preconditioner = R.boolean(l["reuse_preconditioner"], "solver.linear.reuse_preconditioner");
     }
   }
 

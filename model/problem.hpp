@@ -63,6 +63,9 @@ struct LinearOptions {
   double tolerance = 1e-12;
   int max_iterations = 1000;
   bool method_given = false;
+  bool reuse_preconditioner = true;   // keep the preconditioner over a load step's Newton iterations
+  std::string muelu_xml;   // MueLu parameters over the built-in ones ("" none); path as resolved
+
 };
 
 struct Probe {

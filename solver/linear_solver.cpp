@@ -8,6 +8,7 @@
 #include <Teuchos_TimeMonitor.hpp>
 
 #include <sstream>
+#include <Teuchos_XMLParameterListHelpers.hpp>
 
 namespace iga {
 
@@ -51,6 +52,11 @@ RCP<Operator> make_preconditioner(const LinearOptions& opt, const RCP<Matrix>& A
       p.set("multigrid algorithm", "sa");
       p.set("number of equations", 2);
       p.set("coarse: max size", 1000);
+      // W-cycle: the coarse levels are small (operator complexity ~1.1 with the 5 x 5
+      // aggregates of a p = 2 control net), so visiting them twice costs little and keeps the
+      // iterations flat as levels are added (V: 12 -> 16, W: 12 -> 12 from 1.1e4 to 1.0e6 dofs
+      // in the first Newton step of examples/two_blocks_scaling.yaml; solve 6.3 -> 5.2 s at 1e6)
+      p.set("cycle type", "W");
       // symmetric Gauss-Seidel keeps the V-cycle symmetric positive definite (for CG);
       // Chebyshev with MueLu's default eigenvalue estimate was not, on the wheel example
       p.set("smoother: type", "RELAXATION");
@@ -59,7 +65,21 @@ RCP<Operator> make_preconditioner(const LinearOptions& opt, const RCP<Matrix>& A
       sm.set("relaxation: sweeps", 1);
       p.set("smoother: params", sm);
       p.set("aggregation: type", "uncoupled");
-      p.set("aggregation: drop tol", 0.0);
+      // Aggregates never straddle two bodies, and follow the mesh's anisotropy: MueLu drops
+      // graph edges by the distance Laplacian of the coordinates it is given, the control
+      // points with each body moved far from the others (System::aggregation_coordinates):
+      // every contact coupling is dropped, and within a body the couplings to control points
+      // more than about three times further away than the nearest (graded meshes). The
+      // prolongator is still smoothed with the full tangent (not the filtered one), so the
+      // coarse spaces of the bodies meet through the contact stiffness. Frictionless contact
+      // lets the two sides of the interface slide (and, with a penalty, separate a little):
+      // aggregates across it forced the coarse space to move both sides together.
+      // Measured (docs/performance.md): GMRES iterations per Newton step on
+      // examples/two_blocks_scaling.yaml from 1.1e4 to 1.0e6 dofs 18 -> 36 before, 12 -> 14
+      // with this and the W-cycle; examples/wheel.yaml (graded) 1758 -> 618 iterations.
+      p.set("aggregation: drop scheme", "distance laplacian");
+      p.set("aggregation: drop tol", 1e-2);
+      p.set("sa: use filtered matrix", false);
       // Amesos2 KLU2 is wrong on several ranks: relax on the coarse level there.
       p.set("coarse: type", ranks == 1 ? "KLU2" : "RELAXATION");
       if (ranks > 1) {
@@ -69,6 +89,8 @@ RCP<Operator> make_preconditioner(const LinearOptions& opt, const RCP<Matrix>& A
         p.set("coarse: params", cp);
       }
       p.set("repartition: enable", false);
+      // the user's parameters (solver.linear.muelu_xml, checked when the problem was read) last
+      if (!opt.muelu_xml.empty()) Teuchos::updateParametersFromXmlFile(opt.muelu_xml, Teuchos::inOutArg(p));
       Teuchos::ParameterList& user = p.sublist("user data");
       user.set("Nullspace", nullspace);
       user.set("Coordinates", coords);
@@ -79,25 +101,10 @@ RCP<Operator> make_preconditioner(const LinearOptions& opt, const RCP<Matrix>& A
   return Teuchos::null;
 }
 
-}  // namespace
-
-LinearSolveResult solve_linear(const LinearOptions& opt, const RCP<Matrix>& A, const RCP<Vector>& x,
-                               const RCP<Vector>& b, const RCP<MultiVector>& nullspace,
-                               const RCP<MultiVector>& coords) {
+// Belos CG or GMRES on A x = b with the preconditioner M (null: none).
+LinearSolveResult krylov_solve(const LinearOptions& opt, const RCP<Matrix>& A, const RCP<Vector>& x,
+                               const RCP<Vector>& b, const RCP<Operator>& M) {
   LinearSolveResult res;
-  if (opt.method == LinearMethod::Direct) {
-    Teuchos::TimeMonitor t(*Teuchos::TimeMonitor::getNewTimer("5) Linear solve"));
-    auto solver = Amesos2::create<Matrix, MultiVector>("KLU2", A, x, b);
-    solver->symbolicFactorization().numericFactorization().solve();
-    res.converged = true;
-    res.iterations = 1;
-    return res;
-  }
-  RCP<Operator> M;
-  {
-    Teuchos::TimeMonitor t(*Teuchos::TimeMonitor::getNewTimer("4) Preconditioner setup"));
-    M = make_preconditioner(opt, A, nullspace, coords);
-  }
   Teuchos::TimeMonitor t(*Teuchos::TimeMonitor::getNewTimer("5) Linear solve"));
   using Problem = Belos::LinearProblem<SC, MultiVector, Operator>;
   RCP<Problem> problem = rcp(new Problem(A, x, b));
@@ -146,6 +153,45 @@ LinearSolveResult solve_linear(const LinearOptions& opt, const RCP<Matrix>& A, c
        << "); the system may be singular (a body free to move?) or ill-conditioned: try "
           "solver.linear.preconditioner: muelu, more solver.linear.max_iterations, or method: direct on one rank";
     res.message = os.str();
+  }
+  return res;
+}
+
+}  // namespace
+
+LinearSolveResult solve_linear(const LinearOptions& opt, const RCP<Matrix>& A, const RCP<Vector>& x,
+                               const RCP<Vector>& b, const RCP<MultiVector>& nullspace,
+                               const RCP<MultiVector>& coords, PreconditionerCache* cache) {
+  if (opt.method == LinearMethod::Direct) {
+    LinearSolveResult res;
+    Teuchos::TimeMonitor t(*Teuchos::TimeMonitor::getNewTimer("5) Linear solve"));
+    auto solver = Amesos2::create<Matrix, MultiVector>("KLU2", A, x, b);
+    solver->symbolicFactorization().numericFactorization().solve();
+    res.converged = true;
+    res.iterations = 1;
+    return res;
+  }
+  PreconditionerCache once;
+  if (cache == nullptr) cache = &once;
+  if (!opt.reuse_preconditioner) cache->clear();
+  const bool kept = !cache->M.is_null();
+  if (!kept) {
+    Teuchos::TimeMonitor t(*Teuchos::TimeMonitor::getNewTimer("4) Preconditioner setup"));
+    cache->M = make_preconditioner(opt, A, nullspace, coords);
+    ++cache->builds;
+  }
+  LinearSolveResult res = krylov_solve(opt, A, x, b, cache->M);
+  if (!kept) {
+    cache->fresh_iterations = res.iterations;
+  } else if (!res.converged || res.iterations > 1.5 * cache->fresh_iterations + 5) {
+    // the kept preconditioner no longer fits the tangent: the next solve builds one, and a
+    // failed solve is taken up again from where it stopped with a new one
+    cache->clear();
+    if (!res.converged) {
+      const int spent = res.iterations;
+      res = solve_linear(opt, A, x, b, nullspace, coords, cache);
+      res.iterations += spent;
+    }
   }
   return res;
 }

@@ -16,9 +16,22 @@ struct LinearSolveResult {
   std::string message;   // on failure: what happened and what to try
 };
 
-/// Solves A x = b (x is the initial guess and the result).
+/// A preconditioner kept from one solve to the next (Newton iterations of a load step): the
+/// tangent changes little once the active set has settled, and a preconditioner of the
+/// previous tangent still serves (the Krylov solver works with the current one, so the
+/// solution is the same). solve_linear rebuilds it when a solve with the kept one fails or
+/// needs more than 1.5 x (+ 5) the iterations of the solve it was built for.
+struct PreconditionerCache {
+  RCP<Tpetra::Operator<SC, LO, GO, Node>> M;
+  int fresh_iterations = 0;   // iterations of the solve M was built for
+  int builds = 0;             // preconditioners built (all solves)
+  void clear() { M = Teuchos::null; }
+};
+
+/// Solves A x = b (x is the initial guess and the result). With a cache (and
+/// opt.reuse_preconditioner), its preconditioner is used if it has one, else built and kept.
 LinearSolveResult solve_linear(const LinearOptions& opt, const RCP<Matrix>& A, const RCP<Vector>& x,
                                const RCP<Vector>& b, const RCP<MultiVector>& nullspace,
-                               const RCP<MultiVector>& coordinates);
+                               const RCP<MultiVector>& coordinates, PreconditionerCache* cache = nullptr);
 
 }  // namespace iga

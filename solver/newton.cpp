@@ -27,7 +27,7 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
   RCP<MultiVector> Z, X;
   if (P.linear.preconditioner == Preconditioner::MueLu && P.linear.method != LinearMethod::Direct) {
     Z = sys.rigid_body_modes();
-    X = sys.coordinates();
+    X = sys.aggregation_coordinates();
   }
   {
     Teuchos::TimeMonitor t(timer("3) Contact: search and assembly"));
@@ -60,8 +60,12 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
   };
 
   const auto t0 = std::chrono::steady_clock::now();
+  // the preconditioner is built at a load step's first Newton iteration and kept while it
+  // serves (linear_solver.hpp): the active set changes most when the load does
+  PreconditionerCache prec;
   for (int step = 1; step <= P.load_steps; ++step) {
     const double lambda = static_cast<double>(step) / P.load_steps;
+    prec.clear();
     sys.set_dirichlet(*u, lambda);
     bool step_ok = false;
     int newton_its = 0;
@@ -111,7 +115,7 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
           sys.apply_dirichlet(*KT);
         }
         du->putScalar(0.0);
-        const LinearSolveResult lr = solve_linear(P.linear, KT, du, r, Z, X);
+        const LinearSolveResult lr = solve_linear(P.linear, KT, du, r, Z, X, &prec);
         res.linear_iterations += lr.iterations;
         log.linear_iterations = lr.iterations;
         log.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -165,6 +169,7 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
   residual(res.lambda, cc);
   res.residual = r;
   res.tangent_rebuilds = tangent.rebuilds();
+  res.preconditioner_builds = prec.builds;
   return res;
 }
 

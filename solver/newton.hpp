@@ -25,6 +25,7 @@ struct SolveResult {
   int linear_iterations = 0;               // total
   int steps_converged = 0;
   int tangent_rebuilds = 0;                // times K_T's pattern was built (tangent.hpp)
+  int preconditioner_builds = 0;           // preconditioners built (kept over Newton iterations)
   double lambda = 0;                       // load factor of the kept (last converged) state
   RCP<Vector> u;                           // displacement of the kept state
   RCP<Vector> residual;                    // lambda f - K u - f_c at u (reactions: minus it)

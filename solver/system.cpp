@@ -460,18 +460,34 @@ RCP<MultiVector> System::rigid_body_modes() const {
   return Z;
 }
 
-RCP<MultiVector> System::coordinates() const {
+RCP<MultiVector> System::aggregation_coordinates() const {
   // one row per owned control point: MueLu's node map (node g holds dofs 2 g, 2 g + 1)
   const size_t n = owned_->getNodeNumElements() / 2;
   std::vector<GO> gids(n);
   for (size_t l = 0; l < n; ++l) gids[l] = owned_->getGlobalElement(2 * l) / 2;
   RCP<const Map> nodes = rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(), gids.data(), n, 0, comm_));
   RCP<MultiVector> X = rcp(new MultiVector(nodes, 2));
+
+  // D: the diameter of all control nets together. Body b is moved by 1e3 D b along x, so
+  // that the distance-Laplacian weight between two bodies, <= 1e-6 / D^2, is far below the
+  // drop tolerance times the weights within a body (>= 1 / D^2). Each control point is also
+  // nudged by 1e-6 D times its place (i / n_xi, j / n_eta) in the net: coincident control
+  // points (a collapsed edge) then have distinct coordinates, strongly coupled to each other;
+  // elsewhere the nudge is far below the element size.
+  double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+  for (const auto& body : P_.bodies)
+    for (const auto& c : body.patch.cp)
+      for (int d = 0; d < 2; ++d) lo[d] = std::min(lo[d], c[d]), hi[d] = std::max(hi[d], c[d]);
+  const double D = std::max(std::hypot(hi[0] - lo[0], hi[1] - lo[1]), 1e-300);
   auto h = X->getLocalViewHost(Tpetra::Access::OverwriteAll);
   for (size_t l = 0; l < n; ++l) {
-    const auto& cp = control_point(gids[l]);
-    h(l, 0) = cp[0];
-    h(l, 1) = cp[1];
+    size_t b = 0;
+    while (b + 1 < bodies_.size() && bodies_[b + 1].cp_offset <= gids[l]) ++b;
+    const Patch& q = P_.bodies[b].patch;
+    const GO a = gids[l] - bodies_[b].cp_offset;
+    const double i = static_cast<double>(a % q.ncp(0)) / q.ncp(0), j = static_cast<double>(a / q.ncp(0)) / q.ncp(1);
+    h(l, 0) = q.cp[a][0] + 1e-6 * D * i + 1e3 * D * static_cast<double>(b);
+    h(l, 1) = q.cp[a][1] + 1e-6 * D * j;
   }
   return X;
 }

@@ -67,8 +67,10 @@ class System {
 
   /// Rigid-body modes (x, y translation, rotation) on the owned dofs: MueLu's nullspace.
   RCP<MultiVector> rigid_body_modes() const;
-  /// Reference coordinates of the owned control points, one row per control point (MueLu).
-  RCP<MultiVector> coordinates() const;
+  /// MueLu's "Coordinates" for distance-Laplacian dropping, one row per owned control point:
+  /// the control points, each body moved far from the others (so that aggregates never
+  /// straddle a contact interface), nudged apart where they coincide (collapsed edges).
+  RCP<MultiVector> aggregation_coordinates() const;
 
   /// Reference position of global control point g.
   const Point3& control_point(GO g) const;

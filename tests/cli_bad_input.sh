@@ -6,7 +6,7 @@ tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 fail=0; n=0
 for f in "$dir"/*.yaml; do
   n=$((n + 1))
-  expect=$(head -n1 "$f" | sed -e 's/^# expect: //' -e "s|{file}|$f|g")
+  expect=$(head -n1 "$f" | sed -e 's/^# expect: //' -e "s|{file}|$f|g" -e "s|{dir}|$dir|g")
   out="$tmp/out_$n"
   err=$("$exe" run "$f" --output "$out" --quiet 2>&1 >/dev/null); rc=$?
   if [ "$rc" != 2 ]; then echo "FAIL $f: exit $rc (expected 2)"; fail=1; fi

@@ -9,9 +9,9 @@ if [ ! -x "$exe" ] || [ "$src/tests/fuzz_problem.cpp" -nt "$exe" ] || [ "$src/mo
   clang++ -std=c++17 -O1 -g -fsanitize=fuzzer,address -I"$src" -isystem /usr/include/trilinos \
     -isystem /usr/lib/x86_64-linux-gnu/openmpi/include \
     "$src/tests/fuzz_problem.cpp" "$src/model/problem.cpp" "$src/model/nurbs.cpp" \
-    -o "$exe" -lyaml-cpp -ltrilinos_teuchosnumerics -ltrilinos_teuchoscore -ltrilinos_kokkoscore -llapack -lblas
+    -o "$exe" -lyaml-cpp -ltrilinos_muelu -ltrilinos_teuchosparameterlist -ltrilinos_teuchosnumerics -ltrilinos_teuchoscore -ltrilinos_kokkoscore -llapack -lblas
 fi
 cp "$src"/examples/*.yaml "$src"/tests/bad_inputs/*.yaml "$work/corpus/"
 # -rss_limit_mb: refinement of huge fuzzed meshes is refused by allocation, not by a crash
-"$exe" "$work/corpus" -max_total_time="$secs" -rss_limit_mb=2048 -malloc_limit_mb=1024 -max_len=4096 \
+"$exe" "$work/corpus" -max_total_time="$secs" -timeout=20 -rss_limit_mb=2048 -malloc_limit_mb=1024 -max_len=4096 \
   -print_final_stats=1 -artifact_prefix="$work/" 2>&1 | tail -n 12; test "${PIPESTATUS[0]}" = 0

@@ -24,6 +24,8 @@ TEST(BadInput, CatalogueGivesTheExpectedOneLineMessages) {
     std::string expect = first.substr(tag.size());
     const std::string file = entry.path().string();
     for (size_t k; (k = expect.find("{file}")) != std::string::npos;) expect.replace(k, 6, file);
+    const std::string folder = entry.path().parent_path().string();
+    for (size_t k; (k = expect.find("{dir}")) != std::string::npos;) expect.replace(k, 5, folder);
     ++count;
     try {
       load_problem(file);
