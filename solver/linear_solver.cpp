@@ -75,7 +75,7 @@ RCP<Operator> make_preconditioner(const LinearOptions& opt, const RCP<Matrix>& A
       // lets the two sides of the interface slide (and, with a penalty, separate a little):
       // aggregates across it forced the coarse space to move both sides together.
       // Measured (docs/performance.md): GMRES iterations per Newton step on
-      // examples/two_blocks_scaling.yaml from 1.1e4 to 1.0e6 dofs 18 -> 36 before, 12 -> 14
+      // examples/two_blocks_scaling.yaml from 1.1e4 to 1.0e6 dofs 18 -> 36 before, 12 -> 12
       // with this and the W-cycle; examples/wheel.yaml (graded) 1758 -> 618 iterations.
       p.set("aggregation: drop scheme", "distance laplacian");
       p.set("aggregation: drop tol", 1e-2);
