@@ -4,6 +4,7 @@
 #include <Teuchos_XMLParameterListHelpers.hpp>
 #include <yaml-cpp/yaml.h>
 
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -407,15 +408,14 @@ void apply_override(const std::string& file, YAML::Node root, const std::string&
 }
 
 // solver.linear.muelu_xml: a MueLu XML parameter list (MueLu's own format), relative to the
-// problem file's folder. Checked here, so that a bad file stops the run before anything is
-// solved or written: it must parse, and every top-level name must be a MueLu parameter
-// (MueLu's master list) or a "level N" sublist.
-std::string muelu_xml(const Reader& R, const YAML::Node& n) {
+// problem file's folder. Read and checked here, once, so that a bad file stops the run before
+// anything is solved or written: it must parse, and every top-level name must be a MueLu
+// parameter (MueLu's master list) or a "level N" sublist.
+Teuchos::RCP<const Teuchos::ParameterList> muelu_xml(const Reader& R, const YAML::Node& n) {
   const std::string key = "solver.linear.muelu_xml";
-  std::string path = R.string(n, key);
-  if (path.empty()) R.fail(key, n, "must not be empty");
-  const auto slash = R.file.find_last_of('/');
-  if (path[0] != '/' && slash != std::string::npos) path = R.file.substr(0, slash + 1) + path;
+  const std::string given = R.string(n, key);
+  if (given.empty()) R.fail(key, n, "must not be empty");
+  const std::string path = (std::filesystem::path(R.file).parent_path() / given).string();
   std::error_code ec;   // a regular file only: Teuchos' XML reader loops on a folder or a device
   if (!std::filesystem::is_regular_file(path, ec) || !std::ifstream(path)) R.fail(key, n, "cannot read " + path);
   Teuchos::RCP<Teuchos::ParameterList> list;
@@ -434,7 +434,7 @@ std::string muelu_xml(const Reader& R, const YAML::Node& n) {
     if (master->isParameter(name) || name.rfind("level ", 0) == 0) continue;
     R.fail(key, n, "'" + name + "' is not a MueLu parameter");
   }
-  return path;
+  return list;
 }
 
 Problem build(const Reader& R, const YAML::Node& root) {
@@ -544,7 +544,7 @@ Problem build(const Reader& R, const YAML::Node& root) {
         P.linear.max_iterations = R.integer(l["max_iterations"], "solver.linear.max_iterations");
         if (P.linear.max_iterations < 1) R.fail("solver.linear.max_iterations", l["max_iterations"], "must be >= 1");
       }
-      if (l["muelu_xml"]) P.linear.muelu_xml = muelu_xml(R, l["muelu_xml"]);
+      if (l["muelu_xml"]) P.linear.muelu_parameters = muelu_xml(R, l["muelu_xml"]);
       if (l["reuse_preconditioner"])
         P.linear.reuse_preconditioner = R.boolean(l["reuse_preconditioner"], "solver.linear.reuse_preconditioner");
     }

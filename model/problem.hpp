@@ -6,6 +6,10 @@
 #include <string>
 #include <vector>
 
+#include <Teuchos_RCP.hpp>
+
+namespace Teuchos { class ParameterList; }
+
 #include "model/nurbs.hpp"
 
 namespace iga {
@@ -64,8 +68,9 @@ struct LinearOptions {
   int max_iterations = 1000;
   bool method_given = false;
   bool reuse_preconditioner = true;   // keep the preconditioner over a load step's Newton iterations
-  std::string muelu_xml;   // MueLu parameters over the built-in ones ("" none); path as resolved
-
+  /// solver.linear.muelu_xml, read and checked with the problem: MueLu parameters set over
+  /// the built-in ones (null: none)
+  Teuchos::RCP<const Teuchos::ParameterList> muelu_parameters;
 };
 
 struct Probe {

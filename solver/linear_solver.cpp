@@ -8,7 +8,6 @@
 #include <Teuchos_TimeMonitor.hpp>
 
 #include <sstream>
-#include <Teuchos_XMLParameterListHelpers.hpp>
 
 namespace iga {
 
@@ -93,8 +92,8 @@ RCP<Operator> make_preconditioner(const LinearOptions& opt, const RCP<Matrix>& A
         p.set("coarse: params", cp);
       }
       p.set("repartition: enable", false);
-      // the user's parameters (solver.linear.muelu_xml, checked when the problem was read) last
-      if (!opt.muelu_xml.empty()) Teuchos::updateParametersFromXmlFile(opt.muelu_xml, Teuchos::inOutArg(p));
+      // the user's parameters (solver.linear.muelu_xml, read with the problem) last
+      if (!opt.muelu_parameters.is_null()) p.setParameters(*opt.muelu_parameters);
       Teuchos::ParameterList& user = p.sublist("user data");
       user.set("Nullspace", nullspace);
       user.set("Coordinates", coords);

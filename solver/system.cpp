@@ -440,9 +440,14 @@ void System::apply_dirichlet(Matrix& A) const {
   Kokkos::fence();
 }
 
-const Point3& System::control_point(GO g) const {
+size_t System::body_of(GO g) const {
   size_t b = 0;
   while (b + 1 < bodies_.size() && bodies_[b + 1].cp_offset <= g) ++b;
+  return b;
+}
+
+const Point3& System::control_point(GO g) const {
+  const size_t b = body_of(g);
   return P_.bodies[b].patch.cp[g - bodies_[b].cp_offset];
 }
 
@@ -481,8 +486,7 @@ RCP<MultiVector> System::aggregation_coordinates() const {
   const double D = std::max(std::hypot(hi[0] - lo[0], hi[1] - lo[1]), 1e-300);
   auto h = X->getLocalViewHost(Tpetra::Access::OverwriteAll);
   for (size_t l = 0; l < n; ++l) {
-    size_t b = 0;
-    while (b + 1 < bodies_.size() && bodies_[b + 1].cp_offset <= gids[l]) ++b;
+    const size_t b = body_of(gids[l]);
     const Patch& q = P_.bodies[b].patch;
     const GO a = gids[l] - bodies_[b].cp_offset;
     const double i = static_cast<double>(a % q.ncp(0)) / q.ncp(0), j = static_cast<double>(a / q.ncp(0)) / q.ncp(1);

@@ -72,6 +72,8 @@ class System {
   /// straddle a contact interface), nudged apart where they coincide (collapsed edges).
   RCP<MultiVector> aggregation_coordinates() const;
 
+  /// The body that global control point g belongs to.
+  size_t body_of(GO g) const;
   /// Reference position of global control point g.
   const Point3& control_point(GO g) const;
 

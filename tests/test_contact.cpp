@@ -195,6 +195,15 @@ INSTANTIATE_TEST_SUITE_P(Methods, Equilibrium, ::testing::Values("kts_penalty", 
 // over eps at 1.1e4 dofs spans eps h / E = 0.003 ... 3 at the cost of a small mesh; the
 // issue's bound for the growth from 1e4 to 1e6 dofs, 30 %, applies. (Stiffer penalties,
 // eps h / E >> 1, make the system itself ill-conditioned: 27 and 65 at 30 and 300.)
+namespace {
+int newton_total(const Solved& s) {
+  int n = 0;
+  for (int k : s.res.newton_iterations) n += k;
+  return n;
+}
+double linear_per_newton(const Solved& s) { return static_cast<double>(s.res.linear_iterations) / newton_total(s); }
+}  // namespace
+
 TEST(Preconditioner, MueLuIterationsDoNotDependOnTheContactStiffness) {
   double lo = 1e300, hi = 0;
   for (const char* eps : {"1e2", "1e3", "1e4", "1e5"}) {
@@ -202,10 +211,8 @@ TEST(Preconditioner, MueLuIterationsDoNotDependOnTheContactStiffness) {
                                 {"bodies.0.refine.subdivide=[128,32]", "bodies.1.refine.subdivide=[32,32]",
                                  std::string("contact.0.penalty=") + eps});
     ASSERT_TRUE(s.res.converged) << s.res.message;
-    int newton = 0;
-    for (int k : s.res.newton_iterations) newton += k;
-    const double per_step = static_cast<double>(s.res.linear_iterations) / newton;
-    std::printf("  eps = %s: %d Newton, %.1f GMRES iterations per Newton step\n", eps, newton, per_step);
+    const double per_step = linear_per_newton(s);
+    std::printf("  eps = %s: %d Newton, %.1f GMRES iterations per Newton step\n", eps, newton_total(s), per_step);
     lo = std::min(lo, per_step);
     hi = std::max(hi, per_step);
   }
@@ -225,9 +232,7 @@ TEST(Preconditioner, MueLuIterationsDoNotDependOnTheContactStiffness) {
                               {"bodies.0.refine.subdivide=[128,32]", "bodies.1.refine.subdivide=[32,32]",
                                "contact.0.penalty=1e2", "solver.linear.muelu_xml=" + xml});
   ASSERT_TRUE(s.res.converged) << s.res.message;
-  int newton = 0;
-  for (int k : s.res.newton_iterations) newton += k;
-  const double straddling = static_cast<double>(s.res.linear_iterations) / newton;
+  const double straddling = linear_per_newton(s);
   std::printf("  eps = 1e2, aggregates across the interface: %.1f GMRES iterations per Newton step\n", straddling);
   EXPECT_GT(straddling, 1.5 * lo);
 }
@@ -245,8 +250,7 @@ TEST(Preconditioner, KeptOverNewtonIterationsGivesTheSameSolution) {
   };
   const Solved kept = with("true"), fresh = with("false");
   ASSERT_TRUE(kept.res.converged && fresh.res.converged);
-  int newton = 0;
-  for (int k : fresh.res.newton_iterations) newton += k;
+  const int newton = newton_total(fresh);
   std::printf("  preconditioners built: %d kept, %d fresh (%d Newton iterations); linear iterations %d, %d\n",
               kept.res.preconditioner_builds, fresh.res.preconditioner_builds, newton, kept.res.linear_iterations,
               fresh.res.linear_iterations);
