@@ -5,6 +5,7 @@
 #include <random>
 
 #include "kernels/nurbs_basis.hpp"
+#include "model/bezier.hpp"
 #include "model/nurbs.hpp"
 
 using namespace iga;
@@ -151,4 +152,75 @@ TEST(Validation, RejectsBadKnotsCountsAndWeights) {
   EXPECT_NE(c.validate().find("weights must be > 0"), std::string::npos);
   Patch d = P; d.knots[0] = {0, 0, 0.5, 1, 1, 1};
   EXPECT_NE(d.validate().find("not open"), std::string::npos);
+}
+
+// Bezier extraction: every B-spline equals its extracted Bernstein combination (test knots
+// with a repeated interior knot, every degree), and the rational Bezier form of a refined
+// quarter annulus lies on the circles (the geometry the VTK cells draw).
+TEST_P(BasisDegree, BezierExtractionReproducesTheBSplines) {
+  const int p = GetParam();
+  const auto U = test_knots(p);
+  const int nb = static_cast<int>(U.size()) - p - 1;
+  const auto C = bezier_extraction_1d(U, p);
+  std::vector<int> spans;
+  for (int s = p; s < nb; ++s)
+    if (U[s + 1] > U[s]) spans.push_back(s);
+  ASSERT_EQ(C.size(), spans.size());
+  for (size_t e = 0; e < spans.size(); ++e) {
+    const int s = spans[e];
+    for (int q = 0; q <= 10; ++q) {
+      const double t = q / 10.0, u = U[s] + t * (U[s + 1] - U[s]);
+      double ders[3][kMaxBasis1D], B[kMaxBasis1D];
+      bspline_ders(s, u, p, U.data(), 0, ders);
+      bernstein(p, t, B);
+      for (int i = 0; i <= p; ++i) {
+        double v = 0;
+        for (int k = 0; k <= p; ++k) v += C[e][i * (p + 1) + k] * B[k];
+        EXPECT_NEAR(v, ders[0][i], 1e-14) << "p " << p << " element " << e << " t " << t << " i " << i;
+      }
+    }
+  }
+}
+
+TEST(Bezier, RefinedQuarterAnnulusCellsLieOnTheCirclesAndCarryTheField) {
+  Patch P = annulus(1.0, 2.0);
+  P.elevate(0, 1);
+  P.elevate(1, 2);
+  P.insert_knot(0, 0.3);
+  P.subdivide(0, 3);
+  P.subdivide(1, 2);
+  const BezierPatch B(P);
+  ASSERT_EQ(B.num_elements(), 6 * 2);
+  // a field in the NURBS space: the control point coordinates themselves reproduce x, y
+  std::vector<double> f;
+  for (const auto& c : P.cp) f.insert(f.end(), {c[0], c[1]});
+  const int n0 = B.degree()[0] + 1, n1 = B.degree()[1] + 1;
+  std::vector<Point3> pts(B.points_per_element());
+  std::vector<double> fb(2 * B.points_per_element());
+  for (int e = 0; e < B.num_elements(); ++e) {
+    B.element_points(e, pts.data());
+    B.element_field(e, f.data(), 2, fb.data());
+    for (double t0 : {0.0, 0.27, 0.5, 1.0})
+      for (double t1 : {0.0, 0.61, 1.0}) {
+        double b0[kMaxBasis1D], b1[kMaxBasis1D], X = 0, Y = 0, W = 0, FX = 0, FY = 0;
+        bernstein(n0 - 1, t0, b0);
+        bernstein(n1 - 1, t1, b1);
+        for (int k1 = 0; k1 < n1; ++k1)
+          for (int k0 = 0; k0 < n0; ++k0) {
+            const int k = k0 + k1 * n0;
+            const double r = b0[k0] * b1[k1] * pts[k][2];
+            X += r * pts[k][0]; Y += r * pts[k][1]; W += r;
+            FX += r * fb[2 * k]; FY += r * fb[2 * k + 1];
+          }
+        X /= W; Y /= W; FX /= W; FY /= W;
+        const auto r0 = B.range(e, 0), r1 = B.range(e, 1);
+        const auto x = P.eval(r0[0] + t0 * (r0[1] - r0[0]), r1[0] + t1 * (r1[1] - r1[0]));
+        EXPECT_NEAR(X, x[0], 1e-14);
+        EXPECT_NEAR(Y, x[1], 1e-14);
+        EXPECT_NEAR(FX, x[0], 1e-14);
+        EXPECT_NEAR(FY, x[1], 1e-14);
+        if (t1 == 0.0 && r1[0] == 0.0) EXPECT_NEAR(std::hypot(X, Y), 1.0, 1e-14);
+        if (t1 == 1.0 && r1[1] == 1.0) EXPECT_NEAR(std::hypot(X, Y), 2.0, 1e-14);
+      }
+  }
 }
