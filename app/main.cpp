@@ -2,7 +2,8 @@
 //   igacontact run FILE [--output DIR] [--set KEY=VALUE ...] [--quiet]   (short: igacontact FILE ...)
 //   igacontact check FILE [--set KEY=VALUE ...]
 //   igacontact --help | --version
-// Exit codes: 0 converged, 1 internal error, 2 bad input, 3 the nonlinear solve did not converge.
+// Exit codes: 0 converged, 1 internal error, 2 bad input, 3 the nonlinear solve did not converge,
+// 4 the output could not be written (summary.json is then absent).
 #include <Teuchos_StackedTimer.hpp>
 #include <Teuchos_TimeMonitor.hpp>
 #include <Tpetra_Core.hpp>
@@ -10,6 +11,8 @@
 #include <Teuchos_CommHelpers.hpp>
 #include <sys/resource.h>
 
+#include <mpi.h>
+#include <csignal>
 #include <unistd.h>
 
 #include <cctype>
@@ -21,6 +24,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "io/files.hpp"
 #include "io/output.hpp"
 #include "model/problem.hpp"
 #include "solver/newton.hpp"
@@ -37,7 +41,8 @@ const char* kUsage =
     "writes result.h5/result.xdmf (ParaView), summary.json and contact_<n>.csv into the output\n"
     "directory (default out/<file stem>). --set overrides a problem-file key by its dotted path,\n"
     "e.g. --set contact.0.penalty=1e7 --set bodies.0.refine.subdivide=[16,8].\n"
-    "Exit codes: 0 converged, 2 bad input, 3 not converged (last converged load step kept).\n";
+    "Exit codes: 0 converged, 2 bad input, 3 not converged (last converged load step kept),\n"
+    "4 output could not be written.\n";
 
 struct Args {
   std::string command = "run", file, output;
@@ -133,8 +138,22 @@ int run(int argc, char** argv) {
     return 0;
   }
   std::string dir = args.output;
-  if (dir.empty()) dir = P.output.directory;
-  if (dir.empty()) dir = "out/" + std::filesystem::path(args.file).stem().string();
+  std::string dir_key = "--output";
+  if (dir.empty()) { dir = P.output.directory; dir_key = "output.directory"; }
+  if (dir.empty()) { dir = "out/" + std::filesystem::path(args.file).stem().string(); dir_key = "output directory (default)"; }
+  // The output directory must be usable before anything is solved: bad input, exit 2.
+  try {
+    iga::on_root(*comm, [&] {
+      const std::string why = iga::check_output_directory(dir);
+      if (!why.empty()) throw iga::OutputError(why);
+    });
+  } catch (const iga::OutputError& e) {
+    if (root) std::cerr << args.file << ": " << dir_key << " = " << dir << ": " << e.what() << "\n";
+    return 2;
+  }
+  // One run's files only: what a previous run left is removed as this one starts writing.
+  const std::string run_id = iga::broadcast_string(*comm, root ? iga::new_run_id() : std::string());
+  iga::on_root(*comm, [&] { iga::remove_previous_outputs(dir); });
   if (root && !args.quiet) describe(P, comm->getSize(), std::cout);
 
   Teuchos::RCP<iga::System> sys;
@@ -142,6 +161,10 @@ int run(int argc, char** argv) {
     Teuchos::TimeMonitor t(*Teuchos::TimeMonitor::getNewTimer("1) Set-up: maps and patches"));
     sys = Teuchos::rcp(new iga::System(P, comm));
   }
+  // Fault injection for the test of what one failing rank does to the others
+  // (tests/cli_reliability.sh): IGACONTACT_TEST_FAULT=<rank> throws there after set-up.
+  if (const char* f = std::getenv("IGACONTACT_TEST_FAULT"))
+    if (*f && std::atoi(f) == comm->getRank()) throw std::runtime_error("injected fault (IGACONTACT_TEST_FAULT)");
   const bool show = root && !args.quiet;
   if (show) std::printf("%5s %4s %4s %12s %8s %8s %9s\n", "step", "aug", "it", "residual", "active", "lin.its", "seconds");
   auto progress = [&](const iga::IterationLog& l) {
@@ -152,7 +175,7 @@ int run(int argc, char** argv) {
     }
   };
   const iga::SolveResult res = iga::solve(*sys, progress);
-  nlohmann::json summary = iga::write_results(*sys, res, dir, args.file);
+  nlohmann::json summary = iga::write_results(*sys, res, dir, args.file, run_id);
 
   // timings: the slowest rank's time per stage
   std::vector<std::string> names;
@@ -174,8 +197,11 @@ int run(int argc, char** argv) {
   Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, 1, &mem, &mem_sum);
   summary["peak_memory_mib"] = {{"max_rank", mem_max}, {"all_ranks", mem_sum}};
   summary["bytes_per_dof"] = mem_sum * 1048576.0 / static_cast<double>(sys->num_dofs());
-  if (root) {
+  // summary.json last: its presence says the run's files are complete
+  iga::on_root(*comm, [&] {
     iga::write_file_atomic((std::filesystem::path(dir) / "summary.json").string(), summary.dump(2) + "\n");
+  });
+  if (root) {
     if (!args.quiet) {
       std::cout << "\nstage timings (seconds, slowest rank):\n";
       for (const auto& kv : timings.items()) std::printf("  %-36s %10.4f\n", kv.key().c_str(), kv.value().get<double>());
@@ -221,14 +247,30 @@ void request_huge_pages(char** argv) {
 
 int main(int argc, char** argv) {
   request_huge_pages(argv);
+  // A file-size limit (ulimit -f) makes write(2) fail with EFBIG, reported like a full disk,
+  // instead of killing the process with SIGXFSZ.
+  std::signal(SIGXFSZ, SIG_IGN);
   int code = 0;
   {
     Tpetra::ScopeGuard guard(&argc, &argv);
+    int ranks = 1;
+    MPI_Comm_size(MPI_COMM_WORLD, &ranks);
     try {
       code = run(argc, argv);
+    } catch (const iga::OutputError& e) {   // thrown on every rank together (io/files.hpp)
+      int rank = 0;
+      MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+      if (rank == 0) std::cerr << "igacontact: " << e.what() << "\n";
+      code = 4;
     } catch (const std::exception& e) {
+      // A failure on one rank only would leave the others waiting in a collective forever:
+      // on several ranks, end them all.
       std::cerr << "igacontact: internal error: " << e.what() << "\n";
       code = 1;
+      if (ranks > 1) {
+        std::cerr.flush();
+        MPI_Abort(MPI_COMM_WORLD, code);
+      }
     }
   }
   return code;

@@ -13,22 +13,11 @@
 #include <stdexcept>
 
 #include "io/fields.hpp"
+#include "io/files.hpp"
 
 namespace iga {
 
 namespace fs = std::filesystem;
-
-void write_file_atomic(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".part";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error("cannot write " + tmp);
-    out << text;
-    out.flush();
-    if (!out) throw std::runtime_error("write failed: " + tmp);
-  }
-  fs::rename(tmp, path);
-}
 
 std::vector<std::vector<double>> gather_displacements(const System& sys, const Vector& u) {
   const bool root = sys.comm()->getRank() == 0;
@@ -75,28 +64,6 @@ nlohmann::json reactions_json(const System& sys, const Vector& residual) {
 
 namespace {
 
-struct H5File {
-  hid_t id;
-  explicit H5File(const std::string& path) {
-    id = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-    if (id < 0) throw std::runtime_error("cannot create " + path);
-  }
-  ~H5File() { H5Fclose(id); }
-  void group(const std::string& name) {
-    hid_t g = H5Gcreate2(id, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    if (g < 0) throw std::runtime_error("HDF5: cannot create group " + name);
-    H5Gclose(g);
-  }
-  void write(const std::string& name, const std::vector<double>& v, std::vector<hsize_t> dims) {
-    hid_t space = H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
-    hid_t ds = H5Dcreate2(id, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    if (ds < 0) throw std::runtime_error("HDF5: cannot create dataset " + name);
-    H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
-    H5Dclose(ds);
-    H5Sclose(space);
-  }
-};
-
 std::string dims_str(const std::vector<hsize_t>& d) {
   std::string s;
   for (hsize_t x : d) s += (s.empty() ? "" : " ") + std::to_string(x);
@@ -120,13 +87,13 @@ std::vector<std::pair<double, int>> samples(const std::vector<double>& U, const 
 }  // namespace
 
 nlohmann::json write_results(const System& sys, const SolveResult& res, const std::string& dir,
-                             const std::string& problem_file) {
+                             const std::string& problem_file, const std::string& run_id) {
   Teuchos::TimeMonitor tm(*Teuchos::TimeMonitor::getNewTimer("6) Output"));
   const Problem& P = sys.problem();
-  const bool root = sys.comm()->getRank() == 0;
   const auto disp = gather_displacements(sys, *res.u);
   nlohmann::json summary;
   summary["problem"] = problem_file;
+  summary["run_id"] = run_id;
   summary["converged"] = res.converged;
   summary["load_factor"] = res.lambda;
   summary["dofs"] = sys.num_dofs();
@@ -141,7 +108,6 @@ nlohmann::json write_results(const System& sys, const SolveResult& res, const st
   summary["preconditioner_builds"] = res.preconditioner_builds;
   summary["reactions"] = reactions_json(sys, *res.residual);
   if (!res.converged) summary["message"] = res.message;
-  if (root) fs::create_directories(dir);
 
   // contact state (replicated on all ranks)
   nlohmann::json contact = nlohmann::json::array();
@@ -161,7 +127,12 @@ nlohmann::json write_results(const System& sys, const SolveResult& res, const st
   }
   summary["contact"] = contact;
 
-  if (root) {
+  nlohmann::json files = nlohmann::json::object();   // name -> {bytes, crc32}, rank 0
+  auto write = [&](const std::string& name, const std::string& bytes) {
+    write_file_atomic((fs::path(dir) / name).string(), bytes);
+    files[name] = {{"bytes", bytes.size()}, {"crc32", crc32_hex(bytes)}};
+  };
+  on_root(*sys.comm(), [&] {
     // probes
     nlohmann::json probes = nlohmann::json::array();
     std::vector<BodyField> fields;
@@ -179,9 +150,11 @@ nlohmann::json write_results(const System& sys, const SolveResult& res, const st
     // result.h5 / result.xdmf
     const std::string h5 = (fs::path(dir) / "result.h5").string();
     std::ostringstream xdmf;
-    xdmf << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n  <Grid Name=\"igacontact\" GridType=\"Collection\">\n";
+    xdmf << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n  <Information Name=\"run_id\" Value=\"" << run_id
+         << "\"/>\n  <Grid Name=\"igacontact\" GridType=\"Collection\">\n";
     {
-      H5File f(h5 + ".part");
+      H5Memory f(h5);
+      f.attribute("run_id", run_id);
       f.group("/bodies");
       for (size_t b = 0; b < P.bodies.size(); ++b) {
         const Patch& pt = P.bodies[b].patch;
@@ -245,10 +218,10 @@ nlohmann::json write_results(const System& sys, const SolveResult& res, const st
                << data_item(g + "/" + a, {n}) << "\n    </Attribute>\n";
         xdmf << "   </Grid>\n";
       }
+      write("result.h5", f.image());
     }
     xdmf << "  </Grid>\n </Domain>\n</Xdmf>\n";
-    fs::rename(h5 + ".part", h5);
-    write_file_atomic((fs::path(dir) / "result.xdmf").string(), xdmf.str());
+    write("result.xdmf", xdmf.str());
 
     for (size_t k = 0; k < cstate.size(); ++k) {
       const auto& s = cstate[k];
@@ -258,9 +231,10 @@ nlohmann::json write_results(const System& sys, const SolveResult& res, const st
       for (size_t i = 0; i < s.x.size(); ++i)
         csv << s.x[i] << "," << s.y[i] << "," << s.xi[i] << "," << s.gap[i] << "," << s.pressure[i] << ","
             << s.active[i] << "\n";
-      write_file_atomic((fs::path(dir) / ("contact_" + std::to_string(k) + ".csv")).string(), csv.str());
+      write("contact_" + std::to_string(k) + ".csv", csv.str());
     }
-  }
+  });
+  summary["files"] = files;
   return summary;
 }
 

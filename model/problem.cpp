@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 
@@ -57,14 +58,36 @@ std::string one_line(const YAML::Node& n) {
   return s;
 }
 
+// A value given on the command line with --set KEY=VALUE: messages about it (or anything
+// inside it) cite the --set argument, not a line of the file.
+struct Override {
+  std::string text;   // "KEY=VALUE" as given
+  YAML::Node value;
+};
+
+bool contains_node(const YAML::Node& tree, const YAML::Node& n) {
+  if (tree.is(n)) return true;
+  if (tree.IsSequence() || tree.IsMap())
+    for (const auto& it : tree) {
+      if (tree.IsMap() ? (contains_node(it.first, n) || contains_node(it.second, n)) : contains_node(it, n)) return true;
+    }
+  return false;
+}
+
 // Reads one YAML node tree with the file name and key path at hand for messages.
 struct Reader {
   std::string file;
+  std::vector<Override> overrides;
+  double memory_bytes = 0;   // what the machine has available (0: unknown, no size check)
 
   [[noreturn]] void fail(const std::string& key, const YAML::Node& n, const std::string& why) const {
     std::ostringstream os;
     os << file;
-    if (n.IsDefined() && n.Mark().line >= 0) os << ":" << n.Mark().line + 1;
+    const Override* from = nullptr;
+    for (const auto& o : overrides)
+      if (n.IsDefined() && contains_node(o.value, n)) from = &o;
+    if (from) os << ": --set " << from->text;
+    else if (n.IsDefined() && n.Mark().line >= 0) os << ":" << n.Mark().line + 1;
     os << ": " << key << " = " << one_line(n) << ": " << why;
     throw InputError(printable(os.str()));
   }
@@ -127,9 +150,50 @@ struct Reader {
   double positive(const YAML::Node& n, const std::string& key) const {
     const double v = number(n, key);
     if (!(v > 0)) fail(key, n, "must be > 0");
+    if (v < std::numeric_limits<double>::min())   // subnormal: products with it vanish
+      fail(key, n, "is below the smallest normal number (2.2e-308); rescale the units");
     return v;
   }
+
+  // Refuses a problem that will not fit the machine, before anything is built. The estimate
+  // follows the measured 2575 bytes per dof of a degree-2 run (docs/performance.md), scaled
+  // with the number of control points each one couples with, (2p + 1)^2.
+  void fits(const std::string& key, const YAML::Node& n, double dofs, int degree, double extra_bytes = 0) const {
+    const double coupled = (2.0 * degree + 1) * (2.0 * degree + 1);
+    const double bytes = dofs * 103.0 * coupled + extra_bytes;
+    if (dofs > kMaxDofs || (memory_bytes > 0 && bytes > memory_bytes)) {
+      std::ostringstream os;
+      os.precision(3);
+      os << "the problem would have " << dofs << " dofs and need about " << bytes / 1e9
+         << " GB of memory; this machine has " << memory_bytes / 1e9 << " GB available";
+      if (dofs > kMaxDofs) os << " (and at most " << kMaxDofs << " dofs are supported)";
+      if (extra_bytes > 0.5 * bytes) os << " (the output sampling alone: about " << extra_bytes / 1e9 << " GB)";
+      fail(key, n, os.str());
+    }
+  }
 };
+
+// Duplicate keys in a mapping: YAML forbids them, yaml-cpp keeps the first silently.
+void check_duplicate_keys(const Reader& R, const YAML::Node& n, const std::string& path) {
+  if (n.IsMap()) {
+    std::set<std::string> seen;
+    for (const auto& kv : n) {
+      const std::string k = kv.first.IsScalar() ? kv.first.Scalar() : one_line(kv.first);
+      const std::string key = path.empty() ? k : path + "." + k;
+      if (!seen.insert(k).second) R.fail(key, kv.second, "duplicate key (given more than once in this mapping)");
+      check_duplicate_keys(R, kv.second, key);
+    }
+  } else if (n.IsSequence()) {
+    for (size_t k = 0; k < n.size(); ++k) check_duplicate_keys(R, n[k], path + "[" + std::to_string(k) + "]");
+  }
+}
+
+// Number of distinct values of a knot vector.
+int distinct_knots(const std::vector<double>& U) {
+  int k = 0;
+  for (size_t i = 0; i < U.size(); ++i) k += (i == 0 || U[i] != U[i - 1]) ? 1 : 0;
+  return k;
+}
 
 Patch read_nurbs(const Reader& R, const YAML::Node& n, const std::string& path) {
   R.keys(n, path, {"degree", "knots", "control_points"});
@@ -249,6 +313,12 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
   if (!n["name"]) R.missing(path + ".name");
   b.name = R.string(n["name"], path + ".name");
   if (b.name.empty()) R.fail(path + ".name", n["name"], "must not be empty");
+  // names become HDF5 groups, XML attributes and file names: keep them plain
+  bool plain = b.name.size() <= 64 && (std::isalnum(static_cast<unsigned char>(b.name[0])) || b.name[0] == '_');
+  for (const char c : b.name) plain = plain && (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.');
+  if (!plain)
+    R.fail(path + ".name", n["name"],
+           "a body name is 1..64 letters, digits, '_', '-' or '.', starting with a letter, digit or '_'");
   if (!n["material"]) R.missing(path + ".material");
   const YAML::Node m = n["material"];
   R.keys(m, path + ".material", {"youngs_modulus", "poisson_ratio"});
@@ -271,20 +341,35 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
   if (n["refine"]) {
     const YAML::Node r = n["refine"];
     R.keys(r, path + ".refine", {"degree_elevate", "insert_knots", "subdivide"});
+    // sizes after each refinement, checked before it is done (a refinement too large for
+    // the machine is refused at once, not after minutes of knot insertion)
+    auto dofs_if = [&](std::array<long long, 2> ncp) { return 2.0 * static_cast<double>(ncp[0]) * static_cast<double>(ncp[1]); };
+    auto max_degree = [&] { return std::max(b.patch.degree[0], b.patch.degree[1]); };
     if (r["degree_elevate"]) {
       const auto e = R.int_pair(r["degree_elevate"], path + ".refine.degree_elevate");
+      std::array<long long, 2> ncp{};
       for (int d = 0; d < 2; ++d) {
         if (e[d] < 0) R.fail(path + ".refine.degree_elevate", r["degree_elevate"], "must be >= 0");
         if (b.patch.degree[d] + e[d] > 5)
           R.fail(path + ".refine.degree_elevate", r["degree_elevate"],
                  "would raise degree " + std::to_string(b.patch.degree[d]) + " above the supported 5");
-        b.patch.elevate(d, e[d]);
+        ncp[d] = b.patch.ncp(d) + static_cast<long long>(e[d]) * (distinct_knots(b.patch.knots[d]) - 1);
       }
+      R.fits(path + ".refine.degree_elevate", r["degree_elevate"], dofs_if(ncp), std::max(b.patch.degree[0] + e[0], b.patch.degree[1] + e[1]));
+      for (int d = 0; d < 2; ++d) b.patch.elevate(d, e[d]);
     }
     if (r["insert_knots"]) {
       const YAML::Node ik = r["insert_knots"];
       const std::string key = path + ".refine.insert_knots";
       if (!ik.IsSequence() || ik.size() != 2) R.fail(key, ik, "expected two lists [[xi knots], [eta knots]] in [0, 1]");
+      std::array<long long, 2> ncp{};
+      for (int d = 0; d < 2; ++d) {
+        if (ik[d].IsSequence() && ik[d].size() > kMaxInsertedKnots)
+          R.fail(key + "[" + std::to_string(d) + "]", ik[d],
+                 "at most " + std::to_string(kMaxInsertedKnots) + " knots per direction; use subdivide for uniform refinement");
+        ncp[d] = b.patch.ncp(d) + (ik[d].IsSequence() ? static_cast<long long>(ik[d].size()) : 0);
+      }
+      R.fits(key, ik, dofs_if(ncp), max_degree());
       for (int d = 0; d < 2; ++d) {
         const auto ks = R.numbers(ik[d], key + "[" + std::to_string(d) + "]");
         const auto& U = b.patch.knots[d];
@@ -298,10 +383,13 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
     }
     if (r["subdivide"]) {
       const auto s = R.int_pair(r["subdivide"], path + ".refine.subdivide");
+      std::array<long long, 2> ncp{};
       for (int d = 0; d < 2; ++d) {
         if (s[d] < 1 || s[d] > 100000) R.fail(path + ".refine.subdivide", r["subdivide"], "must be 1..100000");
-        b.patch.subdivide(d, s[d]);
+        ncp[d] = b.patch.ncp(d) + static_cast<long long>(s[d] - 1) * static_cast<long long>(b.patch.element_spans(d).size());
       }
+      R.fits(path + ".refine.subdivide", r["subdivide"], dofs_if(ncp), max_degree());
+      for (int d = 0; d < 2; ++d) b.patch.subdivide(d, s[d]);
     }
   }
   if (n["boundary"]) {
@@ -367,7 +455,7 @@ int rigid_rank(const Body& b) {
   return rank;
 }
 
-void apply_override(const std::string& file, YAML::Node root, const std::string& ov) {
+void apply_override(const std::string& file, YAML::Node root, const std::string& ov, std::vector<Override>& record) {
   const size_t eq = ov.find('=');
   if (eq == std::string::npos || eq == 0)
     throw InputError(file + ": --set " + ov + ": expected KEY=VALUE with a dotted key path");
@@ -379,6 +467,10 @@ void apply_override(const std::string& file, YAML::Node root, const std::string&
   std::vector<std::string> parts;
   std::stringstream ss(path);
   for (std::string p; std::getline(ss, p, '.');) parts.push_back(p);
+  if (path.back() == '.') parts.push_back("");
+  for (const auto& p : parts)
+    if (p.empty()) throw InputError(file + ": --set " + ov + ": the key path has an empty part");
+  record.push_back({ov, value});
   // walk with node copies (yaml-cpp nodes are references into the tree)
   std::vector<YAML::Node> chain{root};
   for (size_t k = 0; k + 1 < parts.size(); ++k) {
@@ -455,7 +547,8 @@ Problem build(const Reader& R, const YAML::Node& root) {
     if (a["thickness"]) P.thickness = R.positive(a["thickness"], "analysis.thickness");
     if (a["load_steps"]) {
       P.load_steps = R.integer(a["load_steps"], "analysis.load_steps");
-      if (P.load_steps < 1) R.fail("analysis.load_steps", a["load_steps"], "must be >= 1");
+      if (P.load_steps < 1 || P.load_steps > kMaxLoadSteps)
+        R.fail("analysis.load_steps", a["load_steps"], "must be 1.." + std::to_string(kMaxLoadSteps));
     }
   }
 
@@ -483,6 +576,9 @@ Problem build(const Reader& R, const YAML::Node& root) {
       cp.slave = read_surface(R, P, n["slave"], path + ".slave");
       if (cp.master.body == cp.slave.body && cp.master.side == cp.slave.side)
         R.fail(path + ".slave", n["slave"], "master and slave are the same side of the same body");
+      if (cp.master.body == cp.slave.body)
+        R.fail(path + ".slave", n["slave"],
+               "master and slave are sides of the same body: self-contact is not supported; split the body in two");
       if (n["method"]) {
         const std::string m = R.string(n["method"], path + ".method");
         if (m == "kts_penalty") cp.method = ContactMethod::KtsPenalty;
@@ -495,8 +591,9 @@ Problem build(const Reader& R, const YAML::Node& root) {
       cp.penalty = R.positive(n["penalty"], path + ".penalty");
       if (n["quadrature_points"]) {
         cp.quadrature_points = R.integer(n["quadrature_points"], path + ".quadrature_points");
-        if (cp.quadrature_points < 1 || cp.quadrature_points > 20)
-          R.fail(path + ".quadrature_points", n["quadrature_points"], "must be 1..20");
+        if (cp.quadrature_points < 1 || cp.quadrature_points > kMaxContactQuadrature)
+          R.fail(path + ".quadrature_points", n["quadrature_points"],
+                 "must be 1.." + std::to_string(kMaxContactQuadrature));
       }
       if (n["augmentations"]) {
         cp.augmentations = R.integer(n["augmentations"], path + ".augmentations");
@@ -587,6 +684,41 @@ Problem build(const Reader& R, const YAML::Node& root) {
   // solution.
   if (!P.linear.method_given) P.linear.method = P.contact.empty() ? LinearMethod::CG : LinearMethod::GMRES;
 
+  // Scales: stiffness and penalty times thickness must stay normal floating-point numbers
+  // (a thickness of 1e-320 made every stiffness vanish and "converged" at zero displacement).
+  for (size_t b = 0; b < P.bodies.size(); ++b) {
+    const double et = P.bodies[b].E * P.thickness;
+    if (!(std::isfinite(et) && et >= std::numeric_limits<double>::min()))
+      R.fail(root["analysis"] && root["analysis"]["thickness"] ? "analysis.thickness" : "bodies[" + std::to_string(b) + "].material.youngs_modulus",
+             root["analysis"] && root["analysis"]["thickness"] ? root["analysis"]["thickness"] : bodies[b]["material"]["youngs_modulus"],
+             "youngs_modulus x thickness of body '" + P.bodies[b].name + "' is not a normal floating-point number; rescale the units");
+  }
+  for (size_t k = 0; k < P.contact.size(); ++k) {
+    const double pt = P.contact[k].penalty * P.thickness;
+    if (!(std::isfinite(pt) && pt >= std::numeric_limits<double>::min()))
+      R.fail("contact[" + std::to_string(k) + "].penalty", root["contact"][k]["penalty"],
+             "penalty x thickness is not a normal floating-point number; rescale the units");
+  }
+
+  // The whole problem, output samples included, must fit the machine.
+  {
+    double dofs = 0, samples = 0;
+    int degree = 1;
+    for (const auto& b : P.bodies) {
+      dofs += 2.0 * static_cast<double>(b.patch.cp.size());
+      degree = std::max({degree, b.patch.degree[0], b.patch.degree[1]});
+      const double s = P.output.samples_per_element;
+      samples += (s * b.patch.element_spans(0).size() + 1) * (s * b.patch.element_spans(1).size() + 1);
+    }
+    // a sampled point costs ~30 doubles on rank 0 (fields, the HDF5 image, the VTK cells)
+    const double out_bytes = samples * 240.0;
+    const bool output_dominates = out_bytes > 0.5 * dofs * 103.0 * (2 * degree + 1) * (2 * degree + 1);
+    if (output_dominates && root["output"] && root["output"]["samples_per_element"])
+      R.fits("output.samples_per_element", root["output"]["samples_per_element"], dofs, degree, out_bytes);
+    else
+      R.fits("bodies", bodies, dofs, degree, out_bytes);
+  }
+
   // Rigid-body motion: a body that no contact pair touches must be held by its supports.
   for (size_t b = 0; b < P.bodies.size(); ++b) {
     bool in_contact = false;
@@ -600,10 +732,23 @@ Problem build(const Reader& R, const YAML::Node& root) {
   return P;
 }
 
+// MemAvailable of /proc/meminfo in bytes (0 where unknown).
+double available_memory_bytes() {
+  std::ifstream in("/proc/meminfo");
+  std::string key;
+  double kib = 0;
+  std::string unit;
+  while (in >> key >> kib >> unit)
+    if (key == "MemAvailable:") return kib * 1024.0;
+  return 0;
+}
+
 }  // namespace
 
 Problem parse_problem(const std::string& text, const std::string& file, const std::vector<std::string>& overrides) {
-  Reader R{file};
+  Reader R;
+  R.file = file;
+  R.memory_bytes = available_memory_bytes();
   YAML::Node root;
   try {
     root = YAML::Load(text);
@@ -613,7 +758,8 @@ Problem parse_problem(const std::string& text, const std::string& file, const st
     throw InputError(printable(os.str()));
   }
   try {
-    for (const auto& ov : overrides) apply_override(file, root, ov);
+    check_duplicate_keys(R, root, "");
+    for (const auto& ov : overrides) apply_override(file, root, ov, R.overrides);
     return build(R, root);
   } catch (const InputError& e) {
     throw InputError(printable(e.what()));
@@ -625,11 +771,26 @@ Problem parse_problem(const std::string& text, const std::string& file, const st
 }
 
 Problem load_problem(const std::string& file, const std::vector<std::string>& overrides) {
-  std::ifstream in(file);
-  if (!in) throw InputError(file + ": cannot open the problem file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return parse_problem(ss.str(), file, overrides);
+  // Only a regular file of a sane size: a folder, a device (/dev/zero) or a fifo is refused
+  // before anything is read.
+  std::error_code ec;
+  const auto st = std::filesystem::status(file, ec);
+  if (ec || !std::filesystem::exists(st)) throw InputError(printable(file + ": cannot open the problem file"));
+  if (std::filesystem::is_directory(st)) throw InputError(printable(file + ": the problem file is a directory"));
+  if (!std::filesystem::is_regular_file(st)) throw InputError(printable(file + ": the problem file is not a regular file"));
+  const auto size = std::filesystem::file_size(file, ec);
+  if (!ec && size > kMaxProblemFileBytes)
+    throw InputError(printable(file + ": the problem file has " + std::to_string(size) + " bytes, more than the " +
+                               std::to_string(kMaxProblemFileBytes) + " a problem file may have"));
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(printable(file + ": cannot open the problem file"));
+  std::string text;
+  text.resize(kMaxProblemFileBytes + 1);
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<size_t>(in.gcount()));
+  if (text.size() > kMaxProblemFileBytes) throw InputError(printable(file + ": the problem file is larger than " +
+                                                                     std::to_string(kMaxProblemFileBytes) + " bytes"));
+  return parse_problem(text, file, overrides);
 }
 
 }  // namespace iga

@@ -98,6 +98,13 @@ struct Problem {
   int find_body(const std::string& name) const;
 };
 
+/// Limits on what a problem file may ask for (docs/problem-file.md).
+constexpr size_t kMaxProblemFileBytes = 64u << 20;   // a patch of 10^6 control points listed inline fits
+constexpr double kMaxDofs = 1e9;                      // besides the machine's memory (checked too)
+constexpr size_t kMaxInsertedKnots = 1000;            // per direction; subdivide refines uniformly
+constexpr int kMaxLoadSteps = 10000;
+constexpr int kMaxContactQuadrature = 12;             // contact quadrature points per slave span
+
 /// Reads, overrides (`key.path=value`, as `--set`) and validates a problem file.
 /// Throws InputError with a one-line message on any bad input.
 Problem load_problem(const std::string& file, const std::vector<std::string>& overrides = {});

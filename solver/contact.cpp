@@ -1,5 +1,7 @@
 #include "solver/contact.hpp"
 
+static_assert(iga::kMaxContactQuadrature <= iga::kMaxGauss, "contact quadrature beyond the Gauss table");
+
 #include <Teuchos_CommHelpers.hpp>
 #include <Teuchos_TimeMonitor.hpp>
 
@@ -85,7 +87,7 @@ ContactPairData::ContactPairData(const System& sys, int index) : pair_(sys.probl
   } else {
     // segment quadrature slots (filled by MortarSegments at each update) and, per slave
     // control point, w_A = int R_A dGamma_0 (thickness included)
-    const int nq = pair_.quadrature_points > 0 ? std::min(pair_.quadrature_points, kMaxGauss)
+    const int nq = pair_.quadrature_points > 0 ? pair_.quadrature_points
                                                : std::min(slave.p + master.p + 1, kMaxGauss);
     gauss_ = gauss_rule(nq);
     slots = kMortarMaxSegments * nq;

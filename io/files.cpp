@@ -1,0 +1,219 @@
+#include "io/files.hpp"
+
+#include <Teuchos_CommHelpers.hpp>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <zlib.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <ctime>
+#include <filesystem>
+#include <random>
+#include <regex>
+
+namespace iga {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string errno_text(int e) { return std::strerror(e); }
+
+// write(2) until done; false with errno set on failure
+bool write_all(int fd, const char* p, size_t n) {
+  while (n > 0) {
+    const ssize_t w = ::write(fd, p, n);
+    if (w < 0) {
+      if (errno == EINTR) continue;
+      return false;
+    }
+    if (w == 0) { errno = EIO; return false; }
+    p += w;
+    n -= static_cast<size_t>(w);
+  }
+  return true;
+}
+
+}  // namespace
+
+void write_file_atomic(const std::string& path, const std::string& bytes) {
+  const std::string tmp = path + ".part";
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) throw OutputError("cannot write " + tmp + ": " + errno_text(errno));
+  int err = 0;
+  if (!write_all(fd, bytes.data(), bytes.size())) err = errno;
+  if (!err && ::fsync(fd) != 0 && errno != EINVAL && errno != EROFS) err = errno;   // EINVAL: no fsync on this file system
+  if (::close(fd) != 0 && !err) err = errno;
+  if (err) {
+    ::unlink(tmp.c_str());
+    throw OutputError("cannot write " + path + ": " + errno_text(err));
+  }
+  if (::rename(tmp.c_str(), path.c_str()) != 0) {
+    err = errno;
+    ::unlink(tmp.c_str());
+    throw OutputError("cannot write " + path + ": " + errno_text(err));
+  }
+}
+
+std::string crc32_hex(const std::string& bytes) {
+  uLong c = crc32(0L, Z_NULL, 0);
+  size_t off = 0;
+  while (off < bytes.size()) {   // zlib takes uInt lengths
+    const uInt n = static_cast<uInt>(std::min<size_t>(bytes.size() - off, 1u << 30));
+    c = crc32(c, reinterpret_cast<const Bytef*>(bytes.data() + off), n);
+    off += n;
+  }
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "%08lx", static_cast<unsigned long>(c));
+  return buf;
+}
+
+std::string new_run_id() {
+  const std::time_t t = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char when[32];
+  std::strftime(when, sizeof when, "%Y%m%dT%H%M%SZ", &tm);
+  char host[64] = "host";
+  gethostname(host, sizeof host - 1);
+  std::string h;
+  for (const char* c = host; *c; ++c) h += std::isalnum(static_cast<unsigned char>(*c)) ? *c : '_';
+  std::random_device rd;
+  char rnd[8];
+  std::snprintf(rnd, sizeof rnd, "%04x", static_cast<unsigned>(rd() & 0xffff));
+  return std::string(when) + "-" + h + "-" + std::to_string(::getpid()) + "-" + rnd;
+}
+
+// ---------------------------------------------------------------- HDF5 in memory
+
+H5Memory::H5Memory(std::string name) : name_(std::move(name)) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);   // errors become OutputError, not a printed stack
+  const hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+  if (fapl < 0 || H5Pset_fapl_core(fapl, 1 << 20, 0) < 0) {
+    if (fapl >= 0) H5Pclose(fapl);
+    fail("cannot set up an in-memory file");
+  }
+  file_ = H5Fcreate("igacontact-memory.h5", H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
+  H5Pclose(fapl);
+  if (file_ < 0) fail("cannot create an in-memory file");
+}
+
+H5Memory::~H5Memory() {
+  if (file_ >= 0) H5Fclose(file_);
+}
+
+void H5Memory::fail(const std::string& what) const { throw OutputError("cannot write " + name_ + ": HDF5: " + what); }
+
+void H5Memory::group(const std::string& path) {
+  const hid_t g = H5Gcreate2(file_, path.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  if (g < 0) fail("cannot create group " + path);
+  if (H5Gclose(g) < 0) fail("cannot close group " + path);
+}
+
+namespace {
+template <class T>
+void h5_write(hid_t file, hid_t type, const std::string& path, const std::vector<T>& v, const std::vector<hsize_t>& dims,
+              const std::function<void(const std::string&)>& fail) {
+  hsize_t n = 1;
+  for (hsize_t d : dims) n *= d;
+  if (n != v.size()) fail("dataset " + path + " has " + std::to_string(v.size()) + " values for " + std::to_string(n));
+  const hid_t space = H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
+  if (space < 0) fail("cannot create the dataspace of " + path);
+  const hid_t ds = H5Dcreate2(file, path.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  if (ds < 0) { H5Sclose(space); fail("cannot create dataset " + path); }
+  const herr_t w = n > 0 ? H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) : 0;
+  const herr_t c1 = H5Dclose(ds), c2 = H5Sclose(space);
+  if (w < 0 || c1 < 0 || c2 < 0) fail("cannot write dataset " + path);
+}
+}  // namespace
+
+void H5Memory::write(const std::string& path, const std::vector<double>& v, const std::vector<hsize_t>& dims) {
+  h5_write(file_, H5T_NATIVE_DOUBLE, path, v, dims, [this](const std::string& w) { fail(w); });
+}
+
+void H5Memory::write_int(const std::string& path, const std::vector<int>& v, const std::vector<hsize_t>& dims) {
+  h5_write(file_, H5T_NATIVE_INT, path, v, dims, [this](const std::string& w) { fail(w); });
+}
+
+void H5Memory::attribute(const std::string& name, const std::string& value) {
+  const hid_t type = H5Tcopy(H5T_C_S1);
+  if (type < 0 || H5Tset_size(type, value.size() + 1) < 0) fail("cannot make a string type");
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t a = space < 0 ? -1 : H5Acreate2(file_, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT);
+  const herr_t w = a < 0 ? -1 : H5Awrite(a, type, value.c_str());
+  if (a >= 0) H5Aclose(a);
+  if (space >= 0) H5Sclose(space);
+  H5Tclose(type);
+  if (w < 0) fail("cannot write attribute " + name);
+}
+
+std::string H5Memory::image() {
+  if (H5Fflush(file_, H5F_SCOPE_GLOBAL) < 0) fail("cannot flush");
+  const ssize_t n = H5Fget_file_image(file_, nullptr, 0);
+  if (n < 0) fail("cannot get the file image");
+  std::string bytes(static_cast<size_t>(n), '\0');
+  if (H5Fget_file_image(file_, bytes.data(), bytes.size()) != n) fail("cannot copy the file image");
+  return bytes;
+}
+
+// ---------------------------------------------------------------- the output directory
+
+bool is_run_output(const std::string& f) {
+  static const std::regex ours(
+      R"((result\.(h5|xdmf|pvd)|result_[0-9]+\.(h5|vtu)|summary\.json|contact_[0-9]+\.csv)(\.part)?)");
+  return std::regex_match(f, ours);
+}
+
+std::string check_output_directory(const std::string& dir) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) return "cannot create the directory: " + ec.message();
+  if (!fs::is_directory(dir, ec)) return "not a directory";
+  const std::string probe = (fs::path(dir) / (".igacontact-probe-" + std::to_string(::getpid()))).string();
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (fd < 0) return "cannot write into it: " + errno_text(errno);
+  ::close(fd);
+  ::unlink(probe.c_str());
+  return "";
+}
+
+void remove_previous_outputs(const std::string& dir) {
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (!is_run_output(name)) continue;
+    if (::unlink(it->path().c_str()) != 0 && errno != ENOENT)
+      throw OutputError("cannot remove the previous run's " + it->path().string() + ": " + errno_text(errno));
+  }
+  if (ec) throw OutputError("cannot list " + dir + ": " + ec.message());
+}
+
+void on_root(const Comm& comm, const std::function<void()>& f) {
+  std::string msg;
+  int failed = 0;
+  if (comm.getRank() == 0) {
+    try {
+      f();
+    } catch (const std::exception& e) {
+      msg = e.what();
+      if (msg.empty()) msg = "output failed";
+      failed = 1;
+    }
+  }
+  Teuchos::broadcast(comm, 0, &failed);
+  if (failed) throw OutputError(broadcast_string(comm, msg));
+}
+
+std::string broadcast_string(const Comm& comm, std::string s) {
+  int n = static_cast<int>(s.size());
+  Teuchos::broadcast(comm, 0, &n);
+  s.resize(static_cast<size_t>(n));
+  if (n > 0) Teuchos::broadcast(comm, 0, n, s.data());
+  return s;
+}
+
+}  // namespace iga
