@@ -1,0 +1,103 @@
+#pragma once
+// The exact geometry of every body as VTK rational Bezier cells (one .vtu for all bodies),
+// and the .pvd collection over load steps.
+//
+// What it computes. Each element (non-empty knot span pair) of a body's NURBS patch is a
+// rational Bezier patch (model/bezier.hpp); it becomes one VTK_BEZIER_QUADRILATERAL (type 77)
+// cell of degrees (p0, p1) whose (p0 + 1)(p1 + 1) points are the element's Bezier points
+// (reference configuration, z = 0) with their weights as the point array RationalWeights.
+// VTK evaluates such a cell as x(t) = sum_k B_k(t) w_k x_k / sum_k B_k(t) w_k, and any point
+// array the same way, so:
+//   - displacement: the Bezier coefficients of the displacement (exact: it is in the NURBS
+//     space), 3 components (ux, uy, 0); Warp By Vector moves the cells onto the exact
+//     deformed geometry;
+//   - stress is not in the spline space: per element, coefficients c_k are fitted so that
+//     the element's rational Bezier interpolant equals BodyField's stress at the
+//     (p0 + 1)(p1 + 1) collocation points t = (j0 / p0, j1 / p1) (a small dense solve per
+//     element); von_mises is fitted the same way (it is not recomputed from the tensor).
+//   Points are not shared between cells, so each element carries its own stress values and
+//   the (discontinuous across elements, in general) fit is represented exactly.
+//
+// Layout. Cells are numbered body after body, element e = e0 + e1 * ne0 (xi fastest) within
+// a body; each cell owns (p0 + 1)(p1 + 1) consecutive points in VTK's higher-order
+// quadrilateral order (vtk_quad_point_index): corners (0,0), (p0,0), (p0,p1), (0,p1), then the
+// interior points of the edges j = 0 (i increasing), i = p0 (j increasing), j = p1 (i
+// increasing), i = 0 (j increasing), then the face-interior points, i fastest.
+// Arrays (N points, C cells):
+//   Points             N x 3  Float64  Bezier points x, y, 0
+//   RationalWeights    N      Float64  (point attribute RationalWeights)
+//   displacement       N x 3  Float64  (point vectors)
+//   stress             N x 6  Float64  XX, YY, ZZ, XY, YZ, XZ (VTK's symmetric tensor order)
+//   von_mises          N      Float64  (point scalars)
+//   HigherOrderDegrees C x 3  Int32    p0, p1, 0 (cell attribute HigherOrderDegrees)
+//   body               C      Int32    index into Problem::bodies
+//   element            C      Int32    e0 + e1 * ne0
+//   element_ij         C x 2  Int32    e0, e1
+//   knot_span          C x 2  Int32    knot span indices s0, s1 into the patch's knot vectors
+//   parametric_range   C x 4  Float64  u_a, u_b, v_a, v_b of the element
+//   field data: TimeValue (Float64, 1: the load factor), run_id (String, 1),
+//               body_names (String, one per body)
+// Cost: O(C ((p0+1)(p1+1))^3) for the fits (at most 36 x 36 per element), plus one
+// BodyField evaluation per point.
+#include <array>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "model/problem.hpp"
+
+namespace iga {
+
+/// Offset of Bezier point (i, j), 0 <= i <= p0, 0 <= j <= p1, in a VTK higher-order
+/// quadrilateral of degrees (p0, p1) (vtkHigherOrderQuadrilateral::PointIndexFromIJK).
+int vtk_quad_point_index(int i, int j, int p0, int p1);
+
+/// Collocation points of the per-element fit in [0, 1]^2, numbered j0 + j1 (p0 + 1):
+/// (j0 / p0, j1 / p1).
+std::vector<std::array<double, 2>> fit_points(int p0, int p1);
+
+/// Coefficients c of ncomp fields in the rational Bezier basis of degrees (p0, p1) with
+/// weights w (per Bezier point, k = k0 + k1 (p0 + 1)) that interpolate `values`
+/// (values[j * ncomp + c] at fit_points(p0, p1)[j]): coef[k * ncomp + c].
+void fit_rational_bezier(int p0, int p1, const double* w, int ncomp, const double* values, double* coef);
+
+/// All bodies as rational Bezier cells, arrays as described above (points in VTK order).
+struct BezierMesh {
+  std::vector<double> points;         // 3 per point
+  std::vector<double> weights;        // 1 per point
+  std::vector<double> displacement;   // 3 per point
+  std::vector<double> stress;         // 6 per point: XX, YY, ZZ, XY, YZ, XZ
+  std::vector<double> von_mises;      // 1 per point
+  std::vector<std::int64_t> offsets;  // end of each cell's points (VTK "offsets")
+  std::vector<int> degrees;           // 3 per cell
+  std::vector<int> body, element;     // 1 per cell
+  std::vector<int> element_ij;        // 2 per cell
+  std::vector<int> knot_span;         // 2 per cell
+  std::vector<double> range;          // 4 per cell
+  std::vector<std::string> body_names;
+  std::size_t num_points() const { return weights.size(); }
+  std::size_t num_cells() const { return body.size(); }
+};
+
+/// Builds the cells. cp_displacement: per body, 2 values per control point (as
+/// gather_displacements returns them on rank 0).
+BezierMesh bezier_mesh(const Problem& P, const std::vector<std::vector<double>>& cp_displacement);
+
+enum class VtkEncoding { Ascii, AppendedRaw };
+
+/// The VTK XML UnstructuredGrid text (.vtu) of a mesh; load_factor goes into the field data
+/// TimeValue, run_id into the string field data run_id. AppendedRaw: binary arrays after the
+/// XML (header_type UInt64, the machine's byte order), the field data stays ascii.
+std::string vtu_text(const BezierMesh& mesh, double load_factor, const std::string& run_id,
+                     VtkEncoding encoding = VtkEncoding::AppendedRaw);
+
+/// bezier_mesh + vtu_text.
+std::string bezier_vtu(const Problem& P, const std::vector<std::vector<double>>& cp_displacement,
+                       double load_factor, const std::string& run_id,
+                       VtkEncoding encoding = VtkEncoding::AppendedRaw);
+
+/// A ParaView .pvd collection of (time, file) pairs; file names relative to the .pvd.
+std::string pvd_collection(const std::vector<std::pair<double, std::string>>& steps);
+
+}  // namespace iga

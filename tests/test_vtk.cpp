@@ -1,0 +1,236 @@
+// VTK rational Bezier output (io/vtk): the point order, the cells' geometry against the
+// NURBS patch, the displacement coefficients, the per-element stress fit, the .vtu/.pvd text.
+// With IGACONTACT_VTU_OUT set, WritesQuarterAnnulusFiles leaves its .vtu files there for the
+// ParaView check (tests/paraview/check_bezier.py, run by tests/paraview_bezier.sh).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <set>
+
+#include "io/vtk.hpp"
+#include "kernels/nurbs_basis.hpp"
+#include "model/bezier.hpp"
+#include "support.hpp"
+
+using namespace iga;
+
+namespace {
+
+// A quarter annulus (centre 0, radii 1 and 2; xi around, eta radial, inner = south) at degrees
+// (3, 2) with non-uniform spans under internal pressure, and a block of degrees (1, 2).
+std::string annulus_yaml() {
+  return "analysis: {type: plane_strain}\n"
+         "bodies:\n"
+         "  - name: annulus\n"
+         "    material: {youngs_modulus: 2.0e5, poisson_ratio: 0.3}\n"
+         "    geometry: {quarter_annulus: {center: [0, 0], inner_radius: 1.0, outer_radius: 2.0, start_angle: 0}}\n"
+         "    refine: {degree_elevate: [1, 1], insert_knots: [[0.3], [0.7]], subdivide: [3, 2]}\n"
+         "    boundary:\n"
+         "      west: {displacement: {y: 0.0}}\n"
+         "      east: {displacement: {x: 0.0}}\n"
+         "      south: {pressure: 10.0}\n"
+         "  - name: block\n"
+         "    material: {youngs_modulus: 1.0e3, poisson_ratio: 0.25}\n"
+         "    geometry: {rectangle: {origin: [3.0, 0.0], size: [1.0, 0.5]}}\n"
+         "    refine: {degree_elevate: [0, 1], subdivide: [3, 2]}\n"
+         "    boundary:\n"
+         "      west: {displacement: {x: 0.0, y: 0.0}}\n"
+         "      east: {traction: [1.0, 0.5]}\n"
+         "solver:\n  linear: {method: gmres, preconditioner: muelu, tolerance: 1.0e-12}\n";
+}
+
+// Solved once; only the problem and the displacements are kept (no Tpetra objects may
+// outlive Tpetra's scope guard in main).
+struct Annulus {
+  Problem P;
+  std::vector<std::vector<double>> disp;
+};
+const Annulus& annulus() {
+  static const Annulus a = [] {
+    const test::Solved s = test::solve_text(annulus_yaml());
+    return Annulus{s.P, s.disp};
+  }();
+  return a;
+}
+
+// Rational Bezier evaluation of a cell's point array (ncomp per point, VTK order) at (t0, t1).
+void eval_cell(const BezierMesh& m, size_t cell, const std::vector<double>& a, int ncomp, double t0, double t1,
+               double* out) {
+  const int p0 = m.degrees[3 * cell], p1 = m.degrees[3 * cell + 1];
+  const size_t base = cell == 0 ? 0 : static_cast<size_t>(m.offsets[cell - 1]);
+  double b0[kMaxBasis1D], b1[kMaxBasis1D], W = 0;
+  bernstein(p0, t0, b0);
+  bernstein(p1, t1, b1);
+  for (int c = 0; c < ncomp; ++c) out[c] = 0;
+  for (int j = 0; j <= p1; ++j)
+    for (int i = 0; i <= p0; ++i) {
+      const size_t q = base + vtk_quad_point_index(i, j, p0, p1);
+      const double r = b0[i] * b1[j] * m.weights[q];
+      W += r;
+      for (int c = 0; c < ncomp; ++c) out[c] += r * a[q * ncomp + c];
+    }
+  for (int c = 0; c < ncomp; ++c) out[c] /= W;
+}
+
+}  // namespace
+
+TEST(VtkOrder, HigherOrderQuadrilateralPointIndex) {
+  // degrees (2, 2): the 9-point quad of VTK's documentation
+  EXPECT_EQ(vtk_quad_point_index(0, 0, 2, 2), 0);
+  EXPECT_EQ(vtk_quad_point_index(2, 0, 2, 2), 1);
+  EXPECT_EQ(vtk_quad_point_index(2, 2, 2, 2), 2);
+  EXPECT_EQ(vtk_quad_point_index(0, 2, 2, 2), 3);
+  EXPECT_EQ(vtk_quad_point_index(1, 0, 2, 2), 4);
+  EXPECT_EQ(vtk_quad_point_index(2, 1, 2, 2), 5);
+  EXPECT_EQ(vtk_quad_point_index(1, 2, 2, 2), 6);
+  EXPECT_EQ(vtk_quad_point_index(0, 1, 2, 2), 7);
+  EXPECT_EQ(vtk_quad_point_index(1, 1, 2, 2), 8);
+  // degrees (3, 2): edges in VTK's directions (the top edge runs with i, the left one with j)
+  const int expect[3][4] = {{0, 4, 5, 1}, {9, 10, 11, 6}, {3, 7, 8, 2}};   // [j][i]
+  for (int j = 0; j <= 2; ++j)
+    for (int i = 0; i <= 3; ++i) EXPECT_EQ(vtk_quad_point_index(i, j, 3, 2), expect[j][i]) << i << " " << j;
+  // a permutation for every pair of degrees
+  for (int p0 = 1; p0 <= 5; ++p0)
+    for (int p1 = 1; p1 <= 5; ++p1) {
+      std::set<int> seen;
+      for (int j = 0; j <= p1; ++j)
+        for (int i = 0; i <= p0; ++i) seen.insert(vtk_quad_point_index(i, j, p0, p1));
+      EXPECT_EQ(static_cast<int>(seen.size()), (p0 + 1) * (p1 + 1));
+      EXPECT_EQ(*seen.begin(), 0);
+      EXPECT_EQ(*seen.rbegin(), (p0 + 1) * (p1 + 1) - 1);
+    }
+}
+
+TEST(VtkBezier, CellsReproduceThePatchAndTheDisplacement) {
+  const auto& s = annulus();
+  const BezierMesh m = bezier_mesh(s.P, s.disp);
+  ASSERT_EQ(m.num_cells(), static_cast<size_t>(s.P.bodies[0].patch.num_elements() + s.P.bodies[1].patch.num_elements()));
+  EXPECT_EQ(m.body_names, (std::vector<std::string>{"annulus", "block"}));
+  std::vector<BodyField> fields;
+  for (int b = 0; b < 2; ++b) fields.emplace_back(s.P, b, s.disp[b]);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> U(0, 1);
+  std::vector<double> umax(2, 0.0);
+  for (int b = 0; b < 2; ++b)
+    for (double v : s.disp[b]) umax[b] = std::max(umax[b], std::abs(v));
+  ASSERT_GT(umax[0], 0);
+  ASSERT_GT(umax[1], 0);
+  int on_circle = 0;
+  for (size_t c = 0; c < m.num_cells(); ++c) {
+    const Patch& pt = s.P.bodies[m.body[c]].patch;
+    EXPECT_EQ(m.degrees[3 * c], pt.degree[0]);
+    EXPECT_EQ(m.degrees[3 * c + 1], pt.degree[1]);
+    EXPECT_EQ(m.degrees[3 * c + 2], 0);
+    EXPECT_EQ(m.element[c], m.element_ij[2 * c] + m.element_ij[2 * c + 1] * static_cast<int>(pt.element_spans(0).size()));
+    const double* r = &m.range[4 * c];
+    for (int q = 0; q < 12; ++q) {
+      const double t0 = q < 4 ? q / 3.0 : U(rng), t1 = q < 4 ? (q % 2) : U(rng);
+      const double u = r[0] + t0 * (r[1] - r[0]), v = r[2] + t1 * (r[3] - r[2]);
+      double X[3], D[3];
+      eval_cell(m, c, m.points, 3, t0, t1, X);
+      eval_cell(m, c, m.displacement, 3, t0, t1, D);
+      const auto x = pt.eval(u, v);
+      EXPECT_NEAR(X[0], x[0], 1e-14);
+      EXPECT_NEAR(X[1], x[1], 1e-14);
+      EXPECT_EQ(X[2], 0.0);
+      const FieldPoint f = fields[m.body[c]].eval(u, v, m.knot_span[2 * c], m.knot_span[2 * c + 1]);
+      EXPECT_NEAR(D[0], f.ux, 1e-14 * umax[m.body[c]]);
+      EXPECT_NEAR(D[1], f.uy, 1e-14 * umax[m.body[c]]);
+      if (m.body[c] == 0 && ((t1 == 0.0 && r[2] == 0.0) || (t1 == 1.0 && r[3] == 1.0))) {
+        EXPECT_NEAR(std::hypot(X[0], X[1]), t1 == 0.0 ? 1.0 : 2.0, 1e-14);
+        ++on_circle;
+      }
+    }
+  }
+  EXPECT_GT(on_circle, 0);
+}
+
+TEST(VtkBezier, StressFitInterpolatesBodyFieldAtTheCollocationPoints) {
+  const auto& s = annulus();
+  const BezierMesh m = bezier_mesh(s.P, s.disp);
+  double smax = 0;
+  for (double v : m.von_mises) smax = std::max(smax, std::abs(v));
+  ASSERT_GT(smax, 1.0);   // internal pressure 10
+  for (size_t c = 0; c < m.num_cells(); ++c) {
+    const BodyField f(s.P, m.body[c], s.disp[m.body[c]]);
+    const double* r = &m.range[4 * c];
+    for (const auto& t : fit_points(m.degrees[3 * c], m.degrees[3 * c + 1])) {
+      double S[6], VM;
+      eval_cell(m, c, m.stress, 6, t[0], t[1], S);
+      eval_cell(m, c, m.von_mises, 1, t[0], t[1], &VM);
+      const FieldPoint p = f.eval(r[0] + t[0] * (r[1] - r[0]), r[2] + t[1] * (r[3] - r[2]), m.knot_span[2 * c],
+                                  m.knot_span[2 * c + 1]);
+      EXPECT_NEAR(S[0], p.sxx, 1e-12 * smax);
+      EXPECT_NEAR(S[1], p.syy, 1e-12 * smax);
+      EXPECT_NEAR(S[2], p.szz, 1e-12 * smax);
+      EXPECT_NEAR(S[3], p.sxy, 1e-12 * smax);
+      EXPECT_EQ(S[4], 0.0);
+      EXPECT_EQ(S[5], 0.0);
+      EXPECT_NEAR(VM, p.von_mises(), 1e-12 * smax);
+    }
+  }
+}
+
+// A field in the element's rational Bezier space is fitted exactly: the coordinates (whose
+// coefficients are the Bezier points) and the displacement (element_field's coefficients).
+TEST(VtkBezier, StressFitIsExactForAFieldInTheSpace) {
+  const auto& s = annulus();
+  for (int b = 0; b < 2; ++b) {
+    const Patch& pt = s.P.bodies[b].patch;
+    const BezierPatch B(pt);
+    const BodyField f(s.P, b, s.disp[b]);
+    const int p0 = B.degree()[0], p1 = B.degree()[1], n = B.points_per_element();
+    const auto t = fit_points(p0, p1);
+    double umax = 0;
+    for (double v : s.disp[b]) umax = std::max(umax, std::abs(v));
+    std::vector<Point3> pts(n);
+    std::vector<double> w(n), ub(2 * n), vals(4 * n), coef(4 * n);
+    for (int e = 0; e < B.num_elements(); ++e) {
+      B.element_points(e, pts.data());
+      B.element_field(e, s.disp[b].data(), 2, ub.data());
+      const auto r0 = B.range(e, 0), r1 = B.range(e, 1);
+      for (int j = 0; j < n; ++j) {
+        w[j] = pts[j][2];
+        const FieldPoint p = f.eval(r0[0] + t[j][0] * (r0[1] - r0[0]), r1[0] + t[j][1] * (r1[1] - r1[0]), B.span(e, 0),
+                                    B.span(e, 1));
+        const double v[4] = {p.x, p.y, p.ux, p.uy};
+        std::copy(v, v + 4, &vals[4 * j]);
+      }
+      fit_rational_bezier(p0, p1, w.data(), 4, vals.data(), coef.data());
+      for (int k = 0; k < n; ++k) {
+        EXPECT_NEAR(coef[4 * k], pts[k][0], 1e-13);
+        EXPECT_NEAR(coef[4 * k + 1], pts[k][1], 1e-13);
+        EXPECT_NEAR(coef[4 * k + 2], ub[2 * k], 1e-13 * umax);
+        EXPECT_NEAR(coef[4 * k + 3], ub[2 * k + 1], 1e-13 * umax);
+      }
+    }
+  }
+}
+
+TEST(VtkBezier, WritesQuarterAnnulusFiles) {
+  const auto& s = annulus();
+  const char* env = std::getenv("IGACONTACT_VTU_OUT");
+  const std::filesystem::path dir =
+      env ? std::filesystem::path(env) : std::filesystem::temp_directory_path() / "igacontact_test_vtk";
+  std::filesystem::create_directories(dir);
+  const std::string bin = bezier_vtu(s.P, s.disp, 0.5, "test-run & <1>");
+  const std::string asc = bezier_vtu(s.P, s.disp, 0.5, "test-run & <1>", VtkEncoding::Ascii);
+  EXPECT_NE(bin.find("<AppendedData encoding=\"raw\">"), std::string::npos);
+  EXPECT_EQ(asc.find("AppendedData"), std::string::npos);
+  EXPECT_NE(asc.find("Name=\"RationalWeights\""), std::string::npos);
+  for (const auto& [name, text] : {std::pair<std::string, const std::string&>{"annulus.vtu", bin},
+                                   std::pair<std::string, const std::string&>{"annulus_ascii.vtu", asc}}) {
+    std::ofstream out(dir / name, std::ios::binary);
+    out << text;
+    ASSERT_TRUE(out.good());
+  }
+  const std::string pvd = pvd_collection({{0.5, "annulus.vtu"}, {1.0, "annulus_ascii.vtu"}});
+  EXPECT_NE(pvd.find("timestep=\"0.5\""), std::string::npos);
+  EXPECT_NE(pvd.find("file=\"annulus_ascii.vtu\""), std::string::npos);
+  std::ofstream(dir / "annulus.pvd") << pvd;
+}
