@@ -174,8 +174,9 @@ int run(int argc, char** argv) {
       std::fflush(stdout);
     }
   };
-  const iga::SolveResult res = iga::solve(*sys, progress);
-  nlohmann::json summary = iga::write_results(*sys, res, dir, args.file, run_id);
+  iga::ResultWriter writer(*sys, dir, args.file, run_id);
+  const iga::SolveResult res = iga::solve(*sys, progress, [&](const iga::StepState& st) { writer.step(st); });
+  nlohmann::json summary = writer.finish(res);
 
   // timings: the slowest rank's time per stage
   std::vector<std::string> names;

@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "io/fields.hpp"
+#include "io/vtk.hpp"
 #include "io/files.hpp"
 
 namespace iga {
@@ -70,9 +71,11 @@ std::string dims_str(const std::vector<hsize_t>& d) {
   return s;
 }
 
-std::string data_item(const std::string& path, const std::vector<hsize_t>& d) {
-  return "<DataItem Dimensions=\"" + dims_str(d) + "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">result.h5:" +
-         path + "</DataItem>";
+// An XDMF DataItem naming a dataset of an HDF5 file beside the .xdmf.
+std::string data_item(const std::string& file, const std::string& path, const std::vector<hsize_t>& d,
+                      bool integer = false) {
+  return std::string("<DataItem Dimensions=\"") + dims_str(d) + "\" NumberType=\"" + (integer ? "Int\" Precision=\"4\"" : "Float\" Precision=\"8\"") +
+         " Format=\"HDF\">" + file + ":" + path + "</DataItem>";
 }
 
 // Parametric sample coordinates: s per element in each direction plus the end.
@@ -84,20 +87,252 @@ std::vector<std::pair<double, int>> samples(const std::vector<double>& U, const 
   return out;
 }
 
+// Quadrilaterals of an n0 x n1 grid of points (i fastest), counter-clockwise.
+std::vector<int> grid_quads(int n0, int n1) {
+  std::vector<int> q;
+  q.reserve(static_cast<size_t>(n0 - 1) * (n1 - 1) * 4);
+  for (int j = 0; j + 1 < n1; ++j)
+    for (int i = 0; i + 1 < n0; ++i)
+      q.insert(q.end(), {i + j * n0, i + 1 + j * n0, i + 1 + (j + 1) * n0, i + (j + 1) * n0});
+  return q;
+}
+
+std::string step_name(int step) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "result_%04d", step);
+  return buf;
+}
+
+// Parametric point of slave curve parameter xi on a side of a patch.
+std::array<double, 2> side_point(const Patch& pt, Side side, double xi) {
+  switch (side) {
+    case Side::West: return {pt.knots[0].front(), xi};
+    case Side::East: return {pt.knots[0].back(), xi};
+    case Side::South: return {xi, pt.knots[1].front()};
+    case Side::North: default: return {xi, pt.knots[1].back()};
+  }
+}
+
 }  // namespace
 
-nlohmann::json write_results(const System& sys, const SolveResult& res, const std::string& dir,
-                             const std::string& problem_file, const std::string& run_id) {
+// ------------------------------------------------------------------ ResultWriter
+
+ResultWriter::ResultWriter(const System& sys, std::string dir, std::string problem_file, std::string run_id)
+    : sys_(sys), dir_(std::move(dir)), problem_file_(std::move(problem_file)), run_id_(std::move(run_id)) {
+  history_ = nlohmann::json::array();
+  files_ = nlohmann::json::object();
+}
+
+nlohmann::json ResultWriter::contact_json(const std::vector<ContactPairData>& contact) const {
+  const Problem& P = sys_.problem();
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& c : contact) {
+    const ContactSummary s = c.summary();
+    out.push_back({{"master", {{"body", P.bodies[c.pair().master.body].name}, {"side", side_name(c.pair().master.side)}}},
+                   {"slave", {{"body", P.bodies[c.pair().slave.body].name}, {"side", side_name(c.pair().slave.side)}}},
+                   {"method", contact_method_name(c.pair().method)},
+                   {"normal_force", s.normal_force},
+                   {"force", {s.fx, s.fy}},
+                   {"max_pressure", s.max_pressure},
+                   {"contact_length", s.contact_length},
+                   {"max_penetration", s.max_penetration},
+                   {"active_points", s.active_points}});
+  }
+  return out;
+}
+
+void ResultWriter::step(const StepState& st) {
   Teuchos::TimeMonitor tm(*Teuchos::TimeMonitor::getNewTimer("6) Output"));
-  const Problem& P = sys.problem();
-  const auto disp = gather_displacements(sys, *res.u);
+  nlohmann::json h = {{"stage", st.stage}, {"step", st.step}, {"load_factor", st.lambda},
+                      {"reactions", reactions_json(sys_, *st.residual)}};
+  nlohmann::json pairs = nlohmann::json::array();
+  for (const auto& c : contact_json(*st.contact))
+    pairs.push_back({{"normal_force", c["normal_force"]}, {"force", c["force"]}});
+  h["contact"] = pairs;
+  history_.push_back(h);
+  if (sys_.problem().output.all_steps) write_state(st.step, st.lambda, *st.u, *st.contact);
+}
+
+void ResultWriter::write(const std::string& name, const std::string& bytes) {
+  write_file_atomic((fs::path(dir_) / name).string(), bytes);
+  files_[name] = {{"bytes", bytes.size()}, {"crc32", crc32_hex(bytes)}};
+}
+
+void ResultWriter::write_state(int step, double lambda, const Vector& u, const std::vector<ContactPairData>& contact) {
+  const Problem& P = sys_.problem();
+  const auto disp = gather_displacements(sys_, u);   // collective
+  std::vector<ContactPointState> cstate;
+  for (const auto& c : contact) cstate.push_back(c.state());
+  on_root(*sys_.comm(), [&] {
+    const std::string name = step_name(step), h5name = name + ".h5";
+    H5Memory f(h5name);
+    f.attribute("run_id", run_id_);
+    f.attribute("load_factor", std::to_string(lambda));
+    f.group("/bodies");
+    std::ostringstream grids;   // this step's spatial collection
+    char tv[64];
+    std::snprintf(tv, sizeof tv, "%.17g", lambda);
+    grids << "  <Grid Name=\"step_" << name.substr(7) << "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
+          << "   <Time Value=\"" << tv << "\"/>\n";
+    double umax = 0;
+    for (size_t b = 0; b < P.bodies.size(); ++b) {
+      const Patch& pt = P.bodies[b].patch;
+      const BodyField field(P, static_cast<int>(b), disp[b]);
+      const int s = P.output.samples_per_element;
+      const auto su = samples(pt.knots[0], pt.element_spans(0), s);
+      const auto sv = samples(pt.knots[1], pt.element_spans(1), s);
+      const int n0 = static_cast<int>(su.size()), n1 = static_cast<int>(sv.size());
+      const hsize_t n = static_cast<hsize_t>(n0) * n1;
+      std::vector<double> xyz, d3, stress, sxx, syy, sxy, szz, vm;
+      xyz.reserve(3 * n); d3.reserve(3 * n); stress.reserve(6 * n);
+      for (const auto& v : sv)
+        for (const auto& uu : su) {
+          const FieldPoint fp = field.eval(uu.first, v.first, uu.second, v.second);
+          xyz.insert(xyz.end(), {fp.x, fp.y, 0.0});
+          d3.insert(d3.end(), {fp.ux, fp.uy, 0.0});
+          umax = std::max(umax, std::hypot(fp.ux, fp.uy));
+          stress.insert(stress.end(), {fp.sxx, fp.syy, fp.szz, fp.sxy, 0.0, 0.0});   // VTK order XX YY ZZ XY YZ XZ
+          sxx.push_back(fp.sxx); syy.push_back(fp.syy); sxy.push_back(fp.sxy); szz.push_back(fp.szz);
+          vm.push_back(fp.von_mises());
+        }
+      const std::vector<int> quads = grid_quads(n0, n1);
+      const hsize_t nq = quads.size() / 4;
+      const int ne0 = static_cast<int>(pt.element_spans(0).size());
+      std::vector<int> element;
+      element.reserve(nq);
+      for (int j = 0; j + 1 < n1; ++j)
+        for (int i = 0; i + 1 < n0; ++i) element.push_back(i / s + (j / s) * ne0);
+      const int m0 = pt.ncp(0), m1 = pt.ncp(1);
+      const hsize_t m = static_cast<hsize_t>(m0) * m1;
+      std::vector<double> cxyz, cd3;
+      for (hsize_t a = 0; a < m; ++a) {
+        cxyz.insert(cxyz.end(), {pt.cp[a][0], pt.cp[a][1], 0.0});
+        cd3.insert(cd3.end(), {disp[b][2 * a], disp[b][2 * a + 1], 0.0});
+      }
+      const std::vector<int> cquads = grid_quads(m0, m1);
+      const hsize_t mq = cquads.size() / 4;
+
+      const std::string& bn = P.bodies[b].name;
+      const std::string g = "/bodies/" + bn;
+      f.group(g);
+      f.write_int(g + "/shape", {n1, n0}, {2});
+      f.write(g + "/xyz", xyz, {n, 3});
+      f.write_int(g + "/quads", quads, {nq, 4});
+      f.write_int(g + "/element", element, {nq});
+      f.write(g + "/displacement", d3, {n, 3});
+      f.write(g + "/stress", stress, {n, 6});
+      f.write(g + "/sxx", sxx, {n});
+      f.write(g + "/syy", syy, {n});
+      f.write(g + "/sxy", sxy, {n});
+      f.write(g + "/szz", szz, {n});
+      f.write(g + "/von_mises", vm, {n});
+      f.write_int(g + "/control_shape", {m1, m0}, {2});
+      f.write(g + "/control_xyz", cxyz, {m, 3});
+      f.write_int(g + "/control_quads", cquads, {mq, 4});
+      f.write(g + "/control_displacement", cd3, {m, 3});
+
+      grids << "   <Grid Name=\"" << bn << "\" GridType=\"Uniform\">\n"
+            << "    <Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"" << nq << "\" NodesPerElement=\"4\">"
+            << data_item(h5name, g + "/quads", {nq, 4}, true) << "</Topology>\n"
+            << "    <Geometry GeometryType=\"XYZ\">" << data_item(h5name, g + "/xyz", {n, 3}) << "</Geometry>\n"
+            << "    <Attribute Name=\"displacement\" AttributeType=\"Vector\" Center=\"Node\">"
+            << data_item(h5name, g + "/displacement", {n, 3}) << "</Attribute>\n"
+            << "    <Attribute Name=\"stress\" AttributeType=\"Tensor6\" Center=\"Node\">"
+            << data_item(h5name, g + "/stress", {n, 6}) << "</Attribute>\n";
+      for (const char* a : {"sxx", "syy", "sxy", "szz", "von_mises"})
+        grids << "    <Attribute Name=\"" << a << "\" AttributeType=\"Scalar\" Center=\"Node\">"
+              << data_item(h5name, g + "/" + a, {n}) << "</Attribute>\n";
+      grids << "    <Attribute Name=\"element\" AttributeType=\"Scalar\" Center=\"Cell\">"
+            << data_item(h5name, g + "/element", {nq}, true) << "</Attribute>\n"
+            << "   </Grid>\n"
+            << "   <Grid Name=\"" << bn << "_control_net\" GridType=\"Uniform\">\n"
+            << "    <Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"" << mq << "\" NodesPerElement=\"4\">"
+            << data_item(h5name, g + "/control_quads", {mq, 4}, true) << "</Topology>\n"
+            << "    <Geometry GeometryType=\"XYZ\">" << data_item(h5name, g + "/control_xyz", {m, 3}) << "</Geometry>\n"
+            << "    <Attribute Name=\"control_displacement\" AttributeType=\"Vector\" Center=\"Node\">"
+            << data_item(h5name, g + "/control_displacement", {m, 3}) << "</Attribute>\n"
+            << "   </Grid>\n";
+    }
+    if (!cstate.empty()) f.group("/contact");
+    for (size_t k = 0; k < cstate.size(); ++k) {
+      // slave points in the reference configuration with their displacement, so that they
+      // move with the bodies under any Warp By Vector scale
+      const auto& cs = cstate[k];
+      const ContactPair& pair = contact[k].pair();
+      const Patch& spt = P.bodies[pair.slave.body].patch;
+      const BodyField field(P, pair.slave.body, disp[pair.slave.body]);
+      const hsize_t n = cs.x.size();
+      std::vector<double> xyz, d3, xyz_def, gap(cs.gap), active;
+      std::vector<int> conn;
+      for (size_t i = 0; i < n; ++i) {
+        const auto uv = side_point(spt, pair.slave.side, cs.xi[i]);
+        const FieldPoint fp = field.eval(uv[0], uv[1]);
+        xyz.insert(xyz.end(), {fp.x, fp.y, 0.0});
+        d3.insert(d3.end(), {fp.ux, fp.uy, 0.0});
+        xyz_def.insert(xyz_def.end(), {cs.x[i], cs.y[i], 0.0});
+        active.push_back(cs.active[i]);
+        conn.push_back(static_cast<int>(i));
+      }
+      for (double& gv : gap)
+        if (!std::isfinite(gv)) gv = std::nan("");
+      const std::string g = "/contact/pair_" + std::to_string(k);
+      f.group(g);
+      f.write_int(g + "/conn", conn, {n});
+      f.write(g + "/xyz", xyz, {n, 3});
+      f.write(g + "/displacement", d3, {n, 3});
+      f.write(g + "/xyz_deformed", xyz_def, {n, 3});
+      f.write(g + "/gap", gap, {n});
+      f.write(g + "/pressure", cs.pressure, {n});
+      f.write(g + "/xi", cs.xi, {n});
+      f.write(g + "/active", active, {n});
+      grids << "   <Grid Name=\"contact_" << k << "\" GridType=\"Uniform\">\n"
+            << "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n << "\" NodesPerElement=\"1\">"
+            << data_item(h5name, g + "/conn", {n}, true) << "</Topology>\n"
+            << "    <Geometry GeometryType=\"XYZ\">" << data_item(h5name, g + "/xyz", {n, 3}) << "</Geometry>\n"
+            << "    <Attribute Name=\"displacement\" AttributeType=\"Vector\" Center=\"Node\">"
+            << data_item(h5name, g + "/displacement", {n, 3}) << "</Attribute>\n";
+      for (const char* a : {"gap", "pressure", "xi", "active"})
+        grids << "    <Attribute Name=\"" << a << "\" AttributeType=\"Scalar\" Center=\"Node\">"
+              << data_item(h5name, g + "/" + a, {n}) << "</Attribute>\n";
+      grids << "   </Grid>\n";
+    }
+    grids << "  </Grid>\n";
+    write(h5name, f.image());
+    write(name + ".vtu", bezier_vtu(P, disp, lambda, run_id_));
+
+    // the collections over every state written so far, rewritten whole each time
+    if (!written_.empty() && written_.back().step == step) { written_.pop_back(); xdmf_grids_.pop_back(); }
+    written_.push_back({step, lambda});
+    xdmf_grids_.push_back(grids.str());
+    std::ostringstream x;
+    x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n  <Information Name=\"run_id\" Value=\"" << run_id_
+      << "\"/>\n  <Grid Name=\"load_steps\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+    for (const auto& gs : xdmf_grids_) x << gs;
+    x << "  </Grid>\n </Domain>\n</Xdmf>\n";
+    write("result.xdmf", x.str());
+    std::vector<std::pair<double, std::string>> vtus;
+    for (const auto& w : written_) vtus.push_back({w.lambda, step_name(w.step) + ".vtu"});
+    std::string pvd = pvd_collection(vtus);
+    pvd.insert(pvd.find('\n') + 1, "<!-- igacontact run_id " + run_id_ + " -->\n");
+    write("result.pvd", pvd);
+    max_displacement_ = umax;
+  });
+}
+
+nlohmann::json ResultWriter::finish(const SolveResult& res) {
+  Teuchos::TimeMonitor tm(*Teuchos::TimeMonitor::getNewTimer("6) Output"));
+  const Problem& P = sys_.problem();
+  // the kept state: written already when it is the last converged step
+  const int kept = res.steps_converged;
+  if (written_.empty() || written_.back().step != kept) write_state(kept, res.lambda, *res.u, res.contact);
+  const auto disp = gather_displacements(sys_, *res.u);
   nlohmann::json summary;
-  summary["problem"] = problem_file;
-  summary["run_id"] = run_id;
+  summary["problem"] = problem_file_;
+  summary["run_id"] = run_id_;
   summary["converged"] = res.converged;
   summary["load_factor"] = res.lambda;
-  summary["dofs"] = sys.num_dofs();
-  summary["ranks"] = sys.comm()->getSize();
+  summary["dofs"] = sys_.num_dofs();
+  summary["ranks"] = sys_.comm()->getSize();
   summary["execution_space"] = ExecSpace::name();
   summary["threads_per_rank"] = ExecSpace::concurrency();
   const char* tun = std::getenv("GLIBC_TUNABLES");
@@ -106,34 +341,32 @@ nlohmann::json write_results(const System& sys, const SolveResult& res, const st
   summary["linear_iterations"] = res.linear_iterations;
   summary["tangent_pattern_builds"] = res.tangent_rebuilds;
   summary["preconditioner_builds"] = res.preconditioner_builds;
-  summary["reactions"] = reactions_json(sys, *res.residual);
+  summary["reactions"] = reactions_json(sys_, *res.residual);
   if (!res.converged) summary["message"] = res.message;
-
-  // contact state (replicated on all ranks)
-  nlohmann::json contact = nlohmann::json::array();
+  summary["contact"] = contact_json(res.contact);
+  summary["history"] = history_;
+  summary["output_steps"] = P.output.all_steps ? "all" : "last";
   std::vector<ContactPointState> cstate;
-  for (const auto& c : res.contact) {
-    const ContactSummary s = c.summary();
-    contact.push_back({{"master", {{"body", P.bodies[c.pair().master.body].name}, {"side", side_name(c.pair().master.side)}}},
-                       {"slave", {{"body", P.bodies[c.pair().slave.body].name}, {"side", side_name(c.pair().slave.side)}}},
-                       {"method", contact_method_name(c.pair().method)},
-                       {"normal_force", s.normal_force},
-                       {"force", {s.fx, s.fy}},
-                       {"max_pressure", s.max_pressure},
-                       {"contact_length", s.contact_length},
-                       {"max_penetration", s.max_penetration},
-                       {"active_points", s.active_points}});
-    cstate.push_back(c.state());
-  }
-  summary["contact"] = contact;
+  for (const auto& c : res.contact) cstate.push_back(c.state());
 
-  nlohmann::json files = nlohmann::json::object();   // name -> {bytes, crc32}, rank 0
-  auto write = [&](const std::string& name, const std::string& bytes) {
-    write_file_atomic((fs::path(dir) / name).string(), bytes);
-    files[name] = {{"bytes", bytes.size()}, {"crc32", crc32_hex(bytes)}};
-  };
-  on_root(*sys.comm(), [&] {
-    // probes
+  on_root(*sys_.comm(), [&] {
+    // result.h5: the kept state, the same file as its result_<n>.h5 (a hard link; a copy
+    // where the file system has none)
+    const std::string last = step_name(kept) + ".h5";
+    const fs::path from = fs::path(dir_) / last, to = fs::path(dir_) / "result.h5";
+    std::error_code ec;
+    fs::remove(to, ec);
+    fs::create_hard_link(from, to, ec);
+    if (ec) {
+      std::ifstream in(from, std::ios::binary);
+      std::stringstream ss;
+      ss << in.rdbuf();
+      if (!in) throw OutputError("cannot read back " + from.string());
+      write("result.h5", ss.str());
+    } else {
+      files_["result.h5"] = files_[last];
+    }
+
     nlohmann::json probes = nlohmann::json::array();
     std::vector<BodyField> fields;
     for (size_t b = 0; b < P.bodies.size(); ++b) fields.emplace_back(P, static_cast<int>(b), disp[b]);
@@ -141,87 +374,12 @@ nlohmann::json write_results(const System& sys, const SolveResult& res, const st
       const Patch& pt = P.bodies[pr.body].patch;
       const double u = pt.knots[0].front() + pr.at[0] * (pt.knots[0].back() - pt.knots[0].front());
       const double v = pt.knots[1].front() + pr.at[1] * (pt.knots[1].back() - pt.knots[1].front());
-      const FieldPoint f = fields[pr.body].eval(u, v);
-      probes.push_back({{"body", P.bodies[pr.body].name}, {"at", {pr.at[0], pr.at[1]}}, {"x", f.x}, {"y", f.y},
-                        {"displacement", {f.ux, f.uy}}, {"stress", {f.sxx, f.syy, f.sxy}}});
+      const FieldPoint fp = fields[pr.body].eval(u, v);
+      probes.push_back({{"body", P.bodies[pr.body].name}, {"at", {pr.at[0], pr.at[1]}}, {"x", fp.x}, {"y", fp.y},
+                        {"displacement", {fp.ux, fp.uy}}, {"stress", {fp.sxx, fp.syy, fp.sxy}}});
     }
     summary["probes"] = probes;
-
-    // result.h5 / result.xdmf
-    const std::string h5 = (fs::path(dir) / "result.h5").string();
-    std::ostringstream xdmf;
-    xdmf << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n  <Information Name=\"run_id\" Value=\"" << run_id
-         << "\"/>\n  <Grid Name=\"igacontact\" GridType=\"Collection\">\n";
-    {
-      H5Memory f(h5);
-      f.attribute("run_id", run_id);
-      f.group("/bodies");
-      for (size_t b = 0; b < P.bodies.size(); ++b) {
-        const Patch& pt = P.bodies[b].patch;
-        const auto su = samples(pt.knots[0], pt.element_spans(0), P.output.samples_per_element);
-        const auto sv = samples(pt.knots[1], pt.element_spans(1), P.output.samples_per_element);
-        const hsize_t n0 = su.size(), n1 = sv.size();
-        std::vector<double> x, y, d3, sxx, syy, sxy, szz, vm;
-        for (const auto& v : sv)
-          for (const auto& u : su) {
-            const FieldPoint fp = fields[b].eval(u.first, v.first, u.second, v.second);
-            x.push_back(fp.x); y.push_back(fp.y);
-            d3.insert(d3.end(), {fp.ux, fp.uy, 0.0});
-            sxx.push_back(fp.sxx); syy.push_back(fp.syy); sxy.push_back(fp.sxy); szz.push_back(fp.szz);
-            vm.push_back(fp.von_mises());
-          }
-        const std::string g = "/bodies/" + P.bodies[b].name;
-        f.group(g);
-        f.write(g + "/x", x, {n1, n0});
-        f.write(g + "/y", y, {n1, n0});
-        f.write(g + "/displacement", d3, {n1, n0, 3});
-        f.write(g + "/sxx", sxx, {n1, n0});
-        f.write(g + "/syy", syy, {n1, n0});
-        f.write(g + "/sxy", sxy, {n1, n0});
-        f.write(g + "/szz", szz, {n1, n0});
-        f.write(g + "/von_mises", vm, {n1, n0});
-        std::vector<double> cx, cy;
-        for (const auto& c : pt.cp) { cx.push_back(c[0]); cy.push_back(c[1]); }
-        f.write(g + "/control_x", cx, {(hsize_t)pt.ncp(1), (hsize_t)pt.ncp(0)});
-        f.write(g + "/control_y", cy, {(hsize_t)pt.ncp(1), (hsize_t)pt.ncp(0)});
-        f.write(g + "/control_displacement", disp[b], {(hsize_t)pt.ncp(1), (hsize_t)pt.ncp(0), 2});
-        xdmf << "   <Grid Name=\"" << P.bodies[b].name << "\" GridType=\"Uniform\">\n"
-             << "    <Topology TopologyType=\"2DSMesh\" Dimensions=\"" << n1 << " " << n0 << "\"/>\n"
-             << "    <Geometry GeometryType=\"X_Y\">\n     " << data_item(g + "/x", {n1, n0}) << "\n     "
-             << data_item(g + "/y", {n1, n0}) << "\n    </Geometry>\n"
-             << "    <Attribute Name=\"displacement\" AttributeType=\"Vector\" Center=\"Node\">\n     "
-             << data_item(g + "/displacement", {n1, n0, 3}) << "\n    </Attribute>\n";
-        for (const char* s : {"sxx", "syy", "sxy", "szz", "von_mises"})
-          xdmf << "    <Attribute Name=\"" << s << "\" AttributeType=\"Scalar\" Center=\"Node\">\n     "
-               << data_item(g + "/" + s, {n1, n0}) << "\n    </Attribute>\n";
-        xdmf << "   </Grid>\n";
-      }
-      if (!cstate.empty()) f.group("/contact");
-      for (size_t k = 0; k < cstate.size(); ++k) {
-        const auto& s = cstate[k];
-        const hsize_t n = s.x.size();
-        std::vector<double> xyz, gap(s.gap), pr(s.pressure);
-        for (size_t i = 0; i < n; ++i) xyz.insert(xyz.end(), {s.x[i], s.y[i], 0.0});
-        for (double& gv : gap)
-          if (!std::isfinite(gv)) gv = std::nan("");
-        const std::string g = "/contact/pair_" + std::to_string(k);
-        f.group(g);
-        f.write(g + "/xyz", xyz, {n, 3});
-        f.write(g + "/gap", gap, {n});
-        f.write(g + "/pressure", pr, {n});
-        f.write(g + "/xi", s.xi, {n});
-        xdmf << "   <Grid Name=\"contact_" << k << "\" GridType=\"Uniform\">\n"
-             << "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n << "\"/>\n"
-             << "    <Geometry GeometryType=\"XYZ\">\n     " << data_item(g + "/xyz", {n, 3}) << "\n    </Geometry>\n";
-        for (const char* a : {"gap", "pressure"})
-          xdmf << "    <Attribute Name=\"" << a << "\" AttributeType=\"Scalar\" Center=\"Node\">\n     "
-               << data_item(g + "/" + a, {n}) << "\n    </Attribute>\n";
-        xdmf << "   </Grid>\n";
-      }
-      write("result.h5", f.image());
-    }
-    xdmf << "  </Grid>\n </Domain>\n</Xdmf>\n";
-    write("result.xdmf", xdmf.str());
+    summary["max_displacement"] = max_displacement_;
 
     for (size_t k = 0; k < cstate.size(); ++k) {
       const auto& s = cstate[k];
@@ -233,8 +391,8 @@ nlohmann::json write_results(const System& sys, const SolveResult& res, const st
             << s.active[i] << "\n";
       write("contact_" + std::to_string(k) + ".csv", csv.str());
     }
+    summary["files"] = files_;
   });
-  summary["files"] = files;
   return summary;
 }
 

@@ -19,10 +19,33 @@ std::vector<std::vector<double>> gather_displacements(const System& sys, const V
 /// Reactions per body and side ([Rx, Ry]), summed over ranks.
 nlohmann::json reactions_json(const System& sys, const Vector& residual);
 
-/// Writes all outputs but summary.json into dir (rank 0; io/files.hpp says how) and returns
-/// the summary (all ranks; its "files" lists what was written). Collective: an OutputError
-/// on rank 0 is thrown on every rank.
-nlohmann::json write_results(const System& sys, const SolveResult& res, const std::string& dir,
-                             const std::string& problem_file, const std::string& run_id);
+/// The files of one run (docs/problem-file.md, "Outputs"): per converged load step
+/// result_<n>.h5 (sampled fields, control net, contact points) and result_<n>.vtu (rational
+/// Bezier cells), with result.xdmf and result.pvd over all of them rewritten after each step;
+/// at the end result.h5 (the kept state), contact_<n>.csv and the summary. Every call is
+/// collective; rank 0 writes (io/files.hpp: checked, atomic; an OutputError there is thrown
+/// on every rank). With output.steps = last only the kept state is written, at the end.
+class ResultWriter {
+ public:
+  ResultWriter(const System& sys, std::string dir, std::string problem_file, std::string run_id);
+  /// A converged load step: its entry in the summary's history and (all steps) its files.
+  void step(const StepState& st);
+  /// The kept state's files if not written yet, result.h5, contact_<n>.csv; returns the
+  /// summary (all ranks; probes, max_displacement and files on rank 0). summary.json is the
+  /// caller's, written last.
+  nlohmann::json finish(const SolveResult& res);
+
+ private:
+  void write_state(int step, double lambda, const Vector& u, const std::vector<ContactPairData>& contact);
+  void write(const std::string& name, const std::string& bytes);   // rank 0
+  nlohmann::json contact_json(const std::vector<ContactPairData>& contact) const;
+  const System& sys_;
+  std::string dir_, problem_file_, run_id_;
+  struct Written { int step; double lambda; };
+  std::vector<Written> written_;
+  std::vector<std::string> xdmf_grids_;   // one spatial collection per written state
+  nlohmann::json history_, files_;
+  double max_displacement_ = 0;           // largest |u| at the sample points of the last state written
+};
 
 }  // namespace iga

@@ -649,7 +649,13 @@ Problem build(const Reader& R, const YAML::Node& root) {
 
   if (root["output"]) {
     const YAML::Node o = root["output"];
-    R.keys(o, "output", {"directory", "samples_per_element", "probes"});
+    R.keys(o, "output", {"directory", "samples_per_element", "probes", "steps"});
+    if (o["steps"]) {
+      const std::string st = R.string(o["steps"], "output.steps");
+      if (st == "all") P.output.all_steps = true;
+      else if (st == "last") P.output.all_steps = false;
+      else R.fail("output.steps", o["steps"], "expected all or last");
+    }
     if (o["directory"]) {
       P.output.directory = R.string(o["directory"], "output.directory");
       if (P.output.directory.empty()) R.fail("output.directory", o["directory"], "must not be empty");

@@ -81,6 +81,7 @@ struct Probe {
 struct OutputOptions {
   std::string directory;
   int samples_per_element = 4;
+  bool all_steps = true;   // output.steps: all (a state per converged load step) | last
   std::vector<Probe> probes;
 };
 

@@ -14,7 +14,8 @@ namespace {
 Teuchos::Time& timer(const char* name) { return *Teuchos::TimeMonitor::getNewTimer(name); }
 }  // namespace
 
-SolveResult solve(const System& sys, const std::function<void(const IterationLog&)>& progress) {
+SolveResult solve(const System& sys, const std::function<void(const IterationLog&)>& progress,
+                  const std::function<void(const StepState&)>& on_step) {
   const Problem& P = sys.problem();
   SolveResult res;
   RCP<Matrix> K;
@@ -161,6 +162,18 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
     res.steps_converged = step;
     res.lambda = lambda;
     u_conv = rcp(new Vector(*u, Teuchos::Copy));
+    if (on_step) {
+      // the residual at u with its constrained rows (the Newton loop zeroes them): reactions
+      ContactContribution cc;
+      residual(lambda, cc);
+      StepState st;
+      st.step = step;
+      st.lambda = lambda;
+      st.u = u.get();
+      st.residual = r.get();
+      st.contact = &res.contact;
+      on_step(st);
+    }
   }
   res.converged = res.steps_converged == P.load_steps;
   res.u = u_conv;

@@ -32,6 +32,18 @@ struct SolveResult {
   std::vector<ContactPairData> contact;    // contact state at u
 };
 
-SolveResult solve(const System& sys, const std::function<void(const IterationLog&)>& progress = {});
+/// The state at a converged load step, handed to the caller before the next step starts
+/// (output of the time series, the summary's history). Valid only during the call.
+struct StepState {
+  int stage = 1;              // load stage (1 until stages exist)
+  int step = 0;               // converged load steps so far, 1-based
+  double lambda = 0;          // load factor
+  const Vector* u = nullptr;
+  const Vector* residual = nullptr;               // lambda f - K u - f_c at u (reactions: minus it)
+  const std::vector<ContactPairData>* contact = nullptr;   // contact state at u
+};
+
+SolveResult solve(const System& sys, const std::function<void(const IterationLog&)>& progress = {},
+                  const std::function<void(const StepState&)>& on_step = {});
 
 }  // namespace iga
