@@ -11,6 +11,7 @@
 #include "model/geometry_check.hpp"
 #include "model/nurbs.hpp"
 #include "model/problem.hpp"
+#include "support.hpp"
 
 using namespace iga;
 
@@ -200,6 +201,18 @@ TEST(GeometryCheck, FindsASignChangeBetweenTheGaussPoints) {
   Q.subdivide(1, 3);
   const std::string err2 = check_jacobian(Q);
   EXPECT_TRUE(contains(err2, "det J changes sign in element [0.666667, 1] x [0.666667, 1]")) << err2;
+}
+
+TEST(GeometryCheck, FindsTheThinFoldOfARandomNet) {
+  // test::distorted_patch(5, 11), once used by test_kernels: the random interior control
+  // points overtake the west side's neighbours, and the patch folds in a layer of ~1e-5 in xi
+  // (x < 0 there, west of its own west side x = 0)
+  const Patch P = test::distorted_patch(5, 11);
+  const std::string err = check_jacobian(P);
+  EXPECT_TRUE(contains(err, "det J changes sign in element [0, 0.1] x [0, 0.5]")) << err;
+  const double eta = std::stod(err.substr(err.find("eta = ") + 6));
+  EXPECT_LT(P.eval(1e-5, eta)[0], 0.0);
+  EXPECT_EQ(check_jacobian(test::distorted_patch(5, 12)), "");
 }
 
 TEST(GeometryCheck, FindsZeroAreaAndInteriorZeros) {
