@@ -12,6 +12,8 @@
 #include <set>
 #include <sstream>
 
+#include "model/geometry_check.hpp"
+
 namespace iga {
 
 const char* contact_method_name(ContactMethod m) {
@@ -391,6 +393,13 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
       R.fits(path + ".refine.subdivide", r["subdivide"], dofs_if(ncp), max_degree());
       for (int d = 0; d < 2; ++d) b.patch.subdivide(d, s[d]);
     }
+  }
+  // a folded or flat patch (det J changing sign or vanishing inside) is bad input, blamed on
+  // the control points where they were given
+  const std::string bad = check_jacobian(b.patch);
+  if (!bad.empty()) {
+    if (g["nurbs"]) R.fail(path + ".geometry.nurbs.control_points", g["nurbs"]["control_points"], "body '" + b.name + "': " + bad);
+    R.fail(path + ".geometry", g, "body '" + b.name + "': " + bad);
   }
   if (n["boundary"]) {
     const YAML::Node bc = n["boundary"];

@@ -5,10 +5,14 @@ set -euo pipefail
 src="$1"; work="$2"; secs="${3:-30}"
 mkdir -p "$work/corpus"
 exe="$work/fuzz_problem"
-if [ ! -x "$exe" ] || [ "$src/tests/fuzz_problem.cpp" -nt "$exe" ] || [ "$src/model/problem.cpp" -nt "$exe" ] || [ "$src/model/nurbs.cpp" -nt "$exe" ]; then
+srcs=("$src/tests/fuzz_problem.cpp" "$src/model/problem.cpp" "$src/model/nurbs.cpp" "$src/model/bezier.cpp" "$src/model/geometry_check.cpp" "$src/kernels/types.cpp")
+stale=0
+[ -x "$exe" ] || stale=1
+for f in "${srcs[@]}"; do if [ "$f" -nt "$exe" ]; then stale=1; fi; done
+if [ "$stale" = 1 ]; then
   clang++ -std=c++17 -O1 -g -fsanitize=fuzzer,address -I"$src" -isystem /usr/include/trilinos \
     -isystem /usr/lib/x86_64-linux-gnu/openmpi/include \
-    "$src/tests/fuzz_problem.cpp" "$src/model/problem.cpp" "$src/model/nurbs.cpp" \
+    "${srcs[@]}" \
     -o "$exe" -lyaml-cpp -ltrilinos_muelu -ltrilinos_teuchosparameterlist -ltrilinos_teuchosnumerics -ltrilinos_teuchoscore -ltrilinos_kokkoscore -llapack -lblas
 fi
 cp "$src"/examples/*.yaml "$src"/tests/bad_inputs/*.yaml "$work/corpus/"

@@ -119,7 +119,9 @@ TEST_P(KernelDegree, ElementStiffnessMatchesHostReference) {
 
 TEST_P(KernelDegree, AssembledTpetraMatrixMatchesSumOfReferenceElements) {
   const int p = GetParam();
-  const Patch P = distorted_patch(p, 11);
+  // seed 12: with seed 11 the random net folds at p = 5 (x < 0 within 1e-5 of the west side,
+  // det J < 0 there), which the loader's geometry check now refuses
+  const Patch P = distorted_patch(p, 12);
   const Problem prob = parse_problem(patch_yaml(P), "kernel.yaml");
   System sys(prob, Tpetra::getDefaultComm());
   RCP<Matrix> K = sys.assemble_stiffness();

@@ -1,0 +1,285 @@
+// The geometry check (model/geometry_check): valid patches pass, folded, flat and degenerate
+// ones are found in the right element, also where det J is wrong only between Gauss points.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <cstdio>
+
+#include "kernels/types.hpp"
+#include "model/geometry_check.hpp"
+#include "model/nurbs.hpp"
+#include "model/problem.hpp"
+#include "support.hpp"
+
+using namespace iga;
+
+namespace {
+
+Patch bilinear(std::array<double, 2> a, std::array<double, 2> b, std::array<double, 2> c, std::array<double, 2> d) {
+  Patch P;
+  P.degree = {1, 1};
+  P.knots = {uniform_open_knots(1, 1), uniform_open_knots(1, 1)};
+  P.cp = {{a[0], a[1], 1}, {b[0], b[1], 1}, {c[0], c[1], 1}, {d[0], d[1], 1}};
+  return P;
+}
+
+Patch annulus(double ri, double ro) {
+  Patch P;
+  P.degree = {2, 1};
+  P.knots = {uniform_open_knots(2, 1), uniform_open_knots(1, 1)};
+  const double w = std::sqrt(0.5);
+  for (double r : {ri, ro}) P.cp.insert(P.cp.end(), {{r, 0, 1}, {r, r, w}, {0, r, 1}});
+  return P;
+}
+
+// Biquadratic unit square, control points on a 3 x 3 grid.
+Patch biquadratic_square() {
+  Patch P;
+  P.degree = {2, 2};
+  P.knots = {uniform_open_knots(2, 1), uniform_open_knots(2, 1)};
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) P.cp.push_back({0.5 * i, 0.5 * j, 1});
+  return P;
+}
+
+// det J by central differences of Patch::eval
+double det_fd(const Patch& P, double u, double v) {
+  const double h = 1e-6;
+  const auto a = P.eval(u + h, v), b = P.eval(u - h, v), c = P.eval(u, v + h), d = P.eval(u, v - h);
+  return ((a[0] - b[0]) * (c[1] - d[1]) - (a[1] - b[1]) * (c[0] - d[0])) / (4 * h * h);
+}
+
+bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+}  // namespace
+
+TEST(GeometryCheck, AcceptsRectanglesAnnuliAndLeftHandedPatches) {
+  EXPECT_EQ(check_jacobian(bilinear({0, 0}, {2, 0}, {0, 1}, {2, 1})), "");
+  // left-handed: det J < 0 everywhere (xi runs to -x)
+  const Patch left = bilinear({2, 0}, {0, 0}, {2, 1}, {0, 1});
+  EXPECT_EQ(left.orientation(), -1);
+  EXPECT_EQ(check_jacobian(left), "");
+  // quarter annulus at degrees 1..5 (eta) and 2..5 (xi), elevated and subdivided
+  for (int p = 1; p <= 5; ++p) {
+    Patch P = annulus(1.0, 2.0);
+    P.elevate(0, std::max(p, 2) - 2);
+    P.elevate(1, p - 1);
+    P.subdivide(0, 5);
+    P.subdivide(1, 3);
+    P.insert_knot(0, 0.123);
+    EXPECT_EQ(P.orientation(), -1);   // xi counter-clockwise, eta outwards: left-handed
+    EXPECT_EQ(check_jacobian(P), "") << "p = " << p;
+    for (auto& c : P.cp) c[0] = -c[0];   // mirrored: right-handed
+    EXPECT_EQ(P.orientation(), 1);
+    EXPECT_EQ(check_jacobian(P), "") << "mirrored, p = " << p;
+  }
+  // a thin ring at high degree: large coordinates against small elements
+  Patch ring = annulus(1000.0, 1000.001);
+  ring.elevate(0, 3);
+  ring.elevate(1, 4);
+  ring.subdivide(0, 50);
+  EXPECT_EQ(check_jacobian(ring), "");
+}
+
+TEST(GeometryCheck, AcceptsACollapsedEdge) {
+  // the triangle of PatchTest.UniaxialStressIsExactOnPatchWithCollapsedEdge: north edge at (0, 1)
+  Patch P = bilinear({0, 0}, {1, 0}, {0, 1}, {0, 1});
+  EXPECT_EQ(check_jacobian(P), "");
+  P.elevate(0, 1);
+  P.elevate(1, 1);
+  EXPECT_EQ(check_jacobian(P), "");
+  P.subdivide(0, 40);
+  P.subdivide(1, 40);
+  EXPECT_EQ(check_jacobian(P), "");
+  // a circular sector: quarter annulus with inner radius 0 (the south side collapses)
+  Patch sector = annulus(0.0, 1.0);
+  EXPECT_EQ(check_jacobian(sector), "");
+  sector.elevate(0, 2);
+  sector.elevate(1, 3);
+  sector.subdivide(0, 4);
+  sector.subdivide(1, 4);
+  EXPECT_EQ(check_jacobian(sector), "");
+  // a corner with a straight angle (det J = 0 at that patch corner only)
+  EXPECT_EQ(check_jacobian(bilinear({0, 0}, {1, 0}, {0, 1}, {0.5, 0.5})), "");
+  // but a collapsed interior knot line is not a boundary: there det J = 0 inside the patch
+  Patch two;   // the middle row of control points collapsed to (0, 0.5): two triangles
+  two.degree = {1, 1};
+  two.knots = {uniform_open_knots(1, 1), {0, 0, 0.5, 1, 1}};
+  two.cp = {{0, 0, 1}, {1, 0, 1}, {0, 0.5, 1}, {0, 0.5, 1}, {0, 1, 1}, {1, 1, 1}};
+  const std::string err = check_jacobian(two);
+  EXPECT_TRUE(contains(err, "det J vanishes inside the patch")) << err;
+}
+
+TEST(GeometryCheck, AcceptsAStronglyDistortedValidPatch) {
+  // biquadratic square with the middle point pushed past the far corner, to (1.3, 1.3): some
+  // Bernstein coefficients of D are negative, yet det J >= 0.2 everywhere (subdivision
+  // proves it; the quick test of step 1 does not)
+  Patch P = biquadratic_square();
+  P.cp[4] = {1.3, 1.3, 1};
+  double lo = 1e300;
+  for (int i = 0; i <= 200; ++i)
+    for (int j = 0; j <= 200; ++j) lo = std::min(lo, det_fd(P, 0.0025 + i * 0.995 / 200, 0.0025 + j * 0.995 / 200));
+  EXPECT_GT(lo, 0.15);
+  EXPECT_EQ(check_jacobian(P), "");
+  Patch Q = P;   // rational, refined
+  Q.cp[4][2] = 0.5;
+  Q.elevate(0, 1);
+  Q.subdivide(0, 3);
+  Q.subdivide(1, 2);
+  lo = 1e300;
+  for (int i = 0; i <= 200; ++i)
+    for (int j = 0; j <= 200; ++j) lo = std::min(lo, det_fd(Q, 0.0025 + i * 0.995 / 200, 0.0025 + j * 0.995 / 200));
+  EXPECT_GT(lo, 0.0);
+  EXPECT_EQ(check_jacobian(Q), "");
+}
+
+TEST(GeometryCheck, FindsAFoldMadeByAWeight) {
+  // the same net, but weight 3 on the middle point pulls the patch over itself near the east side
+  Patch P = biquadratic_square();
+  P.cp[4] = {1.3, 1.3, 3.0};
+  P.elevate(0, 1);
+  P.subdivide(0, 3);
+  P.subdivide(1, 2);
+  const std::string err = check_jacobian(P);
+  EXPECT_TRUE(contains(err, "det J changes sign in element [0.666667, 1] x [0, 0.5]")) << err;
+  const double xi = std::stod(err.substr(err.find("xi = ") + 5)), eta = std::stod(err.substr(err.find("eta = ") + 6));
+  EXPECT_LT(det_fd(P, xi, eta), 0.0) << err;
+}
+
+TEST(GeometryCheck, FindsABowTieInTheRightElement) {
+  // bilinear square with the two north control points swapped (x = 0.3 instead of 0 at the
+  // north-east end so that the fold is not symmetric): det J = 1 - 1.7 eta, < 0 for eta > 0.588
+  Patch P = bilinear({0, 0}, {1, 0}, {1, 1}, {0.3, 1});
+  std::string err = check_jacobian(P);
+  EXPECT_TRUE(contains(err, "det J changes sign in element [0, 1] x [0, 1]")) << err;
+  EXPECT_TRUE(contains(err, "the control net folds over")) << err;
+  P.subdivide(0, 2);
+  P.subdivide(1, 2);
+  err = check_jacobian(P);
+  EXPECT_TRUE(contains(err, "det J changes sign in element [0, 0.5] x [0.5, 1]")) << err;
+  // the plain swap (the bow tie): det J = 1 - 2 eta, zero signed area
+  err = check_jacobian(bilinear({0, 0}, {1, 0}, {1, 1}, {0, 1}));
+  EXPECT_TRUE(contains(err, "det J changes sign")) << err;
+}
+
+TEST(GeometryCheck, FindsAFoldInTheRightElement) {
+  // the middle control point pushed through the south side: det J < 0 near the south edge
+  Patch P = biquadratic_square();
+  P.cp[4] = {0.5, -0.6, 1};
+  std::string err = check_jacobian(P);
+  EXPECT_TRUE(contains(err, "det J changes sign in element [0, 1] x [0, 1]")) << err;
+  P.subdivide(0, 2);
+  P.subdivide(1, 4);
+  err = check_jacobian(P);
+  EXPECT_TRUE(contains(err, "det J changes sign in element [0, 0.5] x [0, 0.25]")) << err;
+  // the message's point has the wrong sign
+  const double xi = std::stod(err.substr(err.find("xi = ") + 5)), eta = std::stod(err.substr(err.find("eta = ") + 6));
+  EXPECT_LT(det_fd(P, xi, eta), 0.0) << err;
+}
+
+TEST(GeometryCheck, FindsASignChangeBetweenTheGaussPoints) {
+  // a bilinear dart: corner (1, 1) at (0.49, 0.49) is reflex, det J = 2 * 0.49 - 1 < 0 there
+  // and in a region of ~0.02 around it, but > 0 at the 2 x 2 Gauss points (and on a 10 x 10
+  // grid of interior points): only the Bernstein coefficients see it.
+  const Patch P = bilinear({0, 0}, {1, 0}, {0, 1}, {0.49, 0.49});
+  const GaussRule g = gauss_rule(2);
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j) EXPECT_GT(det_fd(P, 0.5 * (g.x[i] + 1), 0.5 * (g.x[j] + 1)), 0.1);
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 10; ++j) EXPECT_GT(det_fd(P, (i + 0.5) / 10, (j + 0.5) / 10), 0.0);
+  EXPECT_LT(det_fd(P, 0.995, 0.995), 0.0);
+  const std::string err = check_jacobian(P);
+  EXPECT_TRUE(contains(err, "det J changes sign in element [0, 1] x [0, 1]")) << err;
+  const double xi = std::stod(err.substr(err.find("xi = ") + 5)), eta = std::stod(err.substr(err.find("eta = ") + 6));
+  EXPECT_LT(det_fd(P, xi, eta), 0.0) << err;
+  // refined: the same fold, in the north-east element
+  Patch Q = P;
+  Q.elevate(0, 1);
+  Q.subdivide(0, 3);
+  Q.subdivide(1, 3);
+  const std::string err2 = check_jacobian(Q);
+  EXPECT_TRUE(contains(err2, "det J changes sign in element [0.666667, 1] x [0.666667, 1]")) << err2;
+}
+
+TEST(GeometryCheck, FindsTheThinFoldOfARandomNet) {
+  // test::distorted_patch(5, 11), once used by test_kernels: the random interior control
+  // points overtake the west side's neighbours, and the patch folds in a layer of ~1e-5 in xi
+  // (x < 0 there, west of its own west side x = 0)
+  const Patch P = test::distorted_patch(5, 11);
+  const std::string err = check_jacobian(P);
+  EXPECT_TRUE(contains(err, "det J changes sign in element [0, 0.1] x [0, 0.5]")) << err;
+  const double eta = std::stod(err.substr(err.find("eta = ") + 6));
+  EXPECT_LT(P.eval(1e-5, eta)[0], 0.0);
+  EXPECT_EQ(check_jacobian(test::distorted_patch(5, 12)), "");
+}
+
+TEST(GeometryCheck, FindsZeroAreaAndInteriorZeros) {
+  // all control points on a line
+  const std::string err = check_jacobian(bilinear({0, 0}, {1, 1}, {2, 2}, {3, 3}));
+  EXPECT_TRUE(contains(err, "det J vanishes (zero area) on all of element [0, 1] x [0, 1]")) << err;
+  Patch line = bilinear({0, 0}, {1, 1}, {2, 2}, {3, 3});
+  line.elevate(0, 2);
+  line.subdivide(0, 3);
+  EXPECT_TRUE(contains(check_jacobian(line), "zero area")) << check_jacobian(line);
+  // x = (2 xi - 1)^3, y = eta: det J = 6 (2 xi - 1)^2 >= 0, zero on the line xi = 1/2, which
+  // no Gauss point nor grid point hits
+  Patch cusp;
+  cusp.degree = {3, 1};
+  cusp.knots = {uniform_open_knots(3, 1), uniform_open_knots(1, 1)};
+  for (double y : {0.0, 1.0})
+    for (double x : {-1.0, 1.0, -1.0, 1.0}) cusp.cp.push_back({x, y, 1});
+  const std::string err2 = check_jacobian(cusp);
+  EXPECT_TRUE(contains(err2, "det J vanishes inside the patch in element [0, 1] x [0, 1]")) << err2;
+  EXPECT_TRUE(contains(err2, "xi = 0.5")) << err2;
+  // coordinates whose products overflow are refused, not passed for lack of a finite answer
+  const std::string err3 = check_jacobian(bilinear({0, 0}, {1e200, 0}, {0, 1e200}, {1e200, 1e200}));
+  EXPECT_TRUE(contains(err3, "det J overflows")) << err3;
+}
+
+TEST(GeometryCheck, LoaderRefusesTheBody) {
+  const std::string yaml =
+      "bodies:\n  - name: tie\n    material: {youngs_modulus: 1000.0, poisson_ratio: 0.3}\n"
+      "    geometry: {nurbs: {degree: [1, 1], knots: [[0, 0, 1, 1], [0, 0, 1, 1]],\n"
+      "               control_points: [[0, 0], [1, 0], [1, 1], [0, 1]]}}\n";
+  try {
+    parse_problem(yaml, "t.yaml");
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_EQ(m.rfind("t.yaml:5: bodies[0].geometry.nurbs.control_points = [[0, 0], [1, 0], [1, 1], [0, 1]]: body 'tie': ", 0), 0u) << m;
+    EXPECT_TRUE(contains(m, ": body 'tie': det J changes sign in element [0, 1] x [0, 1]")) << m;
+  }
+}
+
+// Cost on a patch with ~1e6 dofs: quarter annulus at degree 2, 700 x 700 elements.
+// Run with --gtest_also_run_disabled_tests.
+TEST(GeometryCheck, DISABLED_TimeOnAMillionDofs) {
+  Patch P = annulus(1.0, 2.0);
+  P.elevate(1, 1);
+  P.subdivide(0, 700);
+  P.subdivide(1, 700);
+  std::printf("  %d x %d control points = %d dofs, %d elements\n", P.ncp(0), P.ncp(1), 2 * P.ncp(0) * P.ncp(1),
+              P.num_elements());
+  for (int rep = 0; rep < 3; ++rep) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::clock_t c0 = std::clock();
+    const std::string err = check_jacobian(P);
+    const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_EQ(err, "");
+    std::printf("  check_jacobian, rational (degree 2, 2): %.3f s wall, %.3f s cpu\n", dt,
+                double(std::clock() - c0) / CLOCKS_PER_SEC);
+  }
+  Patch R;   // the same size with equal weights
+  R.degree = {2, 2};
+  R.knots = {uniform_open_knots(2, 1), uniform_open_knots(2, 1)};
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) R.cp.push_back({0.5 * i + 0.1 * j * j, 0.5 * j, 1});
+  R.subdivide(0, 700);
+  R.subdivide(1, 700);
+  const auto t0 = std::chrono::steady_clock::now();
+  EXPECT_EQ(check_jacobian(R), "");
+  std::printf("  check_jacobian, equal weights (degree 2, 2): %.3f s\n",
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+}
