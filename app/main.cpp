@@ -35,12 +35,14 @@ const char* kUsage =
     "usage: igacontact run FILE [--output DIR] [--set KEY=VALUE ...] [--quiet]\n"
     "       igacontact FILE [...]            (short for run)\n"
     "       igacontact check FILE [--set KEY=VALUE ...]\n"
-    "       igacontact --help | --version\n"
+    "       igacontact --help | --version | --kokkos-help\n"
     "\n"
     "Solves the elastostatic contact problem of a YAML problem file (docs/problem-file.md) and\n"
-    "writes result.h5/result.xdmf (ParaView), summary.json and contact_<n>.csv into the output\n"
-    "directory (default out/<file stem>). --set overrides a problem-file key by its dotted path,\n"
+    "writes into the output directory (default out/<file stem>): result.xdmf (open it in ParaView:\n"
+    "sampled fields, control nets, contact points, every load step), result.pvd (the exact\n"
+    "geometry as rational Bezier cells), result.h5, summary.json and contact_<n>.csv. --set overrides a problem-file key by its dotted path,\n"
     "e.g. --set contact.0.penalty=1e7 --set bodies.0.refine.subdivide=[16,8].\n"
+    "Kokkos' own options (threads, devices): --kokkos-help.\n"
     "Exit codes: 0 converged, 2 bad input, 3 not converged (last converged load step kept),\n"
     "4 output could not be written.\n";
 
@@ -107,11 +109,6 @@ void describe(const iga::Problem& P, int ranks, std::ostream& os) {
 int run(int argc, char** argv) {
   auto comm = Tpetra::getDefaultComm();
   const bool root = comm->getRank() == 0;
-  for (int i = 1; i < argc; ++i) {
-    const std::string s = argv[i];
-    if (s == "--help" || s == "-h") { if (root) std::cout << kUsage; return 0; }
-    if (s == "--version") { if (root) std::cout << "igacontact " << IGACONTACT_VERSION << "\n"; return 0; }
-  }
   Args args;
   try {
     args = parse_args(argc, argv);
@@ -247,13 +244,23 @@ void request_huge_pages(char** argv) {
 }
 
 int main(int argc, char** argv) {
+  // --help and --version answer before anything starts (no MPI, no Kokkos, whose own
+  // option banner would come first; Kokkos' options stay reachable with --kokkos-help).
+  for (int i = 1; i < argc; ++i) {
+    const std::string s = argv[i];
+    if (s == "--help" || s == "-h") { std::cout << kUsage; return 0; }
+    if (s == "--version") { std::cout << "igacontact " << IGACONTACT_VERSION << "\n"; return 0; }
+  }
   request_huge_pages(argv);
   // A file-size limit (ulimit -f) makes write(2) fail with EFBIG, reported like a full disk,
   // instead of killing the process with SIGXFSZ.
   std::signal(SIGXFSZ, SIG_IGN);
+  bool kokkos_help = false;   // Kokkos prints its options (and removes the argument)
+  for (int i = 1; i < argc; ++i) kokkos_help = kokkos_help || std::string(argv[i]) == "--kokkos-help";
   int code = 0;
   {
     Tpetra::ScopeGuard guard(&argc, &argv);
+    if (kokkos_help) return 0;
     int ranks = 1;
     MPI_Comm_size(MPI_COMM_WORLD, &ranks);
     try {

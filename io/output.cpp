@@ -163,6 +163,7 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
   const auto disp = gather_displacements(sys_, u);   // collective
   std::vector<ContactPointState> cstate;
   for (const auto& c : contact) cstate.push_back(c.state());
+  written_.push_back({step, lambda});   // on every rank: finish() decides collectively from it
   on_root(*sys_.comm(), [&] {
     const std::string name = step_name(step), h5name = name + ".h5";
     H5Memory f(h5name);
@@ -298,11 +299,14 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
     }
     grids << "  </Grid>\n";
     write(h5name, f.image());
-    write(name + ".vtu", bezier_vtu(P, disp, lambda, run_id_));
+    // VTK writes string arrays as character codes: the run id also as a readable comment
+    auto with_comment = [&](std::string xml) {
+      xml.insert(xml.find('\n') + 1, "<!-- igacontact run_id " + run_id_ + " -->\n");
+      return xml;
+    };
+    write(name + ".vtu", with_comment(bezier_vtu(P, disp, lambda, run_id_)));
 
     // the collections over every state written so far, rewritten whole each time
-    if (!written_.empty() && written_.back().step == step) { written_.pop_back(); xdmf_grids_.pop_back(); }
-    written_.push_back({step, lambda});
     xdmf_grids_.push_back(grids.str());
     std::ostringstream x;
     x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n  <Information Name=\"run_id\" Value=\"" << run_id_
@@ -312,9 +316,7 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
     write("result.xdmf", x.str());
     std::vector<std::pair<double, std::string>> vtus;
     for (const auto& w : written_) vtus.push_back({w.lambda, step_name(w.step) + ".vtu"});
-    std::string pvd = pvd_collection(vtus);
-    pvd.insert(pvd.find('\n') + 1, "<!-- igacontact run_id " + run_id_ + " -->\n");
-    write("result.pvd", pvd);
+    write("result.pvd", with_comment(pvd_collection(vtus)));
     max_displacement_ = umax;
   });
 }

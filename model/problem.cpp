@@ -81,6 +81,13 @@ struct Reader {
   std::string file;
   std::vector<Override> overrides;
   double memory_bytes = 0;   // what the machine has available (0: unknown, no size check)
+  int samples_per_element = 4;   // output.samples_per_element, read before the bodies
+
+  // Memory of the output sampling of ne0 x ne1 elements: a sampled point costs ~30 doubles
+  // on rank 0 (fields, the HDF5 image, the VTK cells).
+  double sample_bytes(double ne0, double ne1) const {
+    return (samples_per_element * ne0 + 1) * (samples_per_element * ne1 + 1) * 240.0;
+  }
 
   [[noreturn]] void fail(const std::string& key, const YAML::Node& n, const std::string& why) const {
     std::ostringstream os;
@@ -346,6 +353,7 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
     // sizes after each refinement, checked before it is done (a refinement too large for
     // the machine is refused at once, not after minutes of knot insertion)
     auto dofs_if = [&](std::array<long long, 2> ncp) { return 2.0 * static_cast<double>(ncp[0]) * static_cast<double>(ncp[1]); };
+    auto elements = [&](int d) { return static_cast<double>(b.patch.element_spans(d).size()); };
     auto max_degree = [&] { return std::max(b.patch.degree[0], b.patch.degree[1]); };
     if (r["degree_elevate"]) {
       const auto e = R.int_pair(r["degree_elevate"], path + ".refine.degree_elevate");
@@ -357,7 +365,8 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
                  "would raise degree " + std::to_string(b.patch.degree[d]) + " above the supported 5");
         ncp[d] = b.patch.ncp(d) + static_cast<long long>(e[d]) * (distinct_knots(b.patch.knots[d]) - 1);
       }
-      R.fits(path + ".refine.degree_elevate", r["degree_elevate"], dofs_if(ncp), std::max(b.patch.degree[0] + e[0], b.patch.degree[1] + e[1]));
+      R.fits(path + ".refine.degree_elevate", r["degree_elevate"], dofs_if(ncp),
+             std::max(b.patch.degree[0] + e[0], b.patch.degree[1] + e[1]), R.sample_bytes(elements(0), elements(1)));
       for (int d = 0; d < 2; ++d) b.patch.elevate(d, e[d]);
     }
     if (r["insert_knots"]) {
@@ -371,7 +380,8 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
                  "at most " + std::to_string(kMaxInsertedKnots) + " knots per direction; use subdivide for uniform refinement");
         ncp[d] = b.patch.ncp(d) + (ik[d].IsSequence() ? static_cast<long long>(ik[d].size()) : 0);
       }
-      R.fits(key, ik, dofs_if(ncp), max_degree());
+      R.fits(key, ik, dofs_if(ncp), max_degree(),
+             R.sample_bytes(elements(0) + (ncp[0] - b.patch.ncp(0)), elements(1) + (ncp[1] - b.patch.ncp(1))));
       for (int d = 0; d < 2; ++d) {
         const auto ks = R.numbers(ik[d], key + "[" + std::to_string(d) + "]");
         const auto& U = b.patch.knots[d];
@@ -390,7 +400,8 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
         if (s[d] < 1 || s[d] > 100000) R.fail(path + ".refine.subdivide", r["subdivide"], "must be 1..100000");
         ncp[d] = b.patch.ncp(d) + static_cast<long long>(s[d] - 1) * static_cast<long long>(b.patch.element_spans(d).size());
       }
-      R.fits(path + ".refine.subdivide", r["subdivide"], dofs_if(ncp), max_degree());
+      R.fits(path + ".refine.subdivide", r["subdivide"], dofs_if(ncp), max_degree(),
+             R.sample_bytes(elements(0) * s[0], elements(1) * s[1]));
       for (int d = 0; d < 2; ++d) b.patch.subdivide(d, s[d]);
     }
   }
@@ -538,7 +549,7 @@ Teuchos::RCP<const Teuchos::ParameterList> muelu_xml(const Reader& R, const YAML
   return list;
 }
 
-Problem build(const Reader& R, const YAML::Node& root) {
+Problem build(Reader& R, const YAML::Node& root) {
   Problem P;
   P.file = R.file;
   if (!root.IsMap()) R.fail("(top level)", root, "expected a mapping with analysis, bodies, ...");
@@ -559,6 +570,14 @@ Problem build(const Reader& R, const YAML::Node& root) {
       if (P.load_steps < 1 || P.load_steps > kMaxLoadSteps)
         R.fail("analysis.load_steps", a["load_steps"], "must be 1.." + std::to_string(kMaxLoadSteps));
     }
+  }
+
+  // the output sampling counts in the size checks made while the bodies are refined
+  if (root["output"] && root["output"].IsMap() && root["output"]["samples_per_element"]) {
+    const YAML::Node n = root["output"]["samples_per_element"];
+    const int s = R.integer(n, "output.samples_per_element");
+    if (s < 1 || s > 64) R.fail("output.samples_per_element", n, "must be 1..64");
+    R.samples_per_element = s;
   }
 
   if (!root["bodies"]) R.missing("bodies");
@@ -717,16 +736,14 @@ Problem build(const Reader& R, const YAML::Node& root) {
 
   // The whole problem, output samples included, must fit the machine.
   {
-    double dofs = 0, samples = 0;
+    double dofs = 0, out_bytes = 0;
     int degree = 1;
     for (const auto& b : P.bodies) {
       dofs += 2.0 * static_cast<double>(b.patch.cp.size());
       degree = std::max({degree, b.patch.degree[0], b.patch.degree[1]});
-      const double s = P.output.samples_per_element;
-      samples += (s * b.patch.element_spans(0).size() + 1) * (s * b.patch.element_spans(1).size() + 1);
+      out_bytes += R.sample_bytes(static_cast<double>(b.patch.element_spans(0).size()),
+                                  static_cast<double>(b.patch.element_spans(1).size()));
     }
-    // a sampled point costs ~30 doubles on rank 0 (fields, the HDF5 image, the VTK cells)
-    const double out_bytes = samples * 240.0;
     const bool output_dominates = out_bytes > 0.5 * dofs * 103.0 * (2 * degree + 1) * (2 * degree + 1);
     if (output_dominates && root["output"] && root["output"]["samples_per_element"])
       R.fits("output.samples_per_element", root["output"]["samples_per_element"], dofs, degree, out_bytes);

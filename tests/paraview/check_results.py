@@ -47,7 +47,8 @@ def child(kind, path):
             "PVDReader": lambda: PVDReader(FileName=path)}[kind]
     reader = make()
     reader.UpdatePipelineInformation()
-    times = [float(t) for t in reader.TimestepValues] if reader.TimestepValues else []
+    tv = reader.TimestepValues   # a list, or a single float where there is one time step
+    times = ([float(t) for t in tv] if hasattr(tv, "__len__") else [float(tv)]) if tv is not None else []
 
     def leaves(d):
         out = []
