@@ -83,7 +83,13 @@ Args parse_args(int argc, char** argv) {
 void describe(const iga::Problem& P, int ranks, std::ostream& os) {
   long long dofs = 0;
   os << "problem " << P.file << ": " << (P.analysis == iga::Analysis::PlaneStrain ? "plane strain" : "plane stress")
-     << ", " << P.load_steps << " load step(s)\n";
+     << ", " << P.load_steps << " load step(s)";
+  if (P.num_stages() > 1) {
+    os << " in " << P.num_stages() << " stages [";
+    for (int k = 0; k < P.num_stages(); ++k) os << (k ? ", " : "") << P.stages[k];
+    os << "]";
+  }
+  os << "\n";
   for (const auto& b : P.bodies) {
     const auto& pt = b.patch;
     dofs += 2LL * pt.cp.size();
@@ -163,11 +169,12 @@ int run(int argc, char** argv) {
   if (const char* f = std::getenv("IGACONTACT_TEST_FAULT"))
     if (*f && std::atoi(f) == comm->getRank()) throw std::runtime_error("injected fault (IGACONTACT_TEST_FAULT)");
   const bool show = root && !args.quiet;
-  if (show) std::printf("%5s %4s %4s %12s %8s %8s %9s\n", "step", "aug", "it", "residual", "active", "lin.its", "seconds");
+  if (show) std::printf("%5s %8s %4s %4s %4s %12s %8s %8s %6s %9s\n", "step", "t", "cut", "aug", "it", "residual", "active",
+                        "lin.its", "ls", "seconds");
   auto progress = [&](const iga::IterationLog& l) {
     if (show) {
-      std::printf("%5d %4d %4d %12.3e %8d %8d %9.2f\n", l.step, l.augmentation, l.iteration, l.residual, l.active,
-                  l.linear_iterations, l.seconds);
+      std::printf("%5d %8.4g %4d %4d %4d %12.3e %8d %8d %6.3g %9.2f\n", l.step, l.lambda, l.cuts, l.augmentation, l.iteration,
+                  l.residual, l.active, l.linear_iterations, l.line_search, l.seconds);
       std::fflush(stdout);
     }
   };

@@ -144,6 +144,7 @@ nlohmann::json ResultWriter::contact_json(const std::vector<ContactPairData>& co
 void ResultWriter::step(const StepState& st) {
   Teuchos::TimeMonitor tm(*Teuchos::TimeMonitor::getNewTimer("6) Output"));
   nlohmann::json h = {{"stage", st.stage}, {"step", st.step}, {"load_factor", st.lambda},
+                      {"stage_fraction", st.load_factor}, {"cuts", st.cuts},
                       {"reactions", reactions_json(sys_, *st.residual)}};
   nlohmann::json pairs = nlohmann::json::array();
   for (const auto& c : contact_json(*st.contact))
@@ -340,6 +341,8 @@ nlohmann::json ResultWriter::finish(const SolveResult& res) {
   const char* tun = std::getenv("GLIBC_TUNABLES");
   summary["malloc_huge_pages"] = tun != nullptr && std::strstr(tun, "glibc.malloc.hugetlb=1") != nullptr;
   summary["newton_iterations"] = res.newton_iterations;
+  summary["cuts"] = res.cuts;
+  summary["stages"] = P.stages;
   summary["linear_iterations"] = res.linear_iterations;
   summary["tangent_pattern_builds"] = res.tangent_rebuilds;
   summary["preconditioner_builds"] = res.preconditioner_builds;

@@ -82,6 +82,7 @@ struct Reader {
   std::vector<Override> overrides;
   double memory_bytes = 0;   // what the machine has available (0: unknown, no size check)
   int samples_per_element = 4;   // output.samples_per_element, read before the bodies
+  int stages = 1;                // analysis.stages, read before the bodies
 
   // Memory of the output sampling of ne0 x ne1 elements: a sampled point costs ~30 doubles
   // on rank 0 (fields, the HDF5 image, the VTK cells).
@@ -149,6 +150,18 @@ struct Reader {
     std::vector<double> v;
     for (size_t k = 0; k < n.size(); ++k) v.push_back(number(n[k], key + "[" + std::to_string(k) + "]"));
     return v;
+  }
+  // A prescribed value: a number (the same at the end of every stage) or a list with one
+  // number per stage (analysis.stages).
+  std::vector<double> staged(const YAML::Node& n, const std::string& key) const {
+    if (n.IsSequence()) {
+      if (static_cast<int>(n.size()) != stages)
+        fail(key, n, "expected a number or a list of " + std::to_string(stages) + " numbers (one per stage)");
+      std::vector<double> v;
+      for (size_t k = 0; k < n.size(); ++k) v.push_back(number(n[k], key + "[" + std::to_string(k) + "]"));
+      return v;
+    }
+    return std::vector<double>(stages, number(n, key));
   }
   // An int or a pair [a, b].
   std::array<int, 2> int_pair(const YAML::Node& n, const std::string& key) const {
@@ -287,13 +300,22 @@ Patch make_quarter_annulus(const Reader& R, const YAML::Node& n, const std::stri
 
 void read_side(const Reader& R, const YAML::Node& n, const std::string& path, SideCondition& sc) {
   R.keys(n, path, {"displacement", "pressure", "traction"});
+  const int K = R.stages;
+  sc.value.assign(K, {0.0, 0.0});
+  sc.p0.assign(K, 0.0);
+  sc.p1.assign(K, 0.0);
+  sc.traction.assign(K, {0.0, 0.0});
   if (n["displacement"]) {
     const YAML::Node d = n["displacement"];
     R.keys(d, path + ".displacement", {"x", "y"});
     if (d.size() == 0) R.fail(path + ".displacement", d, "prescribe x, y or both");
     for (int c = 0; c < 2; ++c) {
       const char* k = c == 0 ? "x" : "y";
-      if (d[k]) { sc.fixed[c] = true; sc.value[c] = R.number(d[k], path + ".displacement." + k); }
+      if (d[k]) {
+        sc.fixed[c] = true;
+        const auto v = R.staged(d[k], path + ".displacement." + k);
+        for (int s = 0; s < K; ++s) sc.value[s][c] = v[s];
+      }
     }
   }
   const int nloads = (n["pressure"] ? 1 : 0) + (n["traction"] ? 1 : 0);
@@ -303,16 +325,24 @@ void read_side(const Reader& R, const YAML::Node& n, const std::string& path, Si
     if (p.IsMap()) {
       R.keys(p, path + ".pressure", {"linear"});
       if (!p["linear"]) R.missing(path + ".pressure.linear");
-      const auto v = R.numbers(p["linear"], path + ".pressure.linear", 2);
-      sc.load = LoadKind::LinearPressure; sc.p0 = v[0]; sc.p1 = v[1];
+      const YAML::Node l = p["linear"];
+      if (!l.IsSequence() || l.size() != 2) R.fail(path + ".pressure.linear", l, "expected a list of 2 numbers");
+      sc.load = LoadKind::LinearPressure;
+      sc.p0 = R.staged(l[0], path + ".pressure.linear[0]");
+      sc.p1 = R.staged(l[1], path + ".pressure.linear[1]");
     } else {
       sc.load = LoadKind::Pressure;
-      sc.p0 = sc.p1 = R.number(p, path + ".pressure");
+      sc.p0 = sc.p1 = R.staged(p, path + ".pressure");
     }
   }
   if (n["traction"]) {
-    const auto v = R.numbers(n["traction"], path + ".traction", 2);
-    sc.load = LoadKind::Traction; sc.traction = {v[0], v[1]};
+    const YAML::Node t = n["traction"];
+    if (!t.IsSequence() || t.size() != 2) R.fail(path + ".traction", t, "expected a list of 2 numbers");
+    sc.load = LoadKind::Traction;
+    for (int c = 0; c < 2; ++c) {
+      const auto v = R.staged(t[c], path + ".traction[" + std::to_string(c) + "]");
+      for (int s = 0; s < K; ++s) sc.traction[s][c] = v[s];
+    }
   }
 }
 
@@ -421,6 +451,13 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
       read_side(R, kv.second, path + ".boundary." + kv.first.as<std::string>(), b.sides[static_cast<int>(s)]);
     }
   }
+  for (auto& sc : b.sides)   // free sides: zero values at every stage end
+    if (sc.value.empty()) {
+      sc.value.assign(R.stages, {0.0, 0.0});
+      sc.p0.assign(R.stages, 0.0);
+      sc.p1.assign(R.stages, 0.0);
+      sc.traction.assign(R.stages, {0.0, 0.0});
+    }
   return b;
 }
 
@@ -550,6 +587,7 @@ Teuchos::RCP<const Teuchos::ParameterList> muelu_xml(const Reader& R, const YAML
 }
 
 Problem build(Reader& R, const YAML::Node& root) {
+  R.stages = 1;
   Problem P;
   P.file = R.file;
   if (!root.IsMap()) R.fail("(top level)", root, "expected a mapping with analysis, bodies, ...");
@@ -557,7 +595,7 @@ Problem build(Reader& R, const YAML::Node& root) {
 
   if (root["analysis"]) {
     const YAML::Node a = root["analysis"];
-    R.keys(a, "analysis", {"type", "thickness", "load_steps"});
+    R.keys(a, "analysis", {"type", "thickness", "load_steps", "stages"});
     if (a["type"]) {
       const std::string t = R.string(a["type"], "analysis.type");
       if (t == "plane_strain") P.analysis = Analysis::PlaneStrain;
@@ -565,11 +603,30 @@ Problem build(Reader& R, const YAML::Node& root) {
       else R.fail("analysis.type", a["type"], "expected plane_strain or plane_stress");
     }
     if (a["thickness"]) P.thickness = R.positive(a["thickness"], "analysis.thickness");
+    if (a["load_steps"] && a["stages"])
+      R.fail("analysis.stages", a["stages"], "give either load_steps or stages (load steps per stage), not both");
     if (a["load_steps"]) {
       P.load_steps = R.integer(a["load_steps"], "analysis.load_steps");
       if (P.load_steps < 1 || P.load_steps > kMaxLoadSteps)
         R.fail("analysis.load_steps", a["load_steps"], "must be 1.." + std::to_string(kMaxLoadSteps));
     }
+    P.stages = {P.load_steps};
+    if (a["stages"]) {
+      const YAML::Node st = a["stages"];
+      if (!st.IsSequence() || st.size() == 0) R.fail("analysis.stages", st, "expected a list of load steps per stage, e.g. [4, 10, 10]");
+      P.stages.clear();
+      long total = 0;
+      for (size_t k = 0; k < st.size(); ++k) {
+        const int n = R.integer(st[k], "analysis.stages[" + std::to_string(k) + "]");
+        if (n < 1) R.fail("analysis.stages[" + std::to_string(k) + "]", st[k], "must be >= 1");
+        total += n;
+        P.stages.push_back(n);
+      }
+      if (total > kMaxLoadSteps)
+        R.fail("analysis.stages", st, "more than " + std::to_string(kMaxLoadSteps) + " load steps in all");
+      P.load_steps = static_cast<int>(total);
+    }
+    R.stages = P.num_stages();
   }
 
   // the output sampling counts in the size checks made while the bodies are refined
@@ -637,7 +694,12 @@ Problem build(Reader& R, const YAML::Node& root) {
     R.keys(s, "solver", {"newton", "linear"});
     if (s["newton"]) {
       const YAML::Node n = s["newton"];
-      R.keys(n, "solver.newton", {"max_iterations", "tolerance"});
+      R.keys(n, "solver.newton", {"max_iterations", "tolerance", "line_search", "max_cuts"});
+      if (n["line_search"]) P.newton.line_search = R.boolean(n["line_search"], "solver.newton.line_search");
+      if (n["max_cuts"]) {
+        P.newton.max_cuts = R.integer(n["max_cuts"], "solver.newton.max_cuts");
+        if (P.newton.max_cuts < 0 || P.newton.max_cuts > 30) R.fail("solver.newton.max_cuts", n["max_cuts"], "must be 0..30");
+      }
       if (n["max_iterations"]) {
         P.newton.max_iterations = R.integer(n["max_iterations"], "solver.newton.max_iterations");
         if (P.newton.max_iterations < 1) R.fail("solver.newton.max_iterations", n["max_iterations"], "must be >= 1");

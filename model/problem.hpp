@@ -27,12 +27,15 @@ enum class Preconditioner { MueLu, ILUT, Relaxation, None };
 
 const char* contact_method_name(ContactMethod m);
 
+/// What a side prescribes. Every value is given per stage (analysis.stages): entry k is the
+/// value at the end of stage k + 1, reached linearly from the end of stage k (the first stage
+/// starts from zero). Without stages there is one stage.
 struct SideCondition {
   std::array<bool, 2> fixed{false, false};   // component prescribed?
-  std::array<double, 2> value{0.0, 0.0};     // prescribed displacement (full load)
+  std::vector<std::array<double, 2>> value;  // prescribed displacement per stage end
   LoadKind load = LoadKind::None;
-  double p0 = 0, p1 = 0;                     // pressure (p0) or linear pressure p0 -> p1
-  std::array<double, 2> traction{0.0, 0.0};
+  std::vector<double> p0, p1;                // pressure (p0) or linear pressure p0 -> p1, per stage end
+  std::vector<std::array<double, 2>> traction;   // per stage end
 };
 
 struct Body {
@@ -59,6 +62,8 @@ struct ContactPair {
 struct NewtonOptions {
   int max_iterations = 30;
   double tolerance = 1e-10;
+  bool line_search = true;   // backtracking on the residual norm
+  int max_cuts = 10;         // a failed load step is retried with half the increment, this many times
 };
 
 struct LinearOptions {
@@ -89,7 +94,9 @@ struct Problem {
   std::string file;
   Analysis analysis = Analysis::PlaneStrain;
   double thickness = 1.0;
-  int load_steps = 1;
+  int load_steps = 1;              // all stages together
+  std::vector<int> stages{1};      // load steps per stage (analysis.stages; else {load_steps})
+  int num_stages() const { return static_cast<int>(stages.size()); }
   std::vector<Body> bodies;
   std::vector<ContactPair> contact;
   NewtonOptions newton;

@@ -270,6 +270,30 @@ double ContactPairData::augment() {
   return max_active_gap_ratio();
 }
 
+void ContactPairData::commit() {
+  auto keep = [](auto& dst, const auto& src) {
+    if (!src.data()) return;
+    if (dst.extent(0) != src.extent(0)) dst = std::decay_t<decltype(dst)>(std::string(src.label()) + "_committed", src.extent(0));
+    Kokkos::deep_copy(dst, src);
+  };
+  keep(committed_.lambda, sp_.lambda);
+  keep(committed_.mxi, sp_.mxi);
+  keep(committed_.melem, sp_.melem);
+  keep(committed_.mspan, sp_.mspan);
+  keep(committed_.valid, sp_.valid);
+  if (mortar_) keep(committed_.lbar, ms_.lbar);
+}
+
+void ContactPairData::restore() {
+  if (!committed_.lambda.data()) return;   // nothing committed yet: the initial state stands
+  Kokkos::deep_copy(sp_.lambda, committed_.lambda);
+  Kokkos::deep_copy(sp_.mxi, committed_.mxi);
+  Kokkos::deep_copy(sp_.melem, committed_.melem);
+  Kokkos::deep_copy(sp_.mspan, committed_.mspan);
+  Kokkos::deep_copy(sp_.valid, committed_.valid);
+  if (mortar_) Kokkos::deep_copy(ms_.lbar, committed_.lbar);
+}
+
 void ContactPairData::reset_multipliers() {
   if (mortar_) Kokkos::deep_copy(ms_.lbar, 0.0);
   else Kokkos::deep_copy(sp_.lambda, 0.0);

@@ -37,6 +37,11 @@ class ContactPairData {
   /// relative to the smallest slave element size.
   double augment();
   void reset_multipliers();
+  /// History: the state a load step starts from (ALM multipliers, the projections that warm
+  /// start the search; friction adds its tangential state here). commit() at a converged load
+  /// step, restore() when one fails and is cut.
+  void commit();
+  void restore();
   double max_active_gap_ratio() const;
   /// Slave points (KTS: quadrature points; mortar: segment quadrature points in use).
   ContactPointState state() const;
@@ -66,6 +71,10 @@ class ContactPairData {
   int index_ = 0;
   bool mortar_ = false;
   GaussRule gauss_;
+  struct Committed {
+    Kokkos::View<double*, MemSpace> lambda, mxi, lbar;
+    Kokkos::View<int*, MemSpace> melem, mspan, valid;
+  } committed_;
   RCP<const Map> replicated_;
   RCP<Import> importer_;
   Kokkos::View<int* [2], MemSpace> slave_rep_, master_rep_;   // replicated dof LIDs of the curves' cps

@@ -14,16 +14,34 @@ namespace {
 Teuchos::Time& timer(const char* name) { return *Teuchos::TimeMonitor::getNewTimer(name); }
 }  // namespace
 
+// The nonlinear core (docs/architecture.md, "The nonlinear core"):
+//
+//   load path    pseudo-time t in [0, K] over the K stages; stage k has n_k load steps; the
+//                prescribed values and loads are piecewise linear in t (System::LoadPoint)
+//   increment    from the committed state at t_c to t_c + dt: Newton with line search, inside
+//                the ALM multiplier updates where a pair uses them
+//   commit       a converged increment: u_c <- u, contact history committed, the step handed
+//                to the caller (output, summary history)
+//   cut          a failed increment (no convergence, divergence, a linear solver failure or
+//                exception, a contact state the discretisation cannot represent): u and the
+//                contact history restored to the committed state, dt halved; after
+//                solver.newton.max_cuts cuts of one load step the run stops (exit 3)
+//
+// Residual r(u, t) = f(t) - K u - f_c(u) (the internal force of the linear material is K u;
+// a nonlinear material will give its own f_int(u) and tangent through the same path).
 SolveResult solve(const System& sys, const std::function<void(const IterationLog&)>& progress,
                   const std::function<void(const StepState&)>& on_step) {
   const Problem& P = sys.problem();
+  const int K_stages = P.num_stages();
   SolveResult res;
   RCP<Matrix> K;
-  RCP<Vector> f;
+  // loads at the end of each stage are assembled when the stage starts: f(t) = (1 - s) f_prev + s f_end
+  RCP<Vector> f_prev, f_end;
   {
     Teuchos::TimeMonitor t(timer("2) Assembly: elasticity"));
     K = sys.assemble_stiffness();
-    f = sys.assemble_loads(1.0);
+    f_prev = rcp(new Vector(sys.owned_map()));
+    f_end = sys.assemble_loads(1.0, 0);
   }
   RCP<MultiVector> Z, X;
   if (P.linear.preconditioner == Preconditioner::MueLu && P.linear.method != LinearMethod::Direct) {
@@ -47,56 +65,69 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
   RCP<Vector> u_conv = rcp(new Vector(*u, Teuchos::Copy));
   RCP<Vector> r = rcp(new Vector(sys.owned_map()));
   RCP<Vector> du = rcp(new Vector(sys.owned_map()));
+  RCP<Vector> u_trial = rcp(new Vector(sys.owned_map()));
+  RCP<Vector> f = rcp(new Vector(sys.owned_map()));
+  for (auto& c : res.contact) c.commit();
 
-  // r = lambda f - K u - f_c(u), with the contact state updated at u
-  auto residual = [&](double lambda, ContactContribution& cc) {
+  // r = f - K u - f_c(u), with the contact state updated at u
+  auto residual = [&](const Vector& uu, ContactContribution& cc) {
     {
       Teuchos::TimeMonitor t(timer("3) Contact: search and assembly"));
-      for (auto& c : res.contact) c.update(*u);
+      for (auto& c : res.contact) c.update(uu);
       if (!res.contact.empty()) cc = assemble_contact(sys, res.contact);
     }
-    K->apply(*u, *r);
-    r->update(lambda, *f, -1.0);
+    K->apply(uu, *r);
+    r->update(1.0, *f, -1.0);
     if (!cc.f.is_null()) r->update(-1.0, *cc.f, 1.0);
   };
+  auto finite = [](double x) { return std::isfinite(x); };
 
   const auto t0 = std::chrono::steady_clock::now();
-  // the preconditioner is built at a load step's first Newton iteration and kept while it
-  // serves (linear_solver.hpp): the active set changes most when the load does
+  auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   PreconditionerCache prec;
-  for (int step = 1; step <= P.load_steps; ++step) {
-    const double lambda = static_cast<double>(step) / P.load_steps;
-    prec.clear();
-    sys.set_dirichlet(*u, lambda);
-    bool step_ok = false;
-    int newton_its = 0;
-    double ref = 0;
+  int prec_pattern = -1;   // tangent pattern the kept preconditioner was built for
+
+  // One increment to the load point lp from the committed state: Newton (with line search)
+  // inside the ALM updates. Returns "" on convergence, else why not.
+  struct Outcome {
     std::string why;
-    for (int aug = 0; aug < max_aug && !step_ok; ++aug) {
+    int newton_its = 0;
+  };
+  auto increment = [&](const LoadPoint& lp, int step, int cuts) -> Outcome {
+    Outcome out;
+    f->update(1.0 - lp.s, *f_prev, lp.s, *f_end, 0.0);
+    prec.clear();
+    sys.set_dirichlet(*u, lp);
+    double ref = 0;
+    for (int aug = 0; aug < max_aug; ++aug) {
       bool newton_ok = false;
-      double increment = 1.0;  // last ||du|| / ||u|| (max norms)
+      double inc = 1.0;  // last ||alpha du|| / ||u|| (max norms)
+      ContactContribution cc;
+      try {
+        residual(*u, cc);
+      } catch (const ContactError& e) {
+        out.why = e.what();
+        return out;
+      }
       for (int it = 0; it <= P.newton.max_iterations; ++it) {
-        ContactContribution cc;
-        try {
-          residual(lambda, cc);
-        } catch (const ContactError& e) {   // e.g. the mortar segmentation of a diverging state
-          why = e.what();
-          break;
-        }
         sys.zero_dirichlet(*r);
         const double norm = r->norm2();
         if (aug == 0 && it == 0) ref = norm;
         const double rel = ref > 0 ? norm / ref : 0.0;
         IterationLog log;
-        log.step = step; log.augmentation = aug; log.iteration = it; log.lambda = lambda;
-        log.residual = rel; log.active = cc.active;
-        if (!std::isfinite(norm) || rel > 1e12) { why = "the residual diverged"; break; }
+        log.step = step; log.augmentation = aug; log.iteration = it; log.lambda = lp.time();
+        log.residual = rel; log.active = cc.active; log.cuts = cuts;
+        if (!finite(norm) || rel > 1e12) {
+          out.why = finite(norm) ? "the residual diverged" : "the residual is not a number (NaN or Inf)";
+          if (progress) progress(log);
+          return out;
+        }
         // converged: the relative residual is below the tolerance, or (large penalties) the
         // residual is small and stagnates at round-off while the increment is at machine
         // precision relative to u
-        const bool roundoff = it > 0 && rel < 1e-6 && increment < 1e-12;
+        const bool roundoff = it > 0 && rel < 1e-6 && inc < 1e-12;
         if (rel <= P.newton.tolerance || norm == 0.0 || roundoff) {
-          log.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+          log.seconds = seconds();
           if (progress) progress(log);
           newton_ok = true;
           break;
@@ -105,9 +136,9 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
           std::ostringstream os;
           os << "Newton reached solver.newton.max_iterations = " << P.newton.max_iterations
              << " at relative residual " << rel;
-          why = os.str();
+          out.why = os.str();
           if (progress) progress(log);
-          break;
+          return out;
         }
         RCP<Matrix> KT;
         {
@@ -115,20 +146,62 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
           KT = tangent.build(cc.K);
           sys.apply_dirichlet(*KT);
         }
+        // a preconditioner built for another sparsity pattern cannot be applied to this one
+        if (tangent.rebuilds() != prec_pattern) { prec.clear(); prec_pattern = tangent.rebuilds(); }
         du->putScalar(0.0);
-        const LinearSolveResult lr = solve_linear(P.linear, KT, du, r, Z, X, &prec);
+        LinearSolveResult lr;
+        try {
+          lr = solve_linear(P.linear, KT, du, r, Z, X, &prec);
+        } catch (const std::exception& e) {   // Trilinos' exceptions: a failed increment, not an internal error
+          std::string what = e.what();
+          while (!what.empty() && std::isspace(static_cast<unsigned char>(what.back()))) what.pop_back();
+          what = what.substr(what.find_last_of('\n') + 1);
+          out.why = "the linear solver failed: " + what;
+          prec.clear();
+          return out;
+        }
         res.linear_iterations += lr.iterations;
         log.linear_iterations = lr.iterations;
-        log.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        if (!lr.converged || !finite(du->normInf())) {
+          out.why = !lr.converged ? lr.message : "the linear solver returned NaN or Inf";
+          log.seconds = seconds();
+          if (progress) progress(log);
+          return out;
+        }
+        // backtracking line search on the residual norm: the full step first (its residual
+        // is the next iteration's, so an accepted full step costs nothing extra)
+        double alpha = 1.0, best_alpha = 1.0, best_norm = -1.0, last_alpha = -1.0;
+        const int max_ls = P.newton.line_search ? 6 : 0;
+        for (int ls = 0; ls <= max_ls; ++ls, alpha *= 0.5) {
+          u_trial->update(1.0, *u, alpha, *du, 0.0);
+          try {
+            residual(*u_trial, cc);
+          } catch (const ContactError& e) {
+            if (ls == max_ls && best_norm < 0) { out.why = e.what(); return out; }
+            continue;
+          }
+          last_alpha = alpha;
+          sys.zero_dirichlet(*r);
+          const double tn = r->norm2();
+          if (!finite(tn)) continue;
+          if (tn <= (1.0 - 1e-4 * alpha) * norm) { best_alpha = alpha; best_norm = tn; break; }   // sufficient decrease
+          if (best_norm < 0 || tn < best_norm) { best_norm = tn; best_alpha = alpha; }
+        }
+        if (best_norm < 0) { out.why = "the line search found no finite residual"; return out; }
+        if (best_alpha != last_alpha) {   // the last trial was not the best: back to the best
+          u_trial->update(1.0, *u, best_alpha, *du, 0.0);
+          residual(*u_trial, cc);
+        }
+        log.line_search = best_alpha;
+        log.seconds = seconds();
         if (progress) progress(log);
-        if (!lr.converged) { why = lr.message; break; }
-        u->update(1.0, *du, 1.0);
+        std::swap(u, u_trial);
         const double un = u->normInf();
-        increment = un > 0 ? du->normInf() / un : 0.0;
-        ++newton_its;
+        inc = un > 0 ? best_alpha * du->normInf() / un : 0.0;
+        ++out.newton_its;
       }
-      if (!newton_ok) break;
-      if (!alm) { step_ok = true; break; }
+      if (!newton_ok) return out;
+      if (!alm) return out;
       // augmented Lagrangian: stop when the gaps are closed, else update the multipliers
       double worst = 0;
       bool gaps_ok = true;
@@ -139,47 +212,100 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
         worst = std::max(worst, ratio);
         if (ratio > c.pair().alm_tolerance) { gaps_ok = false; c.augment(); }
       }
-      if (gaps_ok) step_ok = true;
-      else if (aug + 1 == max_aug) {
+      if (gaps_ok) return out;
+      if (aug + 1 == max_aug) {
         std::ostringstream os;
         os << "the augmented Lagrangian reached contact.augmentations = " << max_aug - 1
            << " with the largest gap at " << worst
            << " times the slave element size; try more contact.augmentations, a larger contact penalty (faster "
               "multiplier convergence) or a looser contact.alm_tolerance";
-        why = os.str();
+        out.why = os.str();
       }
     }
-    if (!step_ok) {
-      std::ostringstream os;
-      os << "load step " << step << " of " << P.load_steps << " did not converge: " << why;
-      if (why.find("try ") == std::string::npos)
-        os << "; try more analysis.load_steps, a smaller contact penalty, or more solver.newton.max_iterations";
-      res.message = os.str();
-      u = u_conv;
-      break;
+    return out;
+  };
+
+  double t_conv = 0.0;
+  int step = 0;
+  bool failed = false;
+  for (int k = 0; k < K_stages && !failed; ++k) {
+    if (k > 0) {
+      Teuchos::TimeMonitor t(timer("2) Assembly: elasticity"));
+      f_prev = f_end;
+      f_end = sys.assemble_loads(1.0, k);
     }
-    res.newton_iterations.push_back(newton_its);
-    res.steps_converged = step;
-    res.lambda = lambda;
-    u_conv = rcp(new Vector(*u, Teuchos::Copy));
-    if (on_step) {
-      // the residual at u with its constrained rows (the Newton loop zeroes them): reactions
-      ContactContribution cc;
-      residual(lambda, cc);
-      StepState st;
-      st.step = step;
-      st.lambda = lambda;
-      st.u = u.get();
-      st.residual = r.get();
-      st.contact = &res.contact;
-      on_step(st);
+    const int n = P.stages[k];
+    const double dt_nominal = 1.0 / n;
+    for (int j = 1; j <= n && !failed; ++j) {
+      const double t_target = k + static_cast<double>(j) / n;
+      double dt = std::min(dt_nominal, t_target - t_conv);
+      int cuts = 0;
+      while (t_conv < t_target - 1e-12 * dt_nominal) {
+        const double t_try = std::min(t_conv + dt, t_target);
+        const LoadPoint lp = LoadPoint::at(t_try, K_stages);
+        const Outcome o = increment(lp, step + 1, cuts);
+        if (o.why.empty()) {
+          // commit
+          ++step;
+          t_conv = t_try;
+          u_conv = rcp(new Vector(*u, Teuchos::Copy));
+          for (auto& c : res.contact) c.commit();
+          res.newton_iterations.push_back(o.newton_its);
+          res.steps_converged = step;
+          res.lambda = t_try;
+          if (on_step) {
+            // the residual at u with its constrained rows (the Newton loop zeroes them): reactions
+            ContactContribution cc;
+            residual(*u, cc);
+            StepState st;
+            st.stage = k + 1;
+            st.step = step;
+            st.lambda = t_try;
+            st.load_factor = lp.s;
+            st.cuts = cuts;
+            st.u = u.get();
+            st.residual = r.get();
+            st.contact = &res.contact;
+            on_step(st);
+          }
+          dt = std::min(2.0 * dt, dt_nominal);   // after a cut, grow back towards the nominal step
+          continue;
+        }
+        // cut: back to the committed state, half the increment
+        u = rcp(new Vector(*u_conv, Teuchos::Copy));
+        for (auto& c : res.contact) c.restore();
+        ++res.cuts;
+        if (++cuts > P.newton.max_cuts) {
+          std::ostringstream os;
+          os << "load step " << j << " of " << n;
+          if (K_stages > 1) os << " in stage " << k + 1 << " of " << K_stages;
+          os << " did not converge after " << P.newton.max_cuts << " cuts of its increment (last at t = " << t_try
+             << ", increment " << dt << "): " << o.why;
+          if (o.why.find("try ") == std::string::npos)
+            os << "; try more load steps, a smaller contact penalty, or more solver.newton.max_iterations";
+          res.message = os.str();
+          failed = true;
+          break;
+        }
+        dt *= 0.5;
+      }
     }
   }
-  res.converged = res.steps_converged == P.load_steps;
+  res.converged = !failed;
   res.u = u_conv;
   u = u_conv;
+  for (auto& c : res.contact) c.restore();
+  f->update(1.0, *f_end, 0.0);
+  if (failed) {
+    const LoadPoint lp = LoadPoint::at(t_conv, K_stages);
+    // loads of the kept state: rebuild f at t_conv (its stage's loads may not be f_prev/f_end)
+    const RCP<Vector> fa = lp.stage > 0 ? sys.assemble_loads(1.0, lp.stage - 1) : rcp(new Vector(sys.owned_map()));
+    const RCP<Vector> fb = sys.assemble_loads(1.0, lp.stage);
+    f->update(1.0 - lp.s, *fa, lp.s, *fb, 0.0);
+    if (t_conv == 0.0) f->putScalar(0.0);
+  }
   ContactContribution cc;
-  residual(res.lambda, cc);
+  residual(*u, cc);
   res.residual = r;
   res.tangent_rebuilds = tangent.rebuilds();
   res.preconditioner_builds = prec.builds;

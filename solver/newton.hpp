@@ -1,6 +1,8 @@
 #pragma once
-// Load stepping with Newton-Raphson; the contact active set is re-evaluated every
-// iteration; augmented Lagrangian methods wrap the Newton solve in multiplier updates.
+// The nonlinear core: load path over stages, Newton-Raphson with a backtracking line search,
+// automatic cutting of failed load increments, contact history committed at converged steps
+// (newton.cpp says how). The contact active set is re-evaluated every iteration; augmented
+// Lagrangian methods wrap the Newton solve in multiplier updates.
 #include <functional>
 #include <string>
 #include <vector>
@@ -15,6 +17,8 @@ struct IterationLog {
   int step = 0, augmentation = 0, iteration = 0;
   double lambda = 0, residual = 0;   // residual relative to the step's first residual
   int active = 0, linear_iterations = 0;
+  int cuts = 0;               // cuts of this load step's increment so far
+  double line_search = 1.0;   // step length the line search took (1: the full Newton step)
   double seconds = 0;
 };
 
@@ -24,9 +28,10 @@ struct SolveResult {
   std::vector<int> newton_iterations;      // per converged load step
   int linear_iterations = 0;               // total
   int steps_converged = 0;
+  int cuts = 0;                            // failed increments retried with half the step
   int tangent_rebuilds = 0;                // times K_T's pattern was built (tangent.hpp)
   int preconditioner_builds = 0;           // preconditioners built (kept over Newton iterations)
-  double lambda = 0;                       // load factor of the kept (last converged) state
+  double lambda = 0;                       // load path time t of the kept (last converged) state
   RCP<Vector> u;                           // displacement of the kept state
   RCP<Vector> residual;                    // lambda f - K u - f_c at u (reactions: minus it)
   std::vector<ContactPairData> contact;    // contact state at u
@@ -35,9 +40,11 @@ struct SolveResult {
 /// The state at a converged load step, handed to the caller before the next step starts
 /// (output of the time series, the summary's history). Valid only during the call.
 struct StepState {
-  int stage = 1;              // load stage (1 until stages exist)
-  int step = 0;               // converged load steps so far, 1-based
-  double lambda = 0;          // load factor
+  int stage = 1;              // load stage, 1-based
+  int step = 0;               // converged load steps so far (all stages, cuts included), 1-based
+  double lambda = 0;          // load path time t in (0, K]: stage - 1 + load_factor
+  double load_factor = 0;     // fraction of the stage
+  int cuts = 0;               // cuts this step needed
   const Vector* u = nullptr;
   const Vector* residual = nullptr;               // lambda f - K u - f_c at u (reactions: minus it)
   const std::vector<ContactPairData>* contact = nullptr;   // contact state at u

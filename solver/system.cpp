@@ -108,7 +108,11 @@ System::System(const Problem& problem, RCP<const Comm> comm) : P_(problem), comm
           if (sc.fixed[c]) {
             const GO dof = 2 * (bodies_[b].cp_offset + a) + c;
             if (owned_->isNodeGlobalElement(dof) && !dd.count(dof))
-              dd[dof] = DirichletDof{dof, static_cast<int>(b), s, sc.value[c]};
+            {
+              std::vector<double> v;
+              for (const auto& e : sc.value) v.push_back(e[c]);
+              dd[dof] = DirichletDof{dof, static_cast<int>(b), s, v};
+            }
           }
     }
   for (const auto& kv : dd) {
@@ -337,7 +341,15 @@ RCP<Matrix> System::assemble_stiffness() const {
   return K;
 }
 
-RCP<Vector> System::assemble_loads(double lambda) const {
+LoadPoint LoadPoint::at(double t, int num_stages) {
+  LoadPoint lp;
+  lp.stage = std::clamp(static_cast<int>(std::ceil(t)) - 1, 0, num_stages - 1);
+  lp.s = t - lp.stage;
+  return lp;
+}
+
+RCP<Vector> System::assemble_loads(double lambda, int stage) const {
+  if (stage < 0) stage = P_.num_stages() - 1;
   Vector f_ov(overlap_);
   {
     auto f = Kokkos::subview(f_ov.getLocalViewDevice(Tpetra::Access::ReadWrite), Kokkos::ALL(), 0);
@@ -350,8 +362,8 @@ RCP<Vector> System::assemble_loads(double lambda) const {
         k.pd = bd.pd;
         k.load.side = s;
         k.load.kind = sc.load == LoadKind::Traction ? 3 : 1;
-        k.load.p0 = sc.p0; k.load.p1 = sc.p1;
-        k.load.t[0] = sc.traction[0]; k.load.t[1] = sc.traction[1];
+        k.load.p0 = sc.p0[stage]; k.load.p1 = sc.p1[stage];
+        k.load.t[0] = sc.traction[stage][0]; k.load.t[1] = sc.traction[stage][1];
         k.load.scale = lambda * P_.thickness;
         k.load.orientation = bd.orientation;
         const int d = s <= 1 ? 1 : 0;
@@ -402,9 +414,13 @@ RCP<Vector> System::assemble_loads(double lambda) const {
   return export_vector(f_ov);
 }
 
-void System::set_dirichlet(Vector& u, double lambda) const {
+void System::set_dirichlet(Vector& u, const LoadPoint& lp) const {
   auto h = u.getLocalViewHost(Tpetra::Access::ReadWrite);
-  for (size_t k = 0; k < dirichlet_.size(); ++k) h(dirichlet_lids_[k], 0) = lambda * dirichlet_[k].value;
+  for (size_t k = 0; k < dirichlet_.size(); ++k) {
+    const auto& v = dirichlet_[k].values;
+    const double prev = lp.stage > 0 ? v[lp.stage - 1] : 0.0;
+    h(dirichlet_lids_[k], 0) = (1.0 - lp.s) * prev + lp.s * v[lp.stage];
+  }
 }
 
 void System::zero_dirichlet(Vector& v) const {

@@ -27,11 +27,22 @@ struct BodyData {
   std::vector<int> lid;   // host copy of pd.lid
 };
 
-/// A constrained dof, the side it is reported under, and its prescribed value (full load).
+/// A constrained dof, the side it is reported under, and its prescribed value at the end of
+/// each stage.
 struct DirichletDof {
   GO dof;
   int body, side;
-  double value;
+  std::vector<double> values;
+};
+
+/// A point of the load path: pseudo-time t in [0, K] over the K stages; stage k (0-based)
+/// covers (k, k + 1], and a prescribed value there is (1 - s) v_{k-1} + s v_k with s = t - k
+/// and v_{-1} = 0 (v_k: its value at the end of stage k + 1).
+struct LoadPoint {
+  int stage = 0;
+  double s = 1.0;
+  static LoadPoint at(double t, int num_stages);
+  double time() const { return stage + s; }
 };
 
 class System {
@@ -47,8 +58,9 @@ class System {
 
   /// Elastic stiffness, owned rows, fill complete (no boundary conditions).
   RCP<Matrix> assemble_stiffness() const;
-  /// External load vector (Neumann conditions) at load factor `lambda`.
-  RCP<Vector> assemble_loads(double lambda) const;
+  /// External load vector (Neumann conditions): lambda times the loads at the end of stage
+  /// `stage` (0-based; -1: the last).
+  RCP<Vector> assemble_loads(double lambda, int stage = -1) const;
 
   /// C++ API: a traction t(x, y) on a side, in addition to the problem file's loads
   /// (verification against analytic solutions; integrated on the host).
@@ -57,8 +69,8 @@ class System {
 
   /// The locally owned constrained dofs.
   const std::vector<DirichletDof>& dirichlet() const { return dirichlet_; }
-  /// Sets u on constrained dofs to lambda times their prescribed values.
-  void set_dirichlet(Vector& u, double lambda) const;
+  /// Sets u on constrained dofs to their prescribed values at a point of the load path.
+  void set_dirichlet(Vector& u, const LoadPoint& lp) const;
   /// Zeroes constrained dofs of v.
   void zero_dirichlet(Vector& v) const;
   /// Symmetric elimination: rows and columns of constrained dofs become zero with the
