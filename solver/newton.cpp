@@ -190,7 +190,12 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
         if (best_norm < 0) { out.why = "the line search found no finite residual"; return out; }
         if (best_alpha != last_alpha) {   // the last trial was not the best: back to the best
           u_trial->update(1.0, *u, best_alpha, *du, 0.0);
-          residual(*u_trial, cc);
+          try {
+            residual(*u_trial, cc);
+          } catch (const ContactError& e) {
+            out.why = e.what();
+            return out;
+          }
         }
         log.line_search = best_alpha;
         log.seconds = seconds();
