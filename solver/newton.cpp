@@ -69,7 +69,9 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
   RCP<Vector> f = rcp(new Vector(sys.owned_map()));
   for (auto& c : res.contact) c.commit();
 
-  // r = f - K u - f_c(u), with the contact state updated at u
+  // r = f - K u - f_c(u), with the contact state updated at u; its constrained rows (the
+  // reactions, which the Newton loop zeroes for the solve) are kept in r_fixed
+  std::vector<double> r_fixed;
   auto residual = [&](const Vector& uu, ContactContribution& cc) {
     {
       Teuchos::TimeMonitor t(timer("3) Contact: search and assembly"));
@@ -79,6 +81,7 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
     K->apply(uu, *r);
     r->update(1.0, *f, -1.0);
     if (!cc.f.is_null()) r->update(-1.0, *cc.f, 1.0);
+    r_fixed = sys.constrained_entries(*r);
   };
   auto finite = [](double x) { return std::isfinite(x); };
 
@@ -259,9 +262,9 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
           res.steps_converged = step;
           res.lambda = t_try;
           if (on_step) {
-            // the residual at u with its constrained rows (the Newton loop zeroes them): reactions
-            ContactContribution cc;
-            residual(*u, cc);
+            // r is the residual at the converged u (its last evaluation); its constrained rows
+            // back in place give the reactions
+            sys.set_constrained_entries(*r, r_fixed);
             StepState st;
             st.stage = k + 1;
             st.step = step;

@@ -423,6 +423,19 @@ void System::set_dirichlet(Vector& u, const LoadPoint& lp) const {
   }
 }
 
+std::vector<double> System::constrained_entries(const Vector& v) const {
+  auto h = v.getLocalViewHost(Tpetra::Access::ReadOnly);
+  std::vector<double> e;
+  e.reserve(dirichlet_lids_.size());
+  for (int l : dirichlet_lids_) e.push_back(h(l, 0));
+  return e;
+}
+
+void System::set_constrained_entries(Vector& v, const std::vector<double>& entries) const {
+  auto h = v.getLocalViewHost(Tpetra::Access::ReadWrite);
+  for (size_t k = 0; k < dirichlet_lids_.size(); ++k) h(dirichlet_lids_[k], 0) = entries[k];
+}
+
 void System::zero_dirichlet(Vector& v) const {
   auto h = v.getLocalViewHost(Tpetra::Access::ReadWrite);
   for (int l : dirichlet_lids_) h(l, 0) = 0.0;

@@ -73,6 +73,10 @@ class System {
   void set_dirichlet(Vector& u, const LoadPoint& lp) const;
   /// Zeroes constrained dofs of v.
   void zero_dirichlet(Vector& v) const;
+  /// The entries of v on the constrained dofs (dirichlet() order), and writing them back:
+  /// the reactions of a residual whose constrained rows were zeroed for the solve.
+  std::vector<double> constrained_entries(const Vector& v) const;
+  void set_constrained_entries(Vector& v, const std::vector<double>& entries) const;
   /// Symmetric elimination: rows and columns of constrained dofs become zero with the
   /// original diagonal kept, so CG still applies.
   void apply_dirichlet(Matrix& A) const;
