@@ -10,6 +10,7 @@
 #include "kernels/types.hpp"
 #include "model/geometry_check.hpp"
 #include "model/nurbs.hpp"
+#include "tests/patches.hpp"
 #include "model/problem.hpp"
 #include "support.hpp"
 
@@ -25,14 +26,7 @@ Patch bilinear(std::array<double, 2> a, std::array<double, 2> b, std::array<doub
   return P;
 }
 
-Patch annulus(double ri, double ro) {
-  Patch P;
-  P.degree = {2, 1};
-  P.knots = {uniform_open_knots(2, 1), uniform_open_knots(1, 1)};
-  const double w = std::sqrt(0.5);
-  for (double r : {ri, ro}) P.cp.insert(P.cp.end(), {{r, 0, 1}, {r, r, w}, {0, r, 1}});
-  return P;
-}
+using iga::test::annulus;
 
 // Biquadratic unit square, control points on a 3 x 3 grid.
 Patch biquadratic_square() {

@@ -7,6 +7,7 @@
 #include "kernels/nurbs_basis.hpp"
 #include "model/bezier.hpp"
 #include "model/nurbs.hpp"
+#include "tests/patches.hpp"
 
 using namespace iga;
 
@@ -19,14 +20,7 @@ std::vector<double> test_knots(int p) {
   return U;
 }
 
-Patch annulus(double ri, double ro) {
-  Patch P;
-  P.degree = {2, 1};
-  P.knots = {uniform_open_knots(2, 1), uniform_open_knots(1, 1)};
-  const double w = std::sqrt(0.5);
-  for (double r : {ri, ro}) P.cp.insert(P.cp.end(), {{r, 0, 1}, {r, r, w}, {0, r, 1}});
-  return P;
-}
+using iga::test::annulus;
 }  // namespace
 
 class BasisDegree : public ::testing::TestWithParam<int> {};
