@@ -169,12 +169,20 @@ int run(int argc, char** argv) {
   if (const char* f = std::getenv("IGACONTACT_TEST_FAULT"))
     if (*f && std::atoi(f) == comm->getRank()) throw std::runtime_error("injected fault (IGACONTACT_TEST_FAULT)");
   const bool show = root && !args.quiet;
-  if (show) std::printf("%5s %8s %4s %4s %4s %12s %8s %8s %6s %9s\n", "step", "t", "cut", "aug", "it", "residual", "active",
-                        "lin.its", "ls", "seconds");
+  // friction: the stick and slip counts and the points that changed state beside the active set
+  bool friction = false;
+  for (const auto& c : P.contact) friction = friction || c.friction > 0;
+  if (show) {
+    std::printf("%5s %8s %4s %4s %4s %12s %8s", "step", "t", "cut", "aug", "it", "residual", "active");
+    if (friction) std::printf(" %6s %6s %6s", "stick", "slip", "switch");
+    std::printf(" %8s %6s %9s\n", "lin.its", "ls", "seconds");
+  }
   auto progress = [&](const iga::IterationLog& l) {
     if (show) {
-      std::printf("%5d %8.4g %4d %4d %4d %12.3e %8d %8d %6.3g %9.2f\n", l.step, l.lambda, l.cuts, l.augmentation, l.iteration,
-                  l.residual, l.active, l.linear_iterations, l.line_search, l.seconds);
+      std::printf("%5d %8.4g %4d %4d %4d %12.3e %8d", l.step, l.lambda, l.cuts, l.augmentation, l.iteration, l.residual,
+                  l.active);
+      if (friction) std::printf(" %6d %6d %6d", l.stick, l.slip, l.switches);
+      std::printf(" %8d %6.3g %9.2f\n", l.linear_iterations, l.line_search, l.seconds);
       std::fflush(stdout);
     }
   };

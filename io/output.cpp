@@ -136,7 +136,11 @@ nlohmann::json ResultWriter::contact_json(const std::vector<ContactPairData>& co
                    {"max_pressure", s.max_pressure},
                    {"contact_length", s.contact_length},
                    {"max_penetration", s.max_penetration},
-                   {"active_points", s.active_points}});
+                   {"active_points", s.active_points},
+                   {"friction", c.pair().friction},
+                   {"tangential_force", s.tangential_force},
+                   {"stick_length", s.stick_length},
+                   {"slip_length", s.slip_length}});
   }
   return out;
 }
@@ -148,7 +152,8 @@ void ResultWriter::step(const StepState& st) {
                       {"reactions", reactions_json(sys_, *st.residual)}};
   nlohmann::json pairs = nlohmann::json::array();
   for (const auto& c : contact_json(*st.contact))
-    pairs.push_back({{"normal_force", c["normal_force"]}, {"force", c["force"]}});
+    pairs.push_back({{"normal_force", c["normal_force"]}, {"tangential_force", c["tangential_force"]}, {"force", c["force"]},
+                     {"stick_length", c["stick_length"]}, {"slip_length", c["slip_length"]}});
   h["contact"] = pairs;
   history_.push_back(h);
   if (sys_.problem().output.all_steps) write_state(st.step, st.lambda, *st.u, *st.contact);
@@ -264,7 +269,7 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
       const Patch& spt = P.bodies[pair.slave.body].patch;
       const BodyField field(P, pair.slave.body, disp[pair.slave.body]);
       const hsize_t n = cs.x.size();
-      std::vector<double> xyz, d3, xyz_def, gap(cs.gap), active;
+      std::vector<double> xyz, d3, xyz_def, gap(cs.gap), active, state;
       std::vector<int> conn;
       for (size_t i = 0; i < n; ++i) {
         const auto uv = side_point(spt, pair.slave.side, cs.xi[i]);
@@ -273,6 +278,7 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
         d3.insert(d3.end(), {fp.ux, fp.uy, 0.0});
         xyz_def.insert(xyz_def.end(), {cs.x[i], cs.y[i], 0.0});
         active.push_back(cs.active[i]);
+        state.push_back(cs.state[i]);
         conn.push_back(static_cast<int>(i));
       }
       for (double& gv : gap)
@@ -287,13 +293,16 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
       f.write(g + "/pressure", cs.pressure, {n});
       f.write(g + "/xi", cs.xi, {n});
       f.write(g + "/active", active, {n});
+      f.write(g + "/tangential_traction", cs.tangential, {n});
+      f.write(g + "/slip", cs.slip, {n});
+      f.write(g + "/state", state, {n});
       grids << "   <Grid Name=\"contact_" << k << "\" GridType=\"Uniform\">\n"
             << "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n << "\" NodesPerElement=\"1\">"
             << data_item(h5name, g + "/conn", {n}, true) << "</Topology>\n"
             << "    <Geometry GeometryType=\"XYZ\">" << data_item(h5name, g + "/xyz", {n, 3}) << "</Geometry>\n"
             << "    <Attribute Name=\"displacement\" AttributeType=\"Vector\" Center=\"Node\">"
             << data_item(h5name, g + "/displacement", {n, 3}) << "</Attribute>\n";
-      for (const char* a : {"gap", "pressure", "xi", "active"})
+      for (const char* a : {"gap", "pressure", "xi", "active", "tangential_traction", "slip", "state"})
         grids << "    <Attribute Name=\"" << a << "\" AttributeType=\"Scalar\" Center=\"Node\">"
               << data_item(h5name, g + "/" + a, {n}) << "</Attribute>\n";
       grids << "   </Grid>\n";
@@ -390,10 +399,10 @@ nlohmann::json ResultWriter::finish(const SolveResult& res) {
       const auto& s = cstate[k];
       std::ostringstream csv;
       csv.precision(12);
-      csv << "x,y,xi,gap,pressure,active\n";
+      csv << "x,y,xi,gap,pressure,active,tangential_traction,slip,state\n";
       for (size_t i = 0; i < s.x.size(); ++i)
         csv << s.x[i] << "," << s.y[i] << "," << s.xi[i] << "," << s.gap[i] << "," << s.pressure[i] << ","
-            << s.active[i] << "\n";
+            << s.active[i] << "," << s.tangential[i] << "," << s.slip[i] << "," << s.state[i] << "\n";
       write("contact_" + std::to_string(k) + ".csv", csv.str());
     }
     summary["files"] = files_;

@@ -38,11 +38,12 @@ KOKKOS_INLINE_FUNCTION int find_span(int nb, int p, double u, const double* U) {
   return mid;
 }
 
-/// B-spline basis functions and derivatives up to order nd (<= 2) at u in span `span`, for
-/// the compile-time degree p (loops unrolled); bspline_ders below picks p at run time.
+/// B-spline basis functions and derivatives up to order nd (<= 3; ders has nd + 1 rows) at u
+/// in span `span`, for the compile-time degree p (loops unrolled); bspline_ders below picks p
+/// at run time.
 template <int p>
 KOKKOS_INLINE_FUNCTION void bspline_ders_p(int span, double u, const double* U, int nd,
-                                           double ders[3][kMaxBasis1D]) {
+                                           double ders[][kMaxBasis1D]) {
   double left[kMaxBasis1D], right[kMaxBasis1D];
   double ndu[kMaxBasis1D][kMaxBasis1D];
   double inv[kMaxBasis1D][kMaxBasis1D];   // inv[j][r] = 1 / ndu[j][r] (knot differences)
@@ -96,11 +97,11 @@ KOKKOS_INLINE_FUNCTION void bspline_ders_p(int span, double u, const double* U, 
   }
 }
 
-/// B-spline basis functions and derivatives up to order nd (<= 2) at u in span `span`: the
+/// B-spline basis functions and derivatives up to order nd (<= 3) at u in span `span`: the
 /// one switch from the run-time degree to bspline_ders_p (degrees 1..kMaxDegree; the problem
 /// loader rejects others before any kernel runs).
 KOKKOS_INLINE_FUNCTION void bspline_ders(int span, double u, int p, const double* U, int nd,
-                                         double ders[3][kMaxBasis1D]) {
+                                         double ders[][kMaxBasis1D]) {
   switch (p) {
     case 1: bspline_ders_p<1>(span, u, U, nd, ders); break;
     case 2: bspline_ders_p<2>(span, u, U, nd, ders); break;
@@ -127,6 +128,32 @@ KOKKOS_INLINE_FUNCTION void rationalize_1d(int p, const double ders[3][kMaxBasis
     R[1][j] = (ders[1][j] * w[j] - R[0][j] * W1) * iW;
     R[2][j] = (ders[2][j] * w[j] - 2.0 * R[1][j] * W1 - R[0][j] * W2) * iW;
   }
+}
+
+/// Rational curve basis R_j and its derivatives up to the third (Leibniz on R w-weighted):
+///   R''' = (N''' w - 3 R'' W' - 3 R' W'' - R W''') / W.
+KOKKOS_INLINE_FUNCTION void rationalize_1d_3(int p, const double ders[4][kMaxBasis1D], const double* w,
+                                             double R[4][kMaxBasis1D]) {
+  double W[4] = {0, 0, 0, 0};
+  for (int k = 0; k < 4; ++k)
+    for (int j = 0; j <= p; ++j) W[k] += ders[k][j] * w[j];
+  const double iW = 1.0 / W[0];
+  for (int j = 0; j <= p; ++j) {
+    R[0][j] = ders[0][j] * w[j] * iW;
+    R[1][j] = (ders[1][j] * w[j] - R[0][j] * W[1]) * iW;
+    R[2][j] = (ders[2][j] * w[j] - 2.0 * R[1][j] * W[1] - R[0][j] * W[2]) * iW;
+    R[3][j] = (ders[3][j] * w[j] - 3.0 * R[2][j] * W[1] - 3.0 * R[1][j] * W[2] - R[0][j] * W[3]) * iW;
+  }
+}
+
+/// NURBS curve basis functions of span `span` and their first three parametric derivatives at u.
+template <class WView>
+KOKKOS_INLINE_FUNCTION void curve_basis3_span(int span, int p, const double* U, const WView& wgt, double u,
+                                              double R[4][kMaxBasis1D]) {
+  double ders[4][kMaxBasis1D], w[kMaxBasis1D];
+  bspline_ders(span, u, p, U, 3, ders);
+  for (int j = 0; j <= p; ++j) w[j] = wgt(span - p + j);
+  rationalize_1d_3(p, ders, w, R);
 }
 
 /// Point, first and second parametric derivative of a NURBS curve at u in the given span

@@ -653,7 +653,8 @@ Problem build(Reader& R, const YAML::Node& root) {
     for (size_t k = 0; k < c.size(); ++k) {
       const std::string path = "contact[" + std::to_string(k) + "]";
       const YAML::Node n = c[k];
-      R.keys(n, path, {"master", "slave", "method", "penalty", "quadrature_points", "augmentations", "alm_tolerance"});
+      R.keys(n, path, {"master", "slave", "method", "penalty", "quadrature_points", "augmentations", "alm_tolerance",
+                       "friction", "tangential_penalty"});
       ContactPair cp;
       if (!n["master"]) R.missing(path + ".master");
       if (!n["slave"]) R.missing(path + ".slave");
@@ -685,6 +686,17 @@ Problem build(Reader& R, const YAML::Node& root) {
         if (cp.augmentations < 1) R.fail(path + ".augmentations", n["augmentations"], "must be >= 1");
       }
       if (n["alm_tolerance"]) cp.alm_tolerance = R.positive(n["alm_tolerance"], path + ".alm_tolerance");
+      if (n["friction"]) {
+        cp.friction = R.number(n["friction"], path + ".friction");
+        if (!(cp.friction >= 0) || !std::isfinite(cp.friction))
+          R.fail(path + ".friction", n["friction"], "the Coulomb coefficient must be a number >= 0");
+      }
+      cp.tangential_penalty = n["tangential_penalty"] ? R.positive(n["tangential_penalty"], path + ".tangential_penalty")
+                                                      : cp.penalty;
+      if (!(cp.tangential_penalty * P.thickness >= std::numeric_limits<double>::min()) ||
+          !std::isfinite(cp.tangential_penalty * P.thickness))
+        R.fail(path + ".tangential_penalty", n["tangential_penalty"] ? n["tangential_penalty"] : n["penalty"],
+               "tangential_penalty x thickness is not a normal floating-point number; rescale the units");
       P.contact.push_back(cp);
     }
   }
@@ -779,6 +791,12 @@ Problem build(Reader& R, const YAML::Node& root) {
   // tangent (the -p G term of the moving projection) is not positive definite far from the
   // solution.
   if (!P.linear.method_given) P.linear.method = P.contact.empty() ? LinearMethod::CG : LinearMethod::GMRES;
+  // friction in slip makes the tangent non-symmetric: CG does not apply
+  for (size_t k = 0; k < P.contact.size(); ++k)
+    if (P.contact[k].friction > 0 && P.linear.method == LinearMethod::CG)
+      R.fail("solver.linear.method", root["solver"]["linear"]["method"],
+             "cg needs a symmetric tangent, and friction (contact[" + std::to_string(k) +
+                 "].friction > 0) makes it non-symmetric in slip; use gmres or direct");
 
   // Scales: stiffness and penalty times thickness must stay normal floating-point numbers
   // (a thickness of 1e-320 made every stiffness vanish and "converged" at zero displacement).

@@ -57,6 +57,8 @@ struct ContactPair {
   int quadrature_points = 0;        // per slave knot span; 0 = degree + 2
   int augmentations = 50;           // ALM: maximum multiplier updates
   double alm_tolerance = 1e-8;      // ALM: gap tolerance relative to slave element size
+  double friction = 0;              // Coulomb coefficient mu (0: frictionless)
+  double tangential_penalty = 0;    // eps_T (the loader sets it, default = penalty)
 };
 
 struct NewtonOptions {

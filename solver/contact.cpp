@@ -49,6 +49,64 @@ CurveData make_curve(const System& sys, const ContactSurface& s, std::vector<GO>
   d.lid = Kokkos::View<int*, MemSpace>("lid", d.nb);
   return d;
 }
+/// Search grid over the master element boxes (convex hull of their current control points).
+SearchGrid build_search_grid(const CurveData& m) {
+  Kokkos::View<double* [4], MemSpace> dbox("boxes", m.ne);
+  {
+    Kokkos::parallel_for("iga::MasterElementBoxes", Kokkos::RangePolicy<ExecSpace>(0, m.ne), KOKKOS_LAMBDA(const int e) {
+      double b[4] = {1e300, 1e300, -1e300, -1e300};
+      for (int k = m.span(e) - m.p; k <= m.span(e); ++k) {
+        const double x = m.X(k, 0) + m.u(k, 0), y = m.X(k, 1) + m.u(k, 1);
+        b[0] = x < b[0] ? x : b[0];
+        b[1] = y < b[1] ? y : b[1];
+        b[2] = x > b[2] ? x : b[2];
+        b[3] = y > b[3] ? y : b[3];
+      }
+      for (int c = 0; c < 4; ++c) dbox(e, c) = b[c];
+    });
+  }
+  // grid cells of twice the largest box size; each box, grown by that size, goes into the
+  // cells it overlaps
+  auto hbox = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), dbox);
+  double ext = 0, X0 = 1e300, Y0 = 1e300, X1 = -1e300, Y1 = -1e300;
+  for (int e = 0; e < m.ne; ++e) {
+    ext = std::max({ext, hbox(e, 2) - hbox(e, 0), hbox(e, 3) - hbox(e, 1)});
+    X0 = std::min(X0, hbox(e, 0)); Y0 = std::min(Y0, hbox(e, 1));
+    X1 = std::max(X1, hbox(e, 2)); Y1 = std::max(Y1, hbox(e, 3));
+  }
+  const double margin = std::max(ext, 1e-12);
+  SearchGrid grid;
+  grid.h = 2 * margin;
+  grid.x0 = X0 - margin;
+  grid.y0 = Y0 - margin;
+  grid.nx = std::max(1, static_cast<int>(std::ceil((X1 - X0 + 2 * margin) / grid.h)));
+  grid.ny = std::max(1, static_cast<int>(std::ceil((Y1 - Y0 + 2 * margin) / grid.h)));
+  // (cell, element) pairs sorted by cell: only the non-empty cells are stored
+  std::vector<std::pair<long long, int>> pairs;
+  pairs.reserve(4 * static_cast<size_t>(m.ne));
+  for (int e = 0; e < m.ne; ++e) {
+    const int i0 = std::max(0, grid.cell_of(hbox(e, 0) - margin, 0)), i1 = std::min(grid.nx - 1, grid.cell_of(hbox(e, 2) + margin, 0));
+    const int j0 = std::max(0, grid.cell_of(hbox(e, 1) - margin, 1)), j1 = std::min(grid.ny - 1, grid.cell_of(hbox(e, 3) + margin, 1));
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i) pairs.emplace_back(i + static_cast<long long>(grid.nx) * j, e);
+  }
+  std::sort(pairs.begin(), pairs.end());
+  std::vector<long long> key;
+  std::vector<int> start, elems(pairs.size());
+  for (size_t k = 0; k < pairs.size(); ++k) {
+    if (k == 0 || pairs[k].first != pairs[k - 1].first) {
+      key.push_back(pairs[k].first);
+      start.push_back(static_cast<int>(k));
+    }
+    elems[k] = pairs[k].second;
+  }
+  start.push_back(static_cast<int>(pairs.size()));
+  grid.key = dview("grid_key", key);
+  grid.start = dview("grid_start", start);
+  grid.elems = dview("grid_elems", elems);
+  grid.box = dbox;
+  return grid;
+}
 }  // namespace
 
 ContactPairData::ContactPairData(const System& sys, int index) : pair_(sys.problem().contact[index]), index_(index) {
@@ -149,6 +207,49 @@ ContactPairData::ContactPairData(const System& sys, int index) : pair_(sys.probl
     Kokkos::deep_copy(rep, h);
     (which == 0 ? slave_rep_ : master_rep_) = rep;
   }
+  // friction
+  fr_.mu = pair_.friction;
+  fr_.epsT = pair_.tangential_penalty > 0 ? pair_.tangential_penalty : pair_.penalty;
+  fr_.ref_valid = Kokkos::View<int*, MemSpace>("ref_valid", n);
+  fr_.ref_mxi = Kokkos::View<double*, MemSpace>("ref_mxi", n);
+  fr_.ds = Kokkos::View<double*, MemSpace>("ds", n);
+  fr_.tau = Kokkos::View<double*, MemSpace>("tau", n);
+  fr_.slip = Kokkos::View<double*, MemSpace>("slip", n);
+  fr_.slip_c = Kokkos::View<double*, MemSpace>("slip_c", n);
+  fr_.lamT = Kokkos::View<double*, MemSpace>("lamT", n);
+  fr_.state = Kokkos::View<int*, MemSpace>("state", n);
+  fr_.tangent = Kokkos::View<double* [2], MemSpace>("tangent", n);
+  state_prev_ = Kokkos::View<int*, MemSpace>("state_prev", n);
+  if (mortar_) {
+    const int nb = slave.nb;
+    fr_.sA = Kokkos::View<double*, MemSpace>("sA", nb);
+    fr_.tauA = Kokkos::View<double*, MemSpace>("tauA", nb);
+    fr_.slipA = Kokkos::View<double*, MemSpace>("slipA", nb);
+    fr_.slipA_c = Kokkos::View<double*, MemSpace>("slipA_c", nb);
+    fr_.lamTA = Kokkos::View<double*, MemSpace>("lamTA", nb);
+    fr_.stateA = Kokkos::View<int*, MemSpace>("stateA", nb);
+    // the committed configuration: curves with their own displacement views, and the
+    // reference projections of the slots (sharing the slots' parameters and weights)
+    slave_c_ = slave;
+    master_c_ = master;
+    slave_c_.u = Kokkos::View<double* [2], MemSpace>("u_committed", slave.nb);
+    master_c_.u = Kokkos::View<double* [2], MemSpace>("u_committed", master.nb);
+    ref_sp_ = sp_;
+    ref_sp_.lambda = Kokkos::View<double*, MemSpace>("ref_lambda", n);
+    ref_sp_.valid = Kokkos::View<int*, MemSpace>("ref_valid", n);
+    ref_sp_.mspan = Kokkos::View<int*, MemSpace>("ref_mspan", n);
+    ref_sp_.melem = Kokkos::View<int*, MemSpace>("ref_melem", n);
+    ref_sp_.mxi = fr_.ref_mxi;
+    ref_sp_.gap = Kokkos::View<double*, MemSpace>("ref_gap", n);
+    ref_sp_.pressure = Kokkos::View<double*, MemSpace>("ref_pressure", n);
+    ref_sp_.x = Kokkos::View<double* [2], MemSpace>("ref_x", n);
+    ref_sp_.normal = Kokkos::View<double* [2], MemSpace>("ref_normal", n);
+    ref_sp_.valid = fr_.ref_valid;
+  }
+  // the state in the reference configuration (u = 0) is the first committed one: the
+  // reference projections of friction start there
+  refresh();
+  commit();
 }
 
 void ContactPairData::update(const Vector& u) {
@@ -165,62 +266,11 @@ void ContactPairData::update(const Vector& u) {
       });
     }
   }
-  // search grid over the master element boxes (convex hull of their current control points)
-  Kokkos::View<double* [4], MemSpace> dbox("boxes", master.ne);
-  {
-    const CurveData m = master;
-    Kokkos::parallel_for("iga::MasterElementBoxes", Kokkos::RangePolicy<ExecSpace>(0, m.ne), KOKKOS_LAMBDA(const int e) {
-      double b[4] = {1e300, 1e300, -1e300, -1e300};
-      for (int k = m.span(e) - m.p; k <= m.span(e); ++k) {
-        const double x = m.X(k, 0) + m.u(k, 0), y = m.X(k, 1) + m.u(k, 1);
-        b[0] = x < b[0] ? x : b[0];
-        b[1] = y < b[1] ? y : b[1];
-        b[2] = x > b[2] ? x : b[2];
-        b[3] = y > b[3] ? y : b[3];
-      }
-      for (int c = 0; c < 4; ++c) dbox(e, c) = b[c];
-    });
-  }
-  // grid cells of twice the largest box size; each box, grown by that size, goes into the
-  // cells it overlaps
-  auto hbox = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), dbox);
-  double ext = 0, X0 = 1e300, Y0 = 1e300, X1 = -1e300, Y1 = -1e300;
-  for (int e = 0; e < master.ne; ++e) {
-    ext = std::max({ext, hbox(e, 2) - hbox(e, 0), hbox(e, 3) - hbox(e, 1)});
-    X0 = std::min(X0, hbox(e, 0)); Y0 = std::min(Y0, hbox(e, 1));
-    X1 = std::max(X1, hbox(e, 2)); Y1 = std::max(Y1, hbox(e, 3));
-  }
-  const double margin = std::max(ext, 1e-12);
-  SearchGrid grid;
-  grid.h = 2 * margin;
-  grid.x0 = X0 - margin;
-  grid.y0 = Y0 - margin;
-  grid.nx = std::max(1, static_cast<int>(std::ceil((X1 - X0 + 2 * margin) / grid.h)));
-  grid.ny = std::max(1, static_cast<int>(std::ceil((Y1 - Y0 + 2 * margin) / grid.h)));
-  // (cell, element) pairs sorted by cell: only the non-empty cells are stored
-  std::vector<std::pair<long long, int>> pairs;
-  pairs.reserve(4 * static_cast<size_t>(master.ne));
-  for (int e = 0; e < master.ne; ++e) {
-    const int i0 = std::max(0, grid.cell_of(hbox(e, 0) - margin, 0)), i1 = std::min(grid.nx - 1, grid.cell_of(hbox(e, 2) + margin, 0));
-    const int j0 = std::max(0, grid.cell_of(hbox(e, 1) - margin, 1)), j1 = std::min(grid.ny - 1, grid.cell_of(hbox(e, 3) + margin, 1));
-    for (int j = j0; j <= j1; ++j)
-      for (int i = i0; i <= i1; ++i) pairs.emplace_back(i + static_cast<long long>(grid.nx) * j, e);
-  }
-  std::sort(pairs.begin(), pairs.end());
-  std::vector<long long> key;
-  std::vector<int> start, elems(pairs.size());
-  for (size_t k = 0; k < pairs.size(); ++k) {
-    if (k == 0 || pairs[k].first != pairs[k - 1].first) {
-      key.push_back(pairs[k].first);
-      start.push_back(static_cast<int>(k));
-    }
-    elems[k] = pairs[k].second;
-  }
-  start.push_back(static_cast<int>(pairs.size()));
-  grid.key = dview("grid_key", key);
-  grid.start = dview("grid_start", start);
-  grid.elems = dview("grid_elems", elems);
-  grid.box = dbox;
+  refresh();
+}
+
+void ContactPairData::refresh() {
+  const SearchGrid grid = build_search_grid(master);
   if (mortar_) {
     MortarSegments ks;
     ks.s = slave; ks.m = master; ks.sp = sp_; ks.grid = grid; ks.gauss = gauss_; ks.thickness = thickness;
@@ -245,28 +295,83 @@ void ContactPairData::update(const Vector& u) {
     Kokkos::parallel_for("iga::MortarPointPressure", Kokkos::RangePolicy<ExecSpace>(0, num_points()), kp);
     Kokkos::fence();
   }
+  update_friction();
   Kokkos::fence();
 }
 
+void ContactPairData::update_friction() {
+  const int n = num_points();
+  if (mortar_) {
+    // eta_n of every slot: its committed slave point projected onto the committed master
+    if (grid_c_.key.data()) {
+      Kokkos::deep_copy(ref_sp_.melem, -1);
+      ProjectSlavePoints k;
+      k.s = slave_c_; k.m = master_c_; k.sp = ref_sp_; k.grid = grid_c_; k.eps = pair_.penalty;
+      Kokkos::parallel_for("iga::ProjectCommittedSlavePoints", Kokkos::RangePolicy<ExecSpace>(0, n), k);
+    } else {
+      Kokkos::deep_copy(fr_.ref_valid, 0);
+    }
+  }
+  FrictionPointUpdate k;
+  k.m = master; k.sp = sp_; k.fr = fr_; k.eps = pair_.penalty; k.mortar = mortar_;
+  Kokkos::parallel_for("iga::FrictionPointUpdate", Kokkos::RangePolicy<ExecSpace>(0, n), k);
+  if (mortar_) {
+    MortarFrictionLaw kl;
+    kl.s = slave; kl.sp = sp_; kl.ms = ms_; kl.fr = fr_; kl.slots = slots;
+    Kokkos::parallel_for("iga::MortarFrictionLaw", Kokkos::RangePolicy<ExecSpace>(0, slave.nb), kl);
+    MortarFrictionPoints kp;
+    kp.s = slave; kp.sp = sp_; kp.ms = ms_; kp.fr = fr_;
+    Kokkos::parallel_for("iga::MortarFrictionPoints", Kokkos::RangePolicy<ExecSpace>(0, n), kp);
+  }
+  // stick / slip counts and the points that changed state since the previous update
+  FrictionCounts c;
+  const auto st = fr_.state, prev = state_prev_;
+  Kokkos::parallel_reduce("iga::FrictionCounts", Kokkos::RangePolicy<ExecSpace>(0, n),
+                          KOKKOS_LAMBDA(const int i, int& stick, int& slip, int& sw) {
+                            stick += st(i) == 1;
+                            slip += st(i) == 2;
+                            sw += st(i) != prev(i);
+                          },
+                          c.stick, c.slip, c.switches);
+  Kokkos::deep_copy(state_prev_, fr_.state);
+  counts_ = c;
+}
+
 double ContactPairData::max_active_gap_ratio() const {
+  double r = 0;
   if (mortar_) {
     const auto g = weighted_gaps(), w = mortar_weights();
     auto act = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms_.active);
-    double r = 0;
     for (size_t A = 0; A < g.size(); ++A)
       if (act(A)) r = std::max(r, std::abs(g[A] / w[A]));
+    if (friction()) {
+      auto sA = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr_.sA);
+      auto stA = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr_.stateA);
+      for (size_t A = 0; A < g.size(); ++A)
+        if (stA(A) == 1) r = std::max(r, std::abs(sA(A)));
+    }
     return r / h_min_;
   }
   const auto st = state();
-  double g = 0;
   for (size_t i = 0; i < st.gap.size(); ++i)
-    if (st.active[i]) g = std::max(g, std::abs(st.gap[i]));
-  return g / h_min_;
+    if (st.active[i]) r = std::max(r, std::abs(st.gap[i]));
+  if (friction()) {
+    auto ds = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr_.ds);
+    auto fs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr_.state);
+    for (int i = 0; i < num_points(); ++i)
+      if (fs(i) == 1) r = std::max(r, std::abs(ds(i)));
+  }
+  return r / h_min_;
 }
 
 double ContactPairData::augment() {
-  if (mortar_) Kokkos::deep_copy(ms_.lbar, ms_.lambda);
-  else Kokkos::deep_copy(sp_.lambda, sp_.pressure);
+  if (mortar_) {
+    Kokkos::deep_copy(ms_.lbar, ms_.lambda);
+    Kokkos::deep_copy(fr_.lamTA, fr_.tauA);
+  } else {
+    Kokkos::deep_copy(sp_.lambda, sp_.pressure);
+    Kokkos::deep_copy(fr_.lamT, fr_.tau);
+  }
   return max_active_gap_ratio();
 }
 
@@ -282,6 +387,22 @@ void ContactPairData::commit() {
   keep(committed_.mspan, sp_.mspan);
   keep(committed_.valid, sp_.valid);
   if (mortar_) keep(committed_.lbar, ms_.lbar);
+  // friction: the converged tractions start the next step's trial (and its ALM multipliers),
+  // the accumulated slip moves on, and the converged projections become the references
+  if (mortar_) {
+    Kokkos::deep_copy(fr_.lamTA, fr_.tauA);
+    Kokkos::deep_copy(fr_.slipA_c, fr_.slipA);
+    keep(committed_.lamTA, fr_.lamTA);
+    Kokkos::deep_copy(slave_c_.u, slave.u);
+    Kokkos::deep_copy(master_c_.u, master.u);
+    grid_c_ = build_search_grid(master_c_);
+  } else {
+    Kokkos::deep_copy(fr_.lamT, fr_.tau);
+    Kokkos::deep_copy(fr_.slip_c, fr_.slip);
+    keep(committed_.lamT, fr_.lamT);
+    Kokkos::deep_copy(fr_.ref_mxi, sp_.mxi);
+    Kokkos::deep_copy(fr_.ref_valid, sp_.valid);
+  }
 }
 
 void ContactPairData::restore() {
@@ -292,11 +413,18 @@ void ContactPairData::restore() {
   Kokkos::deep_copy(sp_.mspan, committed_.mspan);
   Kokkos::deep_copy(sp_.valid, committed_.valid);
   if (mortar_) Kokkos::deep_copy(ms_.lbar, committed_.lbar);
+  if (mortar_) Kokkos::deep_copy(fr_.lamTA, committed_.lamTA);
+  else Kokkos::deep_copy(fr_.lamT, committed_.lamT);
 }
 
 void ContactPairData::reset_multipliers() {
-  if (mortar_) Kokkos::deep_copy(ms_.lbar, 0.0);
-  else Kokkos::deep_copy(sp_.lambda, 0.0);
+  if (mortar_) {
+    Kokkos::deep_copy(ms_.lbar, 0.0);
+    Kokkos::deep_copy(fr_.lamTA, 0.0);
+  } else {
+    Kokkos::deep_copy(sp_.lambda, 0.0);
+    Kokkos::deep_copy(fr_.lamT, 0.0);
+  }
 }
 
 namespace {
@@ -337,6 +465,10 @@ ContactPointState ContactPairData::state() const {
   auto valid = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.valid);
   auto w = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.weight);
   auto span = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.span);
+  auto tau = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr_.tau);
+  auto slip = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr_.slip);
+  auto fst = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr_.state);
+  auto tan = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr_.tangent);
   for (int i = 0; i < n; ++i) {
     if (span(i) < 0) continue;   // unused mortar slot
     s.x.push_back(x(i, 0));
@@ -349,6 +481,11 @@ ContactPointState ContactPairData::state() const {
     s.weight.push_back(w(i));
     if (mortar_) s.active.push_back(valid(i) && pr(i) > 0 ? 1 : 0);
     else s.active.push_back(valid(i) && lam(i) - pair_.penalty * gap(i) >= 0 ? 1 : 0);
+    s.tangential.push_back(tau(i));
+    s.slip.push_back(slip(i));
+    s.state.push_back(fst(i));
+    s.tx.push_back(tan(i, 0));
+    s.ty.push_back(tan(i, 1));
   }
   return s;
 }
@@ -360,8 +497,11 @@ ContactSummary ContactPairData::summary() const {
     if (!st.active[i]) continue;
     ++c.active_points;
     c.normal_force += st.pressure[i] * st.weight[i];
-    c.fx += st.pressure[i] * st.weight[i] * st.nx[i];
-    c.fy += st.pressure[i] * st.weight[i] * st.ny[i];
+    c.fx += st.weight[i] * (st.pressure[i] * st.nx[i] + st.tangential[i] * st.tx[i]);
+    c.fy += st.weight[i] * (st.pressure[i] * st.ny[i] + st.tangential[i] * st.ty[i]);
+    c.tangential_force += st.tangential[i] * st.weight[i];
+    if (st.state[i] == 1) c.stick_length += st.weight[i] / thickness;
+    if (st.state[i] == 2) c.slip_length += st.weight[i] / thickness;
     c.max_pressure = std::max(c.max_pressure, st.pressure[i]);
     c.contact_length += st.weight[i] / thickness;
     c.max_penetration = std::max(c.max_penetration, -st.gap[i]);
@@ -478,6 +618,20 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
           k.p_begin = pd.p_begin; k.mortar = pd.mortar(); k.K = lcl; k.f = fv;
           Kokkos::parallel_for(pd.mortar() ? "iga::AssembleMortarPressure" : "iga::AssembleKts",
                                Kokkos::RangePolicy<ExecSpace>(0, pd.p_end - pd.p_begin), k);
+        });
+      if (pd.friction() && pd.p_end > pd.p_begin)
+        dispatch_degree(std::max(pd.slave.p, pd.master.p), [&](auto P) {
+          AssembleFriction<decltype(P)::value, decltype(lcl), decltype(fv)> k;
+          k.s = pd.slave; k.m = pd.master; k.sp = pd.sp_; k.fr = pd.fr_; k.eps = pd.pair().penalty;
+          k.p_begin = pd.p_begin; k.mortar = pd.mortar(); k.K = lcl; k.f = fv;
+          Kokkos::parallel_for("iga::AssembleFriction", Kokkos::RangePolicy<ExecSpace>(0, pd.p_end - pd.p_begin), k);
+        });
+      if (pd.friction() && pd.mortar() && pd.a_end > pd.a_begin)
+        dispatch_degree(std::max(pd.slave.p, pd.master.p), [&](auto P) {
+          AssembleMortarFriction<decltype(P)::value, decltype(lcl)> k;
+          k.s = pd.slave; k.m = pd.master; k.sp = pd.sp_; k.ms = pd.ms_; k.fr = pd.fr_; k.eps = pd.pair().penalty;
+          k.slots = pd.slots; k.a_begin = pd.a_begin; k.K = lcl;
+          Kokkos::parallel_for("iga::AssembleMortarFriction", Kokkos::RangePolicy<ExecSpace>(0, pd.a_end - pd.a_begin), k);
         });
       if (pd.mortar() && pd.a_end > pd.a_begin) {
         AssembleMortarGap<decltype(lcl)> k;

@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "kernels/contact_mortar.hpp"
+#include "kernels/contact_friction.hpp"
 #include "solver/system.hpp"
 
 namespace iga {
@@ -16,14 +16,23 @@ struct ContactError : std::runtime_error {
 };
 
 /// Host copy of one pair's slave point state, for output and convergence checks.
+/// tangential: traction on the slave along the unit master tangent (tx, ty) (increasing
+/// master parameter); slip: accumulated, same sign; state: 0 open, 1 stick, 2 slip.
 struct ContactPointState {
-  std::vector<double> x, y, xi, gap, pressure, weight, nx, ny;
-  std::vector<int> active;
+  std::vector<double> x, y, xi, gap, pressure, weight, nx, ny, tangential, slip, tx, ty;
+  std::vector<int> active, state;
 };
 
 struct ContactSummary {
   double normal_force = 0, fx = 0, fy = 0, max_pressure = 0, contact_length = 0, max_penetration = 0;
+  double tangential_force = 0, stick_length = 0, slip_length = 0;
   int active_points = 0;
+};
+
+/// Friction state counts of a pair (all points, every rank holds them): stick, slip, and the
+/// points whose state changed since the previous update.
+struct FrictionCounts {
+  int stick = 0, slip = 0, switches = 0;
 };
 
 class ContactPairData {
@@ -38,11 +47,16 @@ class ContactPairData {
   double augment();
   void reset_multipliers();
   /// History: the state a load step starts from (ALM multipliers, the projections that warm
-  /// start the search; friction adds its tangential state here). commit() at a converged load
-  /// step, restore() when one fails and is cut.
+  /// start the search, and friction's: the reference projections eta_n, the committed
+  /// tangential tractions and the accumulated slip). commit() at a converged load step,
+  /// restore() when one fails and is cut.
   void commit();
   void restore();
+  /// ALM convergence: the largest gap of the active points and, with friction, the largest
+  /// slip increment of the stick points, relative to the smallest slave element size.
   double max_active_gap_ratio() const;
+  bool friction() const { return fr_.mu > 0; }
+  FrictionCounts friction_counts() const { return counts_; }
   /// Slave points (KTS: quadrature points; mortar: segment quadrature points in use).
   ContactPointState state() const;
   ContactSummary summary() const;
@@ -65,6 +79,8 @@ class ContactPairData {
   MortarState ms_;
   int slots = 0;                           // quadrature slots per slave element
   int a_begin = 0, a_end = 0;              // this rank's slave control points
+  // friction (every pair: the slip and state outputs; assembled only where mu > 0)
+  FrictionData fr_;
 
  private:
   ContactPair pair_;
@@ -72,9 +88,18 @@ class ContactPairData {
   bool mortar_ = false;
   GaussRule gauss_;
   struct Committed {
-    Kokkos::View<double*, MemSpace> lambda, mxi, lbar;
+    Kokkos::View<double*, MemSpace> lambda, mxi, lbar, lamT, lamTA;
     Kokkos::View<int*, MemSpace> melem, mspan, valid;
   } committed_;
+  // mortar friction: the committed curves (their displacements at the last converged step)
+  // and search grid, onto which the slots' reference projections eta_n are computed
+  CurveData slave_c_, master_c_;
+  SearchGrid grid_c_;
+  SlavePoints ref_sp_;
+  Kokkos::View<int*, MemSpace> state_prev_;
+  FrictionCounts counts_;
+  void refresh();          // search, projection and contact state at the curves' current u
+  void update_friction();
   RCP<const Map> replicated_;
   RCP<Import> importer_;
   Kokkos::View<int* [2], MemSpace> slave_rep_, master_rep_;   // replicated dof LIDs of the curves' cps

@@ -120,6 +120,10 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
         IterationLog log;
         log.step = step; log.augmentation = aug; log.iteration = it; log.lambda = lp.time();
         log.residual = rel; log.active = cc.active; log.cuts = cuts;
+        for (const auto& c : res.contact) {
+          const FrictionCounts fc = c.friction_counts();
+          log.stick += fc.stick; log.slip += fc.slip; log.switches += fc.switches;
+        }
         if (!finite(norm) || rel > 1e12) {
           out.why = finite(norm) ? "the residual diverged" : "the residual is not a number (NaN or Inf)";
           if (progress) progress(log);
@@ -301,6 +305,17 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
   }
   res.converged = !failed;
   res.u = u_conv;
+  res.tangent_rebuilds = tangent.rebuilds();
+  res.preconditioner_builds = prec.builds;
+  if (!failed) {
+    // the last residual evaluation was at the converged u of the last step: its contact state
+    // (stick and slip as the step converged) and residual are the kept ones. (Evaluating
+    // again from the committed state would put the slip points at the Coulomb bound with a
+    // zero slip increment, where round-off decides between stick and slip.)
+    sys.set_constrained_entries(*r, r_fixed);
+    res.residual = r;
+    return res;
+  }
   u = u_conv;
   for (auto& c : res.contact) c.restore();
   f->update(1.0, *f_end, 0.0);
@@ -315,8 +330,6 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
   ContactContribution cc;
   residual(*u, cc);
   res.residual = r;
-  res.tangent_rebuilds = tangent.rebuilds();
-  res.preconditioner_builds = prec.builds;
   return res;
 }
 

@@ -17,6 +17,7 @@ struct IterationLog {
   int step = 0, augmentation = 0, iteration = 0;
   double lambda = 0, residual = 0;   // residual relative to the step's first residual
   int active = 0, linear_iterations = 0;
+  int stick = 0, slip = 0, switches = 0;   // friction: points in stick, in slip, that changed state
   int cuts = 0;               // cuts of this load step's increment so far
   double line_search = 1.0;   // step length the line search took (1: the full Newton step)
   double seconds = 0;

