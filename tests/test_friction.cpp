@@ -221,3 +221,119 @@ TEST_P(AlmStick, StickPointsDoNotSlipWhateverThePenalty) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, AlmStick, ::testing::Values("kts_alm", "mortar_alm"));
+
+namespace {
+
+/// Hertz and Cattaneo-Mindlin for two cylinders of the same material (plane strain), P and Q
+/// per unit length from the computed forces: a = sqrt(4 P R / (pi E*)), p0 = 2 P / (pi a),
+/// c = a sqrt(1 - Q / (mu P)), q(x) = mu p0 [sqrt(1 - x^2/a^2) - (c/a) sqrt(1 - x^2/c^2)] in
+/// the stick zone |x| < c, mu p in the slip zones (Johnson, Contact Mechanics, 7.1).
+struct MindlinCheck {
+  double P = 0, Q = 0, a = 0, p0 = 0, c = 0, c_num = 0, a_num = 0, err_p = 0, err_q = 0;
+};
+
+MindlinCheck mindlin(const ContactPointState& st, const ContactSummary& cs, double E, double nu, double R, double mu) {
+  MindlinCheck m;
+  const double Es = E / (2 * (1 - nu * nu));
+  m.P = cs.normal_force;
+  m.Q = std::abs(cs.tangential_force);
+  m.a = std::sqrt(4 * m.P * R / (M_PI * Es));
+  m.p0 = 2 * m.P / (M_PI * m.a);
+  m.c = m.a * std::sqrt(1 - m.Q / (mu * m.P));
+  double xc = 0, wsum = 0, lo = 1e300, hi = -1e300, slo = 1e300, shi = -1e300;
+  for (size_t i = 0; i < st.x.size(); ++i)
+    if (st.pressure[i] > 0) {
+      xc += st.pressure[i] * st.weight[i] * st.x[i];
+      wsum += st.pressure[i] * st.weight[i];
+    }
+  xc /= wsum;   // the pressure centroid: the contact centre after the shear moved it
+  double sp = 0, np = 0, sq = 0, nq = 0;
+  for (size_t i = 0; i < st.x.size(); ++i) {
+    if (!(st.pressure[i] > 0)) continue;
+    const double x = st.x[i] - xc;
+    lo = std::min(lo, x); hi = std::max(hi, x);
+    if (st.state[i] == 1) { slo = std::min(slo, x); shi = std::max(shi, x); }
+    const double pe = m.p0 * std::sqrt(std::max(0.0, 1 - x * x / (m.a * m.a)));
+    const double qe = mu * pe - (std::abs(x) < m.c ? mu * m.p0 * (m.c / m.a) * std::sqrt(1 - x * x / (m.c * m.c)) : 0.0);
+    sp += st.weight[i] * std::pow(st.pressure[i] - pe, 2); np += st.weight[i] * pe * pe;
+    sq += st.weight[i] * std::pow(std::abs(st.tangential[i]) - qe, 2); nq += st.weight[i] * qe * qe;
+  }
+  m.a_num = 0.5 * (hi - lo);
+  m.c_num = 0.5 * (shi - slo);
+  m.err_p = std::sqrt(sp / np);
+  m.err_q = std::sqrt(sq / nq);
+  return m;
+}
+
+}  // namespace
+
+// Cattaneo-Mindlin on the example mesh (examples/cattaneo_mindlin.yaml, docs/friction.md has
+// the table under refinement): pressure against Hertz, the stick zone half-width against
+// c = a sqrt(1 - Q / (mu P)) and the shear traction against Johnson's profile. Tolerances:
+// the example's a / R = 0.05 couples the normal and tangential problems by a few percent
+// (the press alone leaves 5 % of Q), which bounds c to 5 % and the L2 shear error to 20 %.
+TEST(CattaneoMindlin, StickZoneAndShearTractionOnTheExampleMesh) {
+  const Solved s = solve_text(read(IGACONTACT_SOURCE_DIR "/examples/cattaneo_mindlin.yaml"));
+  ASSERT_TRUE(s.res.converged) << s.res.message;
+  const auto& c = s.res.contact[0];
+  const MindlinCheck m = mindlin(c.state(), c.summary(), 1000.0, 0.3, 1.0, 0.3);
+  std::printf("  P = %.6g, Q = %.6g (Q / mu P = %.4f), a = %.5g (contact %.5g), c / a = %.4f (stick zone %.4f), "
+              "L2 errors: pressure %.2f %%, shear %.2f %%\n",
+              m.P, m.Q, m.Q / (0.3 * m.P), m.a, m.a_num, m.c / m.a, m.c_num / m.a, 100 * m.err_p, 100 * m.err_q);
+  EXPECT_GT(m.Q / (0.3 * m.P), 0.2);   // partial slip: a stick zone and two slip zones
+  EXPECT_LT(m.Q / (0.3 * m.P), 0.8);
+  EXPECT_NEAR(m.a_num, m.a, 0.05 * m.a);
+  EXPECT_NEAR(m.c_num, m.c, 0.05 * m.a);
+  EXPECT_LT(m.err_p, 0.03);
+  EXPECT_LT(m.err_q, 0.20);
+}
+
+// A press-shear-unshear-reshear cycle (examples/friction_cycle.yaml): the tangential force
+// against the hub displacement runs round a loop (at the same displacement it is larger on
+// the way back than on the way out), and at zero displacement on the way back the shear
+// tractions are locked in (partial slip: the stick zone keeps what it carried).
+TEST(FrictionCycle, HysteresisLoopAndLockedInShearTractions) {
+  const Problem P = parse_problem(read(IGACONTACT_SOURCE_DIR "/examples/friction_cycle.yaml"), "friction_cycle.yaml");
+  System sys(P, Tpetra::getDefaultComm());
+  // hub displacement of the path (stage ends 0, 0.003, -0.003, 0.003), force per step
+  std::vector<double> ux, Q;
+  double locked = 0, p0 = 0;
+  auto on_step = [&](const StepState& st) {
+    const double t = st.lambda;
+    const double x = t <= 1 ? 0.0 : t <= 2 ? 0.003 * (t - 1) : t <= 3 ? 0.003 - 0.006 * (t - 2) : -0.003 + 0.006 * (t - 3);
+    const ContactSummary cs = (*st.contact)[0].summary();
+    ux.push_back(x);
+    Q.push_back(cs.tangential_force);
+    if (std::abs(t - 2.5) < 1e-12) {   // back at zero displacement
+      const auto cp = (*st.contact)[0].state();
+      for (size_t i = 0; i < cp.x.size(); ++i) {
+        locked = std::max(locked, std::abs(cp.tangential[i]));
+        p0 = std::max(p0, cp.pressure[i]);
+      }
+    }
+  };
+  const SolveResult res = solve(sys, {}, on_step);
+  ASSERT_TRUE(res.converged) << res.message;
+  ASSERT_EQ(Q.size(), 22u);
+  // loop: Q at the same displacement on the way down (stage 3) and up (stage 4); the force
+  // is -k x plus friction's memory, so the downward branch lies above the upward one
+  double width = 0;
+  int pairs = 0;
+  for (size_t i = 6; i < 14; ++i)
+    for (size_t j = 14; j < 22; ++j)
+      if (std::abs(ux[i] - ux[j]) < 1e-12) {
+        ++pairs;
+        EXPECT_GT(Q[i] - Q[j], 0.0) << "at hub x = " << ux[i];
+        width = std::max(width, Q[i] - Q[j]);
+      }
+  ASSERT_GE(pairs, 6);
+  // dissipated energy: the loop's area, - oint Q dx over stages 3 and 4 (trapezoids)
+  double area = 0;
+  for (size_t k = 6; k + 1 < 22; ++k) area += 0.5 * (Q[k] + Q[k + 1]) * (ux[k + 1] - ux[k]);
+  std::printf("  loop: %d displacement pairs, largest width %.4g of max |Q| %.4g, area %.4g; locked-in |q| %.3g of "
+              "p0 %.3g at zero displacement\n",
+              pairs, width, std::abs(Q[13]), -area, locked, p0);
+  EXPECT_GT(-area, 0.0);
+  EXPECT_GT(width, 0.01 * std::abs(Q[13]));
+  EXPECT_GT(locked, 0.05 * 0.3 * p0);
+}

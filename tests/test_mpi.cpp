@@ -53,3 +53,14 @@ TEST(OneVersusTwoRanks, WheelMortarPenalty) {
                        {"solver.linear.tolerance=1e-13", "solver.linear.max_iterations=5000", "contact.0.method=mortar_penalty"},
                        1e-9);
 }
+
+TEST(OneVersusTwoRanks, SlidingBlockFriction) {
+  for (const char* m : {"kts_penalty", "mortar_penalty"})
+    compare_one_and_many(read(IGACONTACT_SOURCE_DIR "/examples/sliding_block.yaml"),
+                         {"solver.linear.tolerance=1e-13", std::string("contact.0.method=") + m}, 1e-10);
+}
+
+TEST(OneVersusTwoRanks, CattaneoMindlinFriction) {
+  compare_one_and_many(read(IGACONTACT_SOURCE_DIR "/examples/cattaneo_mindlin.yaml"),
+                       {"solver.linear.tolerance=1e-13", "solver.linear.max_iterations=5000"}, 1e-10);
+}
