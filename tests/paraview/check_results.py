@@ -130,6 +130,7 @@ def main():
         want_p[int(k)] = float(v)
     check(want_disp is not None, "a largest displacement to compare (summary max_displacement or --max-displacement)")
     ncontact = len(want_p)
+    friction_fields = any("tangential_force" in c for c in summary.get("contact", []))
 
     pvpython = shutil.which("pvpython") or sys.executable
     close = lambda a, b: abs(a - b) <= args.rtol * max(abs(a), abs(b), 1e-300)
@@ -184,6 +185,9 @@ def main():
                     what = "%s t=%r block %s" % (tag, t, b["raw_name"])
                     check(b["points"] > 0 and b["cells"] == b["points"], what + ": one vertex cell per point")
                     check(b["point_arrays"].get("gap") == 1, what + ": scalar gap")
+                    if friction_fields:   # outputs that carry friction's fields (every run since they came)
+                        for a in ("tangential_traction", "slip", "state"):
+                            check(b["point_arrays"].get(a) == 1, what + ": scalar " + a)
                     check(3 in b["point_arrays"].values(), what + ": a vector")
                     if named:
                         check(b["name"] is not None and re.fullmatch(r"contact_\d+", b["name"]) is not None, what + ": named contact_<k>")
