@@ -236,7 +236,6 @@ ContactPairData::ContactPairData(const System& sys, int index) : pair_(sys.probl
     master_c_.u = Kokkos::View<double* [2], MemSpace>("u_committed", master.nb);
     ref_sp_ = sp_;
     ref_sp_.lambda = Kokkos::View<double*, MemSpace>("ref_lambda", n);
-    ref_sp_.valid = Kokkos::View<int*, MemSpace>("ref_valid", n);
     ref_sp_.mspan = Kokkos::View<int*, MemSpace>("ref_mspan", n);
     ref_sp_.melem = Kokkos::View<int*, MemSpace>("ref_melem", n);
     ref_sp_.mxi = fr_.ref_mxi;
@@ -244,7 +243,7 @@ ContactPairData::ContactPairData(const System& sys, int index) : pair_(sys.probl
     ref_sp_.pressure = Kokkos::View<double*, MemSpace>("ref_pressure", n);
     ref_sp_.x = Kokkos::View<double* [2], MemSpace>("ref_x", n);
     ref_sp_.normal = Kokkos::View<double* [2], MemSpace>("ref_normal", n);
-    ref_sp_.valid = fr_.ref_valid;
+    ref_sp_.valid = fr_.ref_valid;   // the projection writes eta_n and its validity into fr_
   }
   // the state in the reference configuration (u = 0) is the first committed one: the
   // reference projections of friction start there

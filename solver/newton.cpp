@@ -67,7 +67,7 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
   RCP<Vector> du = rcp(new Vector(sys.owned_map()));
   RCP<Vector> u_trial = rcp(new Vector(sys.owned_map()));
   RCP<Vector> f = rcp(new Vector(sys.owned_map()));
-  for (auto& c : res.contact) c.commit();
+  // (every ContactPairData starts committed: its state at u = 0, the friction references)
 
   // r = f - K u - f_c(u), with the contact state updated at u; its constrained rows (the
   // reactions, which the Newton loop zeroes for the solve) are kept in r_fixed
@@ -317,16 +317,14 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
     return res;
   }
   u = u_conv;
+  // not converged: back to the last converged state and its residual
   for (auto& c : res.contact) c.restore();
-  f->update(1.0, *f_end, 0.0);
-  if (failed) {
-    const LoadPoint lp = LoadPoint::at(t_conv, K_stages);
-    // loads of the kept state: rebuild f at t_conv (its stage's loads may not be f_prev/f_end)
-    const RCP<Vector> fa = lp.stage > 0 ? sys.assemble_loads(1.0, lp.stage - 1) : rcp(new Vector(sys.owned_map()));
-    const RCP<Vector> fb = sys.assemble_loads(1.0, lp.stage);
-    f->update(1.0 - lp.s, *fa, lp.s, *fb, 0.0);
-    if (t_conv == 0.0) f->putScalar(0.0);
-  }
+  const LoadPoint lp = LoadPoint::at(t_conv, K_stages);
+  // loads of the kept state: rebuild f at t_conv (its stage's loads may not be f_prev/f_end)
+  const RCP<Vector> fa = lp.stage > 0 ? sys.assemble_loads(1.0, lp.stage - 1) : rcp(new Vector(sys.owned_map()));
+  const RCP<Vector> fb = sys.assemble_loads(1.0, lp.stage);
+  f->update(1.0 - lp.s, *fa, lp.s, *fb, 0.0);
+  if (t_conv == 0.0) f->putScalar(0.0);
   ContactContribution cc;
   residual(*u, cc);
   res.residual = r;
