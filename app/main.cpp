@@ -103,12 +103,13 @@ void describe(const iga::Problem& P, int ranks, std::ostream& os) {
        << ", slave " << P.bodies[c.slave.body].name << "." << iga::side_name(c.slave.side) << ", "
        << iga::contact_method_name(c.method) << ", penalty " << c.penalty << "\n";
   }
-  const char* lm[] = {"cg", "gmres", "direct"};
-  const char* pc[] = {"muelu", "ilut", "relaxation", "none"};
   os << "  total " << dofs << " dofs on " << ranks << " rank(s) x " << iga::ExecSpace::concurrency() << " "
-     << iga::ExecSpace::name() << " thread(s); linear solver "
-     << lm[static_cast<int>(P.linear.method)];
-  if (P.linear.method != iga::LinearMethod::Direct) os << " + " << pc[static_cast<int>(P.linear.preconditioner)];
+     << iga::ExecSpace::name() << " thread(s); linear solver " << iga::linear_method_name(P.linear.method);
+  if (P.linear.method == iga::LinearMethod::Direct) os << " (MUMPS " << (P.linear.symmetric ? "LDLT" : "LU") << ")";
+  else os << " + " << iga::preconditioner_name(P.linear.preconditioner);
+  if (P.linear.automatic)
+    os << " [auto: " << (P.linear.method == iga::LinearMethod::Direct ? "at most " : "more than ")
+       << iga::kAutoDirectMaxDofs << " dofs]";
   os << "\n";
 }
 
@@ -126,9 +127,6 @@ int run(int argc, char** argv) {
   try {
     Teuchos::TimeMonitor t(*Teuchos::TimeMonitor::getNewTimer("0) Read problem"));
     P = iga::load_problem(args.file, args.sets);
-    if (P.linear.method == iga::LinearMethod::Direct && comm->getSize() > 1)
-      throw iga::InputError(args.file + ": solver.linear.method = direct: the direct solver (Amesos2 KLU2) runs on one rank only, this run has " +
-                            std::to_string(comm->getSize()) + "; use cg or gmres");
   } catch (const iga::InputError& e) {
     if (root) std::cerr << e.what() << "\n";
     return 2;

@@ -19,7 +19,7 @@ if(IGACONTACT_TRILINOS_PREFIX)
   set(Trilinos_DIR "${IGACONTACT_TRILINOS_PREFIX}/lib/cmake/Trilinos" CACHE PATH "" FORCE)
 endif()
 
-find_package(MPI REQUIRED COMPONENTS CXX)
+find_package(MPI REQUIRED COMPONENTS C CXX)
 find_package(Trilinos 13.2 REQUIRED COMPONENTS Tpetra Belos Ifpack2 Amesos2 MueLu)
 message(STATUS "Trilinos ${Trilinos_VERSION} from ${Trilinos_DIR}")
 
@@ -58,3 +58,16 @@ target_link_libraries(igacontact_stack INTERFACE
 if(IGACONTACT_KOKKOS_OPENMP)
   target_link_libraries(igacontact_stack INTERFACE OpenMP::OpenMP_CXX)
 endif()
+
+# MUMPS (Debian's libmumps-dev, MPI build): the sparse direct solver, through its C interface
+# (Amesos2 in Debian's Trilinos has no MUMPS adapter). Its ordering libraries and ScaLAPACK
+# come with its shared libraries.
+find_path(MUMPS_INCLUDE_DIR dmumps_c.h PATH_SUFFIXES MUMPS)
+find_library(MUMPS_DMUMPS_LIBRARY dmumps)
+find_library(MUMPS_COMMON_LIBRARY mumps_common)
+if(NOT MUMPS_INCLUDE_DIR OR NOT MUMPS_DMUMPS_LIBRARY OR NOT MUMPS_COMMON_LIBRARY)
+  message(FATAL_ERROR "MUMPS not found: install libmumps-dev (scripts/setup.sh does)")
+endif()
+message(STATUS "MUMPS: ${MUMPS_DMUMPS_LIBRARY}")
+target_include_directories(igacontact_stack SYSTEM INTERFACE ${MUMPS_INCLUDE_DIR})
+target_link_libraries(igacontact_stack INTERFACE ${MUMPS_DMUMPS_LIBRARY} ${MUMPS_COMMON_LIBRARY} MPI::MPI_C)

@@ -41,6 +41,27 @@ std::vector<std::vector<double>> gather_displacements(const System& sys, const V
   return out;
 }
 
+nlohmann::json linear_solver_json(const LinearOptions& opt, const DirectSolverStats& ds, long long dofs) {
+  nlohmann::json j;
+  j["method"] = linear_method_name(opt.method);
+  j["chosen_by"] = opt.automatic ? "auto" : "problem file";
+  if (opt.automatic) j["auto_direct_max_dofs"] = kAutoDirectMaxDofs;
+  if (opt.method == LinearMethod::Direct) {
+    j["package"] = "MUMPS";
+    j["factorization"] = opt.symmetric ? "LDLT" : "LU";
+    j["ordering"] = ds.ordering;
+    j["analyses"] = ds.analyses;
+    j["factorizations"] = ds.factorisations;
+    j["solves"] = ds.solves;
+    j["factor_entries"] = ds.factor_entries;
+    j["factor_memory_bytes"] = ds.factor_bytes;
+    j["factor_memory_bytes_per_dof"] = dofs > 0 ? ds.factor_bytes / static_cast<double>(dofs) : 0.0;
+  } else {
+    j["preconditioner"] = preconditioner_name(opt.preconditioner);
+  }
+  return j;
+}
+
 nlohmann::json reactions_json(const System& sys, const Vector& residual) {
   const Problem& P = sys.problem();
   const size_t nb = P.bodies.size();
@@ -355,6 +376,7 @@ nlohmann::json ResultWriter::finish(const SolveResult& res) {
   summary["linear_iterations"] = res.linear_iterations;
   summary["tangent_pattern_builds"] = res.tangent_rebuilds;
   summary["preconditioner_builds"] = res.preconditioner_builds;
+  summary["linear_solver"] = linear_solver_json(P.linear, res.direct, sys_.num_dofs());
   summary["reactions"] = reactions_json(sys_, *res.residual);
   if (!res.converged) summary["message"] = res.message;
   summary["contact"] = contact_json(res.contact);

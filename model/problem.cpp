@@ -16,6 +16,25 @@
 
 namespace iga {
 
+const char* linear_method_name(LinearMethod m) {
+  switch (m) {
+    case LinearMethod::CG: return "cg";
+    case LinearMethod::GMRES: return "gmres";
+    case LinearMethod::Direct: return "direct";
+  }
+  return "?";
+}
+
+const char* preconditioner_name(Preconditioner p) {
+  switch (p) {
+    case Preconditioner::MueLu: return "muelu";
+    case Preconditioner::ILUT: return "ilut";
+    case Preconditioner::Relaxation: return "relaxation";
+    case Preconditioner::None: return "none";
+  }
+  return "?";
+}
+
 const char* contact_method_name(ContactMethod m) {
   switch (m) {
     case ContactMethod::KtsPenalty: return "kts_penalty";
@@ -731,8 +750,8 @@ Problem build(Reader& R, const YAML::Node& root) {
         if (m == "cg") P.linear.method = LinearMethod::CG;
         else if (m == "gmres") P.linear.method = LinearMethod::GMRES;
         else if (m == "direct") P.linear.method = LinearMethod::Direct;
-        else R.fail("solver.linear.method", l["method"], "expected cg, gmres or direct");
-        P.linear.method_given = true;
+        else if (m != "auto") R.fail("solver.linear.method", l["method"], "expected auto, direct, gmres or cg");
+        P.linear.method_given = m != "auto";
       }
       if (l["preconditioner"]) {
         const std::string m = R.string(l["preconditioner"], "solver.linear.preconditioner");
@@ -791,10 +810,19 @@ Problem build(Reader& R, const YAML::Node& root) {
     }
   }
 
-  // Default linear method: CG for elasticity (SPD); GMRES with contact, whose consistent
-  // tangent (the -p G term of the moving projection) is not positive definite far from the
-  // solution.
-  if (!P.linear.method_given) P.linear.method = P.contact.empty() ? LinearMethod::CG : LinearMethod::GMRES;
+  // Default linear method (auto): the direct solver up to kAutoDirectMaxDofs dofs; above, CG for
+  // elasticity (SPD), GMRES with contact, whose consistent tangent (the -p G term of the
+  // moving projection) is not positive definite far from the solution.
+  if (!P.linear.method_given) {
+    long long dofs = 0;
+    for (const Body& b : P.bodies) dofs += 2LL * static_cast<long long>(b.patch.cp.size());
+    P.linear.automatic = true;
+    P.linear.method = dofs <= kAutoDirectMaxDofs ? LinearMethod::Direct
+                      : P.contact.empty()        ? LinearMethod::CG
+                                                 : LinearMethod::GMRES;
+  }
+  for (const ContactPair& c : P.contact)
+    if (c.friction > 0) P.linear.symmetric = false;
   // friction in slip makes the tangent non-symmetric: CG does not apply
   for (size_t k = 0; k < P.contact.size(); ++k)
     if (P.contact[k].friction > 0 && P.linear.method == LinearMethod::CG)

@@ -26,6 +26,8 @@ enum class LinearMethod { CG, GMRES, Direct };
 enum class Preconditioner { MueLu, ILUT, Relaxation, None };
 
 const char* contact_method_name(ContactMethod m);
+const char* linear_method_name(LinearMethod m);       // cg, gmres, direct
+const char* preconditioner_name(Preconditioner p);   // muelu, ilut, relaxation, none
 
 /// What a side prescribes. Every value is given per stage (analysis.stages): entry k is the
 /// value at the end of stage k + 1, reached linearly from the end of stage k (the first stage
@@ -74,6 +76,10 @@ struct LinearOptions {
   double tolerance = 1e-12;
   int max_iterations = 1000;
   bool method_given = false;
+  /// solver.linear.method: auto (the default): the loader chose `method` by the problem's size
+  bool automatic = false;
+  /// the tangent is symmetric (no friction): the direct solver factors L D L^T
+  bool symmetric = true;
   bool reuse_preconditioner = true;   // keep the preconditioner over a load step's Newton iterations
   /// solver.linear.muelu_xml, read and checked with the problem: MueLu parameters set over
   /// the built-in ones (null: none)
@@ -111,6 +117,9 @@ struct Problem {
 /// Limits on what a problem file may ask for (docs/problem-file.md).
 constexpr size_t kMaxProblemFileBytes = 64u << 20;   // a patch of 10^6 control points listed inline fits
 constexpr double kMaxDofs = 1e9;                      // besides the machine's memory (checked too)
+/// solver.linear.method: auto takes the direct solver up to this many dofs, the iterative one
+/// above (the crossover measured on the wheel family, docs/performance.md)
+constexpr long long kAutoDirectMaxDofs = 200000;
 constexpr size_t kMaxInsertedKnots = 1000;            // per direction; subdivide refines uniformly
 constexpr int kMaxLoadSteps = 10000;
 constexpr int kMaxContactQuadrature = 12;             // contact quadrature points per slave span

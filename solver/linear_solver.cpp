@@ -1,12 +1,13 @@
 #include "solver/linear_solver.hpp"
 
-#include <Amesos2.hpp>
 #include <BelosSolverFactory.hpp>
 #include <BelosTpetraAdapter.hpp>
 #include <Ifpack2_Factory.hpp>
 #include <MueLu_CreateTpetraPreconditioner.hpp>
+#include <Teuchos_CommHelpers.hpp>
 #include <Teuchos_TimeMonitor.hpp>
 
+#include <chrono>
 #include <sstream>
 
 namespace iga {
@@ -159,9 +160,63 @@ LinearSolveResult krylov_solve(const LinearOptions& opt, const RCP<Matrix>& A, c
        << res.iterations << " iterations (true relative residual " << explicit_rel
        << ", above the " << std::max(opt.tolerance, 1e-6) << " a Newton step accepts; Belos' estimate "
        << res.achieved_tolerance << "); the system may be singular (a body free to move?) or ill-conditioned: try "
-          "solver.linear.preconditioner: muelu, more solver.linear.max_iterations, or method: direct on one rank";
+          "solver.linear.method: direct, solver.linear.preconditioner: muelu, or more solver.linear.max_iterations";
     res.message = os.str();
   }
+  return res;
+}
+
+// The factors of an earlier matrix as a preconditioner: y = alpha A_f^-1 x + beta y.
+class FactorsOperator : public Operator {
+ public:
+  FactorsOperator(std::shared_ptr<DirectSolver> s, RCP<const Map> map) : s_(std::move(s)), map_(std::move(map)) {}
+  RCP<const Map> getDomainMap() const override { return map_; }
+  RCP<const Map> getRangeMap() const override { return map_; }
+  void apply(const MultiVector& X, MultiVector& Y, Teuchos::ETransp = Teuchos::NO_TRANS, SC alpha = 1.0,
+             SC beta = 0.0) const override {
+    Vector t(map_);
+    for (size_t j = 0; j < X.getNumVectors(); ++j) {
+      if (!s_->apply(*X.getVector(j), t)) throw std::runtime_error("the MUMPS solve with kept factors failed");
+      Y.getVectorNonConst(j)->update(alpha, t, beta);
+    }
+  }
+
+ private:
+  std::shared_ptr<DirectSolver> s_;
+  RCP<const Map> map_;
+};
+
+constexpr int kKeptFactorsMaxIterations = 30;
+
+LinearSolveResult direct_solve(const LinearOptions& opt, const RCP<Matrix>& A, const RCP<Vector>& x,
+                               const RCP<Vector>& b, PreconditionerCache& cache) {
+  if (!cache.direct) cache.direct = std::make_shared<DirectSolver>(A->getComm());
+  DirectSolver& ds = *cache.direct;
+  int spent = 0;
+  // the matrix of the factors (elasticity over load steps): solved directly, no GMRES
+  if (ds.factorised() && ds.unchanged(*A, opt.symmetric)) return ds.solve(*A, *x, *b, opt.symmetric);
+  if (opt.reuse_preconditioner && ds.factorised() && !cache.refactorise) {
+    const auto t0 = std::chrono::steady_clock::now();
+    LinearOptions o = opt;
+    o.method = LinearMethod::GMRES;
+    o.max_iterations = std::min(opt.max_iterations, kKeptFactorsMaxIterations);
+    LinearSolveResult res = krylov_solve(o, A, x, b, rcp(new FactorsOperator(cache.direct, A->getRowMap())));
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (res.converged && res.iterations < kKeptFactorsMaxIterations) {
+      // more than half a factorisation's time (a fresh factorisation also solves, and the
+      // next tangent is further from the factored one): the next solve factorises. Rank 0's
+      // clock decides for all (every rank must take the same path through the collectives).
+      int refactorise = seconds > 0.5 * ds.stats().factor_seconds ? 1 : 0;
+      Teuchos::broadcast(*A->getComm(), 0, &refactorise);
+      cache.refactorise = refactorise != 0;
+      return res;
+    }
+    spent = res.iterations;
+    x->putScalar(0.0);
+  }
+  cache.refactorise = false;
+  LinearSolveResult res = ds.solve(*A, *x, *b, opt.symmetric);
+  res.iterations += spent;
   return res;
 }
 
@@ -170,17 +225,9 @@ LinearSolveResult krylov_solve(const LinearOptions& opt, const RCP<Matrix>& A, c
 LinearSolveResult solve_linear(const LinearOptions& opt, const RCP<Matrix>& A, const RCP<Vector>& x,
                                const RCP<Vector>& b, const RCP<MultiVector>& nullspace,
                                const RCP<MultiVector>& coords, PreconditionerCache* cache) {
-  if (opt.method == LinearMethod::Direct) {
-    LinearSolveResult res;
-    Teuchos::TimeMonitor t(*Teuchos::TimeMonitor::getNewTimer("5) Linear solve"));
-    auto solver = Amesos2::create<Matrix, MultiVector>("KLU2", A, x, b);
-    solver->symbolicFactorization().numericFactorization().solve();
-    res.converged = true;
-    res.iterations = 1;
-    return res;
-  }
   PreconditionerCache once;
   if (cache == nullptr) cache = &once;
+  if (opt.method == LinearMethod::Direct) return direct_solve(opt, A, x, b, *cache);
   if (!opt.reuse_preconditioner) cache->clear();
   const bool kept = !cache->M.is_null();
   if (!kept) {

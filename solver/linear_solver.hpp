@@ -1,10 +1,13 @@
 #pragma once
 // Linear solve of the (boundary-condition-eliminated) tangent system: Belos CG or GMRES
 // with an Ifpack2 (RELAXATION, ILUT) or MueLu (smoothed aggregation, rigid-body modes as
-// nullspace) preconditioner, or Amesos2 KLU2 on one rank.
+// nullspace) preconditioner, or the sparse direct solver MUMPS (solver/direct_solver.hpp) on
+// any number of ranks.
+#include <memory>
 #include <string>
 
 #include "model/problem.hpp"
+#include "solver/direct_solver.hpp"
 #include "solver/types.hpp"
 
 namespace iga {
@@ -14,6 +17,7 @@ struct LinearSolveResult {
   int iterations = 0;
   double achieved_tolerance = 0;
   std::string message;   // on failure: what happened and what to try
+  bool singular = false;  // the direct solver found the matrix singular
 };
 
 /// A preconditioner kept from one solve to the next (Newton iterations of a load step): the
@@ -25,6 +29,11 @@ struct PreconditionerCache {
   RCP<Tpetra::Operator<SC, LO, GO, Node>> M;
   int fresh_iterations = 0;   // iterations of the solve M was built for
   int builds = 0;             // preconditioners built (all solves)
+  /// the direct solver, kept over the whole run (its analysis serves every solve with the
+  /// same sparsity pattern, its factors precondition GMRES on the tangents that follow);
+  /// clear() leaves it alone
+  std::shared_ptr<DirectSolver> direct;
+  bool refactorise = false;   // the last solve with kept factors cost more than a factorisation
   void clear() { M = Teuchos::null; }
 };
 

@@ -95,6 +95,7 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
   struct Outcome {
     std::string why;
     int newton_its = 0;
+    bool final = false;   // no smaller increment can help (a singular tangent at the committed state)
   };
   auto increment = [&](const LoadPoint& lp, int step, int cuts) -> Outcome {
     Outcome out;
@@ -171,6 +172,7 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
         log.linear_iterations = lr.iterations;
         if (!lr.converged || !finite(du->normInf())) {
           out.why = !lr.converged ? lr.message : "the linear solver returned NaN or Inf";
+          out.final = lr.singular && it == 0;
           log.seconds = seconds();
           if (progress) progress(log);
           return out;
@@ -286,19 +288,23 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
         // cut: back to the committed state, half the increment
         u = rcp(new Vector(*u_conv, Teuchos::Copy));
         for (auto& c : res.contact) c.restore();
-        ++res.cuts;
-        if (++cuts > P.newton.max_cuts) {
+        if (o.final || cuts + 1 > P.newton.max_cuts) {
           std::ostringstream os;
           os << "load step " << j << " of " << n;
           if (K_stages > 1) os << " in stage " << k + 1 << " of " << K_stages;
-          os << " did not converge after " << P.newton.max_cuts << " cuts of its increment (last at t = " << t_try
-             << ", increment " << dt << "): " << o.why;
-          if (o.why.find("try ") == std::string::npos)
+          if (o.final)
+            os << " failed at its first iteration, which no smaller increment changes: " << o.why;
+          else
+            os << " did not converge after " << P.newton.max_cuts << " cuts of its increment (last at t = " << t_try
+               << ", increment " << dt << "): " << o.why;
+          if (!o.final && o.why.find("try ") == std::string::npos)
             os << "; try more load steps, a smaller contact penalty, or more solver.newton.max_iterations";
           res.message = os.str();
           failed = true;
           break;
         }
+        ++res.cuts;
+        ++cuts;
         dt *= 0.5;
       }
     }
@@ -307,6 +313,7 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
   res.u = u_conv;
   res.tangent_rebuilds = tangent.rebuilds();
   res.preconditioner_builds = prec.builds;
+  if (prec.direct) res.direct = prec.direct->stats();
   if (!failed) {
     // the last residual evaluation was at the converged u of the last step: its contact state
     // (stick and slip as the step converged) and residual are the kept ones. (Evaluating

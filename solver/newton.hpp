@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "solver/contact.hpp"
+#include "solver/direct_solver.hpp"
 #include "solver/linear_solver.hpp"
 #include "solver/system.hpp"
 
@@ -32,6 +33,7 @@ struct SolveResult {
   int cuts = 0;                            // failed increments retried with half the step
   int tangent_rebuilds = 0;                // times K_T's pattern was built (tangent.hpp)
   int preconditioner_builds = 0;           // preconditioners built (kept over Newton iterations)
+  DirectSolverStats direct;                // the direct solver's analyses, factorisations, memory
   double lambda = 0;                       // load path time t of the kept (last converged) state
   RCP<Vector> u;                           // displacement of the kept state
   RCP<Vector> residual;                    // lambda f - K u - f_c at u (reactions: minus it)

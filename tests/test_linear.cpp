@@ -1,0 +1,157 @@
+// The linear solvers behind solve_linear. The direct solver (MUMPS) must give the solution the
+// iterative one (GMRES or CG + MueLu, tolerance 1e-13) gives, for elasticity and for every
+// contact method, frictionless (L D L^T) and with friction (L U); L D L^T and L U must agree
+// where the tangent is symmetric; the analysis and the factors are reused where the pattern
+// or the matrix has not changed; a singular matrix is reported in one line, without cuts.
+// Runs on 1 rank (test_linear) and on 2 (test_linear_2ranks: each rank passes its own rows).
+#include "support.hpp"
+
+using namespace iga;
+using namespace iga::test;
+
+namespace {
+
+Solved solve_problem(Problem P) {
+  Solved s;
+  s.P = std::move(P);
+  s.sys = rcp(new System(s.P, Tpetra::getDefaultComm()));
+  s.res = solve(*s.sys);
+  s.disp = gather_displacements(*s.sys, *s.res.u);
+  return s;
+}
+
+// max |u_a - u_b| / max |u_b| over all control points (rank 0; 0 elsewhere)
+double relative_difference(const Solved& a, const Solved& b) {
+  double diff = 0, norm = 0;
+  for (size_t k = 0; k < a.disp.size(); ++k)
+    for (size_t i = 0; i < a.disp[k].size(); ++i) {
+      diff = std::max(diff, std::abs(a.disp[k][i] - b.disp[k][i]));
+      norm = std::max(norm, std::abs(b.disp[k][i]));
+    }
+  return norm > 0 ? diff / norm : diff;
+}
+
+struct Case {
+  std::string name, yaml;
+  std::vector<std::string> sets;
+  std::string iterative = "gmres";
+};
+
+std::vector<Case> cases() {
+  std::vector<Case> cs;
+  cs.push_back({"LameCylinder", read(IGACONTACT_SOURCE_DIR "/examples/lame_cylinder.yaml"), {}, "cg"});
+  for (const char* m : {"kts_penalty", "mortar_penalty", "mortar_alm"}) {
+    RingAndBlock rb;
+    rb.method = m;
+    cs.push_back({std::string("RingAndBlock_") + m, rb.yaml(), {}});
+  }
+  // kts_alm over-constrains the gap where slave points outnumber master dofs (the ring and
+  // block, the two blocks): the patch test, whose meshes it fits
+  cs.push_back({"PatchTest_kts_alm", read(IGACONTACT_SOURCE_DIR "/examples/patch_test_uniform.yaml"),
+                {"contact.0.method=kts_alm"}});
+  cs.push_back({"SlidingBlockFriction", read(IGACONTACT_SOURCE_DIR "/examples/sliding_block.yaml"), {}});
+  cs.push_back({"WheelMortarFriction", read(IGACONTACT_SOURCE_DIR "/examples/wheel.yaml"),
+                {"contact.0.method=mortar_penalty", "contact.0.friction=0.3"}});
+  return cs;
+}
+
+}  // namespace
+
+class DirectAgainstIterative : public ::testing::TestWithParam<int> {};
+
+TEST_P(DirectAgainstIterative, SameSolution) {
+  const Case c = cases()[GetParam()];
+  std::vector<std::string> it = c.sets, di = c.sets;
+  it.insert(it.end(), {"solver.linear.method=" + c.iterative, "solver.linear.tolerance=1e-13",
+                       "solver.linear.max_iterations=5000"});
+  di.push_back("solver.linear.method=direct");
+  const Solved a = solve_text(c.yaml, Tpetra::getDefaultComm(), {}, it);
+  const Solved b = solve_text(c.yaml, Tpetra::getDefaultComm(), {}, di);
+  ASSERT_TRUE(a.res.converged) << a.res.message;
+  ASSERT_TRUE(b.res.converged) << b.res.message;
+  EXPECT_EQ(b.P.linear.symmetric, c.name.find("Friction") == std::string::npos);
+  EXPECT_GE(b.res.direct.factorisations, 1);
+  const double d = relative_difference(a, b);
+  if (Tpetra::getDefaultComm()->getRank() == 0)
+    std::printf("  %s: max |u_direct - u_%s| / max |u| = %.2e, Newton %d / %d\n", c.name.c_str(),
+                c.iterative.c_str(), d, static_cast<int>(a.res.newton_iterations.size()),
+                static_cast<int>(b.res.newton_iterations.size()));
+  // Newton stops at relative residual 1e-10 on either path: the solutions agree to about
+  // that times the condition of the tangent's contact part, far below 1e-7
+  EXPECT_LT(d, 1e-7);
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, DirectAgainstIterative, ::testing::Range(0, static_cast<int>(cases().size())),
+                         [](const ::testing::TestParamInfo<int>& i) { return cases()[i.param].name; });
+
+// The frictionless tangent is symmetric: L D L^T (the upper triangle only) gives what L U gives.
+TEST(DirectSolver, LdltMatchesLu) {
+  for (const char* m : {"kts_penalty", "kts_alm", "mortar_penalty", "mortar_alm"}) {
+    RingAndBlock rb;
+    rb.method = m;
+    const bool alm = std::string(m) == "kts_alm";
+    Problem P = parse_problem(alm ? read(IGACONTACT_SOURCE_DIR "/examples/patch_test_uniform.yaml") : rb.yaml(),
+                              "test.yaml", {"solver.linear.method=direct", std::string("contact.0.method=") + m});
+    ASSERT_TRUE(P.linear.symmetric);
+    const Solved ldlt = solve_problem(P);
+    P.linear.symmetric = false;
+    const Solved lu = solve_problem(P);
+    ASSERT_TRUE(ldlt.res.converged && lu.res.converged);
+    EXPECT_EQ(ldlt.res.newton_iterations, lu.res.newton_iterations) << m;
+    EXPECT_LT(relative_difference(ldlt, lu), 1e-10) << m;
+  }
+}
+
+// Linear elasticity over several load steps: one analysis, one factorisation, a solve per step.
+TEST(DirectSolver, ReusesAnalysisAndFactors) {
+  const Solved s = solve_text(read(IGACONTACT_SOURCE_DIR "/examples/lame_cylinder.yaml"), Tpetra::getDefaultComm(),
+                              {}, {"solver.linear.method=direct", "analysis.load_steps=3"});
+  ASSERT_TRUE(s.res.converged);
+  EXPECT_EQ(s.res.direct.analyses, 1);
+  EXPECT_EQ(s.res.direct.factorisations, 1);
+  int newton = 0;
+  for (int n : s.res.newton_iterations) newton += n;
+  EXPECT_EQ(s.res.direct.solves, newton);
+  // contact: the analysis is redone only where the tangent's pattern changed
+  const Solved w = solve_text(read(IGACONTACT_SOURCE_DIR "/examples/wheel.yaml"), Tpetra::getDefaultComm(), {},
+                              {"solver.linear.method=direct"});
+  ASSERT_TRUE(w.res.converged);
+  EXPECT_LE(w.res.direct.analyses, w.res.tangent_rebuilds);
+  EXPECT_GT(w.res.direct.factor_bytes, 0);
+  EXPECT_GT(w.res.direct.factor_entries, 0);
+}
+
+// A body held by nothing but a contact pair that is open (a gap of 0.1, a traction pulls it
+// away): the tangent is singular. The direct solver says so, and no smaller increment is tried.
+TEST(DirectSolver, SingularMatrixIsReported) {
+  const std::string yaml =
+      "bodies:\n"
+      "  - name: base\n    material: {youngs_modulus: 1000.0, poisson_ratio: 0.3}\n"
+      "    geometry: {rectangle: {origin: [0, 0], size: [2.0, 1.0]}}\n"
+      "    refine: {degree_elevate: 1, subdivide: [4, 2]}\n"
+      "    boundary: {south: {displacement: {x: 0, y: 0}}}\n"
+      "  - name: free\n    material: {youngs_modulus: 1000.0, poisson_ratio: 0.3}\n"
+      "    geometry: {rectangle: {origin: [0.5, 1.1], size: [1.0, 0.5]}}\n"
+      "    refine: {degree_elevate: 1, subdivide: [2, 2]}\n"
+      "    boundary: {north: {traction: [0.0, 1.0]}}\n"
+      "contact:\n  - {master: {body: base, side: north}, slave: {body: free, side: south}, method: kts_penalty, penalty: 1.0e4}\n";
+  const Solved s = solve_text(yaml, Tpetra::getDefaultComm(), {}, {"solver.linear.method=direct"});
+  EXPECT_FALSE(s.res.converged);
+  EXPECT_NE(s.res.message.find("singular"), std::string::npos) << s.res.message;
+  EXPECT_EQ(s.res.message.find('\n'), std::string::npos) << s.res.message;
+  EXPECT_EQ(s.res.cuts, 0);
+}
+
+// auto: the direct solver for a small problem, the iterative one above the crossover.
+TEST(LinearMethod, AutoChoosesBySize) {
+  const std::string lame = read(IGACONTACT_SOURCE_DIR "/examples/lame_cylinder.yaml");
+  Problem small = parse_problem(lame, "test.yaml", {});
+  EXPECT_TRUE(small.linear.automatic);
+  EXPECT_EQ(small.linear.method, LinearMethod::Direct);
+  Problem big = parse_problem(lame, "test.yaml", {"bodies.0.refine.subdivide=[400,300]"});
+  EXPECT_TRUE(big.linear.automatic);
+  EXPECT_EQ(big.linear.method, LinearMethod::CG);
+  Problem given = parse_problem(lame, "test.yaml", {"solver.linear.method=gmres"});
+  EXPECT_FALSE(given.linear.automatic);
+  EXPECT_EQ(given.linear.method, LinearMethod::GMRES);
+}
