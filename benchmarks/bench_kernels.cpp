@@ -2,6 +2,8 @@
 // flop and byte counts stated here and in the kernels' headers:
 //   BM_Basis<P>             points/s, GB/s            kernels/basis.hpp
 //   BM_ElementStiffness<P>  quadrature points/s, GFLOP/s   kernels/elasticity.hpp
+//   BM_FiniteStrain<P>/m   the same for the finite-strain residual + tangent at a deformed state
+//                           (m = 1 Saint Venant-Kirchhoff, 2 neo-Hookean; element_internal)
 //   BM_Scatter<P>           nonzeros/s (element matrices summed into the Tpetra local matrix)
 //   BM_ContactProjection/M  projections/s on a degree-2 master curve of M elements
 //   BM_SpMV / BM_StreamCopy GB/s of the assembled elasticity matrix, and the copy limit
@@ -77,6 +79,47 @@ void BM_ElementStiffness(benchmark::State& st) {
 }
 
 template <int P>
+void BM_FiniteStrain(benchmark::State& st) {
+  const Problem prob = block_problem(P, elements_for(P));
+  System sys(prob, Tpetra::getDefaultComm());
+  const PatchData pd = sys.bodies()[0].pd;
+  const Material mat = Material::finite(static_cast<int>(st.range(0)), 1.0, 0.3, 1.0);
+  const GaussRule g = gauss_rule(P + 1);
+  const int ne = prob.bodies[0].patch.num_elements();
+  // a smooth displacement of the control points: u = 0.1 (sin y, x y)
+  const int ncp = pd.n[0] * pd.n[1];
+  Kokkos::View<double*, MemSpace> u("u", 2 * ncp);
+  Kokkos::parallel_for("bench::FiniteU", Kokkos::RangePolicy<ExecSpace>(0, ncp), KOKKOS_LAMBDA(const int a) {
+    u(2 * a) = 0.1 * Kokkos::Experimental::sin(pd.cp(a, 1));
+    u(2 * a + 1) = 0.1 * pd.cp(a, 0) * pd.cp(a, 1);
+  });
+  Kokkos::View<double*, MemSpace> trace("trace", ne);
+  for (auto _ : st) {
+    Kokkos::parallel_for("bench::FiniteStrain", Kokkos::RangePolicy<ExecSpace>(0, ne), KOKKOS_LAMBDA(const int e) {
+      constexpr int nd = 2 * (P + 1) * (P + 1);
+      double Ke[nd][nd], fe[nd], ue[nd / 2][2];
+      for (int a = 0; a < nd / 2; ++a) {
+        const int cp = element_cp(pd, e, a);
+        ue[a][0] = u(2 * cp);
+        ue[a][1] = u(2 * cp + 1);
+      }
+      element_internal<P, true, true>(pd, mat, g, g, e, ue, fe, Ke);
+      double t = 0;
+      for (int r = 0; r < nd; ++r) t += Ke[r][r] + fe[r];
+      trace(e) = t;
+    });
+    Kokkos::fence();
+  }
+  constexpr double nen = (P + 1) * (P + 1);
+  const double qp = static_cast<double>(ne) * (P + 1) * (P + 1) * st.iterations();
+  // basis ~ 25 nen + 9 P + 30, gradient 4 nen, material ~ 200, force 4 nen, tangent
+  // 32 nen + 8 nen (nen + 1) (kernels/elasticity.hpp)
+  const double flops = 25 * nen + 9 * P + 30 + 4 * nen + 200 + 4 * nen + 32 * nen + 8 * nen * (nen + 1);
+  st.counters["qp/s"] = benchmark::Counter(qp, benchmark::Counter::kIsRate);
+  st.counters["GFLOP/s"] = benchmark::Counter(qp * flops * 1e-9, benchmark::Counter::kIsRate);
+}
+
+template <int P>
 void BM_Scatter(benchmark::State& st) {
   const Problem prob = block_problem(P, elements_for(P));
   System sys(prob, Tpetra::getDefaultComm());
@@ -88,7 +131,8 @@ void BM_Scatter(benchmark::State& st) {
   for (auto _ : st) {
     A->resumeFill();
     A->setAllToScalar(0.0);
-    AssembleElasticity<P, decltype(lcl)> k{bd.pd, bd.mat, g, g, 0, lcl};
+    AssembleInternal<P, decltype(lcl)> k{bd.pd, bd.mat, g, g, 0, lcl};
+    k.tangent = true;
     k.run(ne);
     Kokkos::fence();
     A->fillComplete();
@@ -178,6 +222,10 @@ BENCHMARK_TEMPLATE(BM_ElementStiffness, 1)->Unit(benchmark::kMillisecond)->UseRe
 BENCHMARK_TEMPLATE(BM_ElementStiffness, 2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_TEMPLATE(BM_ElementStiffness, 3)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_TEMPLATE(BM_ElementStiffness, 4)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_FiniteStrain, 1)->ArgName("model")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_FiniteStrain, 2)->ArgName("model")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_FiniteStrain, 3)->ArgName("model")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_FiniteStrain, 4)->ArgName("model")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_TEMPLATE(BM_Scatter, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_TEMPLATE(BM_Scatter, 2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_TEMPLATE(BM_Scatter, 3)->Unit(benchmark::kMillisecond)->UseRealTime();

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "kernels/material.hpp"
+
 namespace iga {
 
 double FieldPoint::von_mises() const {
@@ -25,7 +27,11 @@ HostPatchData host_patch_data(const Patch& P) {
 BodyField::BodyField(const Problem& P, int body, std::vector<double> u)
     : patch_(&P.bodies[body].patch),
       pd_(host_patch_data(P.bodies[body].patch)),
-      stiff_(Material::plane(P.bodies[body].E, P.bodies[body].nu, P.analysis == Analysis::PlaneStrain, 1.0)),
+      mat_(P.kinematics == Kinematics::Small
+               ? Material::plane(P.bodies[body].E, P.bodies[body].nu, P.analysis == Analysis::PlaneStrain, 1.0)
+               : Material::finite(P.bodies[body].model == MaterialModel::NeoHookean ? Material::kNeoHookean
+                                                                                   : Material::kSaintVenantKirchhoff,
+                                  P.bodies[body].E, P.bodies[body].nu, 1.0)),
       plane_strain_(P.analysis == Analysis::PlaneStrain),
       nu_(P.bodies[body].nu),
       u_(std::move(u)) {}
@@ -51,11 +57,14 @@ FieldPoint BodyField::eval(double u, double v, int s0, int s1) const {
           for (int d = 0; d < 2; ++d) g[c][d] += dR[a][d] * u_[2 * cp + c];
       }
   });
-  const double e[3] = {g[0][0], g[1][1], g[0][1] + g[1][0]};
-  f.sxx = stiff_.D[0][0] * e[0] + stiff_.D[0][1] * e[1];
-  f.syy = stiff_.D[1][0] * e[0] + stiff_.D[1][1] * e[1];
-  f.sxy = stiff_.D[2][2] * e[2];
-  f.szz = plane_strain_ ? nu_ * (f.sxx + f.syy) : 0.0;
+  // the same material law as the kernels; Cauchy stress sigma = P F^T / J
+  double Pk[2][2], P33, s[2][2], s33;
+  material_response<false>(mat_, g, Pk, P33, nullptr);
+  cauchy_stress(mat_, g, Pk, P33, s, s33);
+  f.sxx = s[0][0];
+  f.syy = s[1][1];
+  f.sxy = 0.5 * (s[0][1] + s[1][0]);
+  f.szz = mat_.model != Material::kLinear ? s33 : plane_strain_ ? nu_ * (f.sxx + f.syy) : 0.0;
   return f;
 }
 

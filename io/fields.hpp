@@ -12,7 +12,7 @@ namespace iga {
 struct FieldPoint {
   double x = 0, y = 0;                  // reference position
   double ux = 0, uy = 0;
-  double sxx = 0, syy = 0, sxy = 0, szz = 0;
+  double sxx = 0, syy = 0, sxy = 0, szz = 0;   // Cauchy stress (finite kinematics: on the deformed configuration)
   double detJ = 0;                      // det(dx/dxi) at the point
   double von_mises() const;
 };
@@ -28,7 +28,7 @@ class BodyField {
  private:
   const Patch* patch_;
   HostPatchData pd_;
-  Material stiff_;       // plane D without thickness
+  Material mat_;         // the body's material without thickness
   bool plane_strain_;
   double nu_;
   std::vector<double> u_;

@@ -17,9 +17,9 @@ namespace iga {
 
 // Device math: Kokkos 3.4 has it under Kokkos::Experimental, later versions under Kokkos.
 #if KOKKOS_VERSION >= 30700
-namespace kmath { using Kokkos::sqrt; using Kokkos::fabs; using Kokkos::floor; }
+namespace kmath { using Kokkos::sqrt; using Kokkos::fabs; using Kokkos::floor; using Kokkos::log; }
 #else
-namespace kmath { using Kokkos::Experimental::sqrt; using Kokkos::Experimental::fabs; using Kokkos::Experimental::floor; }
+namespace kmath { using Kokkos::Experimental::sqrt; using Kokkos::Experimental::fabs; using Kokkos::Experimental::floor; using Kokkos::Experimental::log; }
 #endif
 
 constexpr int kMaxDegree = 5;

@@ -45,4 +45,12 @@ Material Material::plane(double E, double nu, bool plane_strain, double t) {
   return m;
 }
 
+Material Material::finite(int model, double E, double nu, double t) {
+  Material m = plane(E, nu, true, t);
+  m.model = model;
+  m.lambda = E * nu / ((1 + nu) * (1 - 2 * nu)) * t;
+  m.mu = E / (2 * (1 + nu)) * t;
+  return m;
+}
+
 }  // namespace iga

@@ -37,10 +37,21 @@ struct GaussRule {
 };
 GaussRule gauss_rule(int n);
 
-/// Plane elasticity matrix D (Voigt, engineering shear strain) times the thickness.
+/// The material of a body as the kernels see it (kernels/material.hpp evaluates it).
+/// model kLinear: small strain, sigma = D eps with D the plane elasticity matrix (Voigt,
+/// engineering shear strain). kSaintVenantKirchhoff, kNeoHookean: finite strain, plane strain,
+/// with the Lame constants lambda, mu. D, lambda and mu include the thickness.
 struct Material {
+  enum Model : int { kLinear = 0, kSaintVenantKirchhoff = 1, kNeoHookean = 2 };
+  int model = kLinear;
   double D[3][3] = {};
+  double lambda = 0, mu = 0;
+  /// Small-strain linear elasticity (plane strain or plane stress).
   static Material plane(double E, double nu, bool plane_strain, double thickness);
+  /// A finite-strain model (plane strain): model kSaintVenantKirchhoff or kNeoHookean.
+  static Material finite(int model, double E, double nu, double thickness);
+  /// Its tangent does not depend on the displacement (small-strain linear).
+  bool constant_tangent() const { return model == kLinear; }
 };
 
 /// Calls f(std::integral_constant<int, P>{}) for the degree P = 1..kMaxDegree, the one place

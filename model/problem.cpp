@@ -45,6 +45,15 @@ const char* contact_method_name(ContactMethod m) {
   return "?";
 }
 
+const char* material_model_name(MaterialModel m) {
+  switch (m) {
+    case MaterialModel::Linear: return "linear";
+    case MaterialModel::SaintVenantKirchhoff: return "saint_venant_kirchhoff";
+    case MaterialModel::NeoHookean: return "neo_hookean";
+  }
+  return "?";
+}
+
 int Problem::find_body(const std::string& name) const {
   for (size_t b = 0; b < bodies.size(); ++b)
     if (bodies[b].name == name) return static_cast<int>(b);
@@ -379,7 +388,14 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
            "a body name is 1..64 letters, digits, '_', '-' or '.', starting with a letter, digit or '_'");
   if (!n["material"]) R.missing(path + ".material");
   const YAML::Node m = n["material"];
-  R.keys(m, path + ".material", {"youngs_modulus", "poisson_ratio"});
+  R.keys(m, path + ".material", {"model", "youngs_modulus", "poisson_ratio"});
+  if (m["model"]) {
+    const std::string t = R.string(m["model"], path + ".material.model");
+    if (t == "linear") b.model = MaterialModel::Linear;
+    else if (t == "saint_venant_kirchhoff") b.model = MaterialModel::SaintVenantKirchhoff;
+    else if (t == "neo_hookean") b.model = MaterialModel::NeoHookean;
+    else R.fail(path + ".material.model", m["model"], "expected linear, saint_venant_kirchhoff or neo_hookean");
+  }
   if (!m["youngs_modulus"]) R.missing(path + ".material.youngs_modulus");
   if (!m["poisson_ratio"]) R.missing(path + ".material.poisson_ratio");
   b.E = R.number(m["youngs_modulus"], path + ".material.youngs_modulus");
@@ -614,13 +630,21 @@ Problem build(Reader& R, const YAML::Node& root) {
 
   if (root["analysis"]) {
     const YAML::Node a = root["analysis"];
-    R.keys(a, "analysis", {"type", "thickness", "load_steps", "stages"});
+    R.keys(a, "analysis", {"type", "kinematics", "thickness", "load_steps", "stages"});
+    if (a["kinematics"]) {
+      const std::string t = R.string(a["kinematics"], "analysis.kinematics");
+      if (t == "small") P.kinematics = Kinematics::Small;
+      else if (t == "finite") P.kinematics = Kinematics::Finite;
+      else R.fail("analysis.kinematics", a["kinematics"], "expected small or finite");
+    }
     if (a["type"]) {
       const std::string t = R.string(a["type"], "analysis.type");
       if (t == "plane_strain") P.analysis = Analysis::PlaneStrain;
       else if (t == "plane_stress") P.analysis = Analysis::PlaneStress;
       else R.fail("analysis.type", a["type"], "expected plane_strain or plane_stress");
     }
+    if (P.kinematics == Kinematics::Finite && P.analysis == Analysis::PlaneStress)
+      R.fail("analysis.type", a["type"], "finite kinematics is plane strain only (plane_stress is not supported with analysis.kinematics: finite)");
     if (a["thickness"]) P.thickness = R.positive(a["thickness"], "analysis.thickness");
     if (a["load_steps"] && a["stages"])
       R.fail("analysis.stages", a["stages"], "give either load_steps or stages (load steps per stage), not both");
@@ -663,6 +687,9 @@ Problem build(Reader& R, const YAML::Node& root) {
     const std::string path = "bodies[" + std::to_string(k) + "]";
     Body b = read_body(R, bodies[k], path);
     if (P.find_body(b.name) >= 0) R.fail(path + ".name", bodies[k]["name"], "duplicate body name");
+    if (b.model != MaterialModel::Linear && P.kinematics == Kinematics::Small)
+      R.fail(path + ".material.model", bodies[k]["material"]["model"],
+             std::string(material_model_name(b.model)) + " is a finite-strain model; set analysis.kinematics: finite");
     P.bodies.push_back(std::move(b));
   }
 

@@ -20,6 +20,11 @@ struct InputError : std::runtime_error {
 };
 
 enum class Analysis { PlaneStrain, PlaneStress };
+/// analysis.kinematics: small strain (linear), or finite (total Lagrangian, plane strain)
+enum class Kinematics { Small, Finite };
+/// material.model; with finite kinematics `linear` means Saint Venant-Kirchhoff
+enum class MaterialModel { Linear, SaintVenantKirchhoff, NeoHookean };
+const char* material_model_name(MaterialModel m);   // linear, saint_venant_kirchhoff, neo_hookean
 enum class LoadKind { None, Pressure, LinearPressure, Traction };
 enum class ContactMethod { KtsPenalty, KtsAlm, MortarPenalty, MortarAlm };
 enum class LinearMethod { CG, GMRES, Direct };
@@ -43,6 +48,7 @@ struct SideCondition {
 struct Body {
   std::string name;
   double E = 0, nu = 0;
+  MaterialModel model = MaterialModel::Linear;
   Patch patch;                          // refined
   std::array<SideCondition, 4> sides;   // indexed by Side
 };
@@ -101,6 +107,7 @@ struct OutputOptions {
 struct Problem {
   std::string file;
   Analysis analysis = Analysis::PlaneStrain;
+  Kinematics kinematics = Kinematics::Small;
   double thickness = 1.0;
   int load_steps = 1;              // all stages together
   std::vector<int> stages{1};      // load steps per stage (analysis.stages; else {load_steps})

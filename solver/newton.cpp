@@ -27,8 +27,9 @@ Teuchos::Time& timer(const char* name) { return *Teuchos::TimeMonitor::getNewTim
 //                contact history restored to the committed state, dt halved; after
 //                solver.newton.max_cuts cuts of one load step the run stops (exit 3)
 //
-// Residual r(u, t) = f(t) - K u - f_c(u) (the internal force of the linear material is K u;
-// a nonlinear material will give its own f_int(u) and tangent through the same path).
+// Residual r(u, t) = f(t) - f_int(u) - f_c(u), tangent K_T = K(u) + K_c(u): f_int and K come
+// from one element kernel for every material (System::assemble_internal); a small-strain
+// linear material's K does not depend on u and is assembled once.
 SolveResult solve(const System& sys, const std::function<void(const IterationLog&)>& progress,
                   const std::function<void(const StepState&)>& on_step) {
   const Problem& P = sys.problem();
@@ -39,7 +40,7 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
   RCP<Vector> f_prev, f_end;
   {
     Teuchos::TimeMonitor t(timer("2) Assembly: elasticity"));
-    K = sys.assemble_stiffness();
+    K = sys.assemble_stiffness();   // K(0); refilled at every Newton iterate when it depends on u
     f_prev = rcp(new Vector(sys.owned_map()));
     f_end = sys.assemble_loads(1.0, 0);
   }
@@ -67,9 +68,11 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
   RCP<Vector> du = rcp(new Vector(sys.owned_map()));
   RCP<Vector> u_trial = rcp(new Vector(sys.owned_map()));
   RCP<Vector> f = rcp(new Vector(sys.owned_map()));
+  RCP<Vector> f_int = rcp(new Vector(sys.owned_map()));
+  const bool constant_K = sys.constant_tangent();
   // (every ContactPairData starts committed: its state at u = 0, the friction references)
 
-  // r = f - K u - f_c(u), with the contact state updated at u; its constrained rows (the
+  // r = f - f_int(u) - f_c(u), with the contact state updated at u; its constrained rows (the
   // reactions, which the Newton loop zeroes for the solve) are kept in r_fixed
   std::vector<double> r_fixed;
   auto residual = [&](const Vector& uu, ContactContribution& cc) {
@@ -78,8 +81,8 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
       for (auto& c : res.contact) c.update(uu);
       if (!res.contact.empty()) cc = assemble_contact(sys, res.contact);
     }
-    K->apply(uu, *r);
-    r->update(1.0, *f, -1.0);
+    sys.assemble_internal(&uu, f_int.get(), nullptr);
+    r->update(1.0, *f, -1.0, *f_int, 0.0);
     if (!cc.f.is_null()) r->update(-1.0, *cc.f, 1.0);
     r_fixed = sys.constrained_entries(*r);
   };
@@ -101,8 +104,51 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
     Outcome out;
     f->update(1.0 - lp.s, *f_prev, lp.s, *f_end, 0.0);
     prec.clear();
-    sys.set_dirichlet(*u, lp);
     double ref = 0;
+    if (!constant_K) {
+      // Predictor for a tangent that depends on u (finite strain): the prescribed increment
+      // du_D enters linearised, K_T(u_c) du = r(u_c, t) - K_T(u_c) du_D on the free dofs, and
+      // u = u_c + du_D + du. (Moving only the constrained dofs would put the whole increment
+      // into the first layer of elements, which can fold them: a folded Saint Venant-Kirchhoff
+      // element has a spurious equilibrium that Newton then converges to.)
+      Vector d(*u, Teuchos::Copy);
+      sys.set_dirichlet(d, lp);
+      d.update(-1.0, *u, 1.0);   // du_D: zero on the free dofs
+      if (d.normInf() > 0) {
+        ContactContribution cc;
+        try {
+          residual(*u, cc);
+        } catch (const ContactError& e) {
+          out.why = e.what();
+          return out;
+        }
+        sys.assemble_internal(u.get(), nullptr, &K);
+        RCP<Matrix> KT = tangent.build(cc.K);
+        Vector Kd(sys.owned_map());
+        KT->apply(d, Kd);
+        r->update(-1.0, Kd, 1.0);
+        sys.apply_dirichlet(*KT);
+        if (tangent.rebuilds() != prec_pattern) { prec.clear(); prec_pattern = tangent.rebuilds(); }
+        sys.zero_dirichlet(*r);
+        ref = r->norm2();
+        du->putScalar(0.0);
+        LinearSolveResult lr;
+        try {
+          lr = solve_linear(P.linear, KT, du, r, Z, X, &prec);
+        } catch (const std::exception& e) {
+          out.why = std::string("the linear solver failed in the predictor: ") + e.what();
+          prec.clear();
+          return out;
+        }
+        res.linear_iterations += lr.iterations;
+        if (!lr.converged || !finite(du->normInf())) {
+          out.why = !lr.converged ? lr.message : "the linear solver returned NaN or Inf";
+          return out;
+        }
+        u->update(1.0, d, 1.0, *du, 1.0);
+      }
+    }
+    sys.set_dirichlet(*u, lp);
     for (int aug = 0; aug < max_aug; ++aug) {
       bool newton_ok = false;
       double inc = 1.0;  // last ||alpha du|| / ||u|| (max norms)
@@ -116,7 +162,7 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
       for (int it = 0; it <= P.newton.max_iterations; ++it) {
         sys.zero_dirichlet(*r);
         const double norm = r->norm2();
-        if (aug == 0 && it == 0) ref = norm;
+        if (aug == 0 && it == 0 && ref == 0) ref = norm;
         const double rel = ref > 0 ? norm / ref : 0.0;
         IterationLog log;
         log.step = step; log.augmentation = aug; log.iteration = it; log.lambda = lp.time();
@@ -150,6 +196,7 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
         }
         RCP<Matrix> KT;
         {
+          if (!constant_K) sys.assemble_internal(u.get(), nullptr, &K);   // K(u), in place: `tangent` holds it
           Teuchos::TimeMonitor t(timer("2b) Tangent: K + K_c, Dirichlet"));
           KT = tangent.build(cc.K);
           sys.apply_dirichlet(*KT);
@@ -177,8 +224,16 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
           if (progress) progress(log);
           return out;
         }
-        // backtracking line search on the residual norm: the full step first (its residual
-        // is the next iteration's, so an accepted full step costs nothing extra)
+        // backtracking line search: the full step first (its residual is the next iteration's,
+        // so an accepted full step costs nothing extra). A step is accepted when it decreases
+        // the residual norm sufficiently (Armijo on |r|), or the energy: with the slope of the
+        // potential along du, -G(alpha) = -du . r(u + alpha du) (hyperelastic bodies, penalty
+        // contact), the trapezoidal estimate Pi(alpha) - Pi(0) = -alpha (G(0) + G(alpha)) / 2
+        // must fall below -1e-4 alpha G(0) (Armijo on Pi): G(alpha) >= -(1 - 2e-4) G(0). A slender
+        // body's Newton step often raises |r| by orders of magnitude (membrane against bending
+        // stiffness) while it lowers the energy, and backtracking on |r| alone then crawls
+        // (a cantilever at P L^2 / EI = 1/3 did not converge in 30 iterations; 18 now).
+        const double G0 = du->dot(*r);
         double alpha = 1.0, best_alpha = 1.0, best_norm = -1.0, last_alpha = -1.0;
         const int max_ls = P.newton.line_search ? 6 : 0;
         for (int ls = 0; ls <= max_ls; ++ls, alpha *= 0.5) {
@@ -193,7 +248,10 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
           sys.zero_dirichlet(*r);
           const double tn = r->norm2();
           if (!finite(tn)) continue;
-          if (tn <= (1.0 - 1e-4 * alpha) * norm) { best_alpha = alpha; best_norm = tn; break; }   // sufficient decrease
+          if (tn <= (1.0 - 1e-4 * alpha) * norm ||                           // sufficient decrease of |r|
+              (G0 > 0 && du->dot(*r) >= -(1.0 - 2e-4) * G0)) {                 // or of the energy
+            best_alpha = alpha; best_norm = tn; break;
+          }
           if (best_norm < 0 || tn < best_norm) { best_norm = tn; best_alpha = alpha; }
         }
         if (best_norm < 0) { out.why = "the line search found no finite residual"; return out; }

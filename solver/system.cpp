@@ -53,7 +53,10 @@ System::System(const Problem& problem, RCP<const Comm> comm) : P_(problem), comm
     bd.pd = make_patch_data(b.patch);
     bd.cp_offset = num_cps_;
     bd.orientation = b.patch.orientation();
-    bd.mat = Material::plane(b.E, b.nu, P_.analysis == Analysis::PlaneStrain, P_.thickness);
+    bd.mat = P_.kinematics == Kinematics::Small
+                 ? Material::plane(b.E, b.nu, P_.analysis == Analysis::PlaneStrain, P_.thickness)
+                 : Material::finite(b.model == MaterialModel::NeoHookean ? Material::kNeoHookean : Material::kSaintVenantKirchhoff,
+                                    b.E, b.nu, P_.thickness);
     num_cps_ += static_cast<GO>(b.patch.cp.size());
     num_elements += b.patch.num_elements();
     bodies_.push_back(bd);
@@ -280,16 +283,27 @@ std::unique_ptr<System::OwnedGhost> System::owned_ghost() const {
 }
 
 RCP<Matrix> System::assemble_stiffness() const {
-  // 1) graph of the overlapping rows: control point couplings through shared elements
-  auto t1 = rcp(new Teuchos::TimeMonitor(*Teuchos::TimeMonitor::getNewTimer("2.1) Assembly: graph")));
+  RCP<Matrix> K;
+  assemble_internal(nullptr, nullptr, &K);
+  return K;
+}
+
+bool System::constant_tangent() const {
+  for (const BodyData& bd : bodies_)
+    if (!bd.mat.constant_tangent()) return false;
+  return true;
+}
+
+RCP<const Graph> System::stiffness_graph() const {
+  if (!graph_.is_null()) return graph_;
+  // graph of the overlapping rows: control point couplings through shared elements
+  Teuchos::TimeMonitor t1(*Teuchos::TimeMonitor::getNewTimer("2.1) Assembly: graph"));
   // On a tensor-product patch control points (i, j) and (i', j') share an element exactly when
   // i' lies in the 1-D coupling range [lo0(i), hi0(i)] of i and j' in [lo1(j), hi1(j)], the
   // union of the supports of the non-empty spans s in [i, i + p]: contiguous (coupling_csr).
   // One rank: the overlap rows are the owned rows. Several: the owned rows' global pattern and
   // the ghost rows (owned_ghost), built once.
-  const bool one = overlap_->isSameAs(*owned_);
-  RCP<const Graph> graph;
-  if (one) {
+  if (overlap_->isSameAs(*owned_)) {
     const LO nov = static_cast<LO>(overlap_->getNodeNumElements() / 2);
     Teuchos::ArrayRCP<size_t> rowptr;
     Teuchos::ArrayRCP<LO> cols;
@@ -297,48 +311,94 @@ RCP<Matrix> System::assemble_stiffness() const {
                  rowptr, cols);
     RCP<Graph> g = rcp(new Graph(overlap_, overlap_, rowptr, cols));
     g->fillComplete(owned_, owned_);
-    graph = g;
+    graph_ = g;
   } else {
     if (!split_) split_ = owned_ghost();
-    graph = split_->owned;
+    graph_ = split_->owned;
   }
-  t1 = Teuchos::null;
+  return graph_;
+}
 
-  // 2) element loop: Kokkos kernel summing element matrices into the local matrices (whose
-  //    values are allocated here, zeroed: first touch of the matrix' largest array)
-  RCP<Matrix> K, G;
-  {
-    Teuchos::TimeMonitor t2(*Teuchos::TimeMonitor::getNewTimer("2.2) Assembly: element loop"));
-    K = rcp(new Matrix(graph));
+// One element loop for the internal force and the tangent of every material
+// (kernels/elasticity.hpp, AssembleInternal): the small-strain stiffness is its tangent at any u.
+void System::assemble_internal(const Vector* u, Vector* f_int, RCP<Matrix>* K) const {
+  const bool one = overlap_->isSameAs(*owned_);
+  const RCP<const Graph> graph = K ? stiffness_graph() : Teuchos::null;
+  // displacements on the overlap (the control points this rank's elements touch)
+  Kokkos::View<const double*, MemSpace> uv;
+  RCP<Vector> u_ov;
+  if (u) {
+    if (one) {
+      uv = Kokkos::subview(u->getLocalViewDevice(Tpetra::Access::ReadOnly), Kokkos::ALL(), 0);
+    } else {
+      if (ov_import_.is_null()) ov_import_ = rcp(new Import(owned_, overlap_));
+      u_ov = rcp(new Vector(overlap_));
+      u_ov->doImport(*u, *ov_import_, Tpetra::INSERT);
+      uv = Kokkos::subview(u_ov->getLocalViewDevice(Tpetra::Access::ReadOnly), Kokkos::ALL(), 0);
+    }
+  }
+  RCP<Vector> f_ov;
+  Kokkos::View<double*, MemSpace> fv;
+  if (f_int) {
+    f_ov = one ? rcp(f_int, false) : rcp(new Vector(overlap_));
+    f_ov->putScalar(0.0);
+    fv = Kokkos::subview(f_ov->getLocalViewDevice(Tpetra::Access::ReadWrite), Kokkos::ALL(), 0);
+  }
+  RCP<Matrix> G;
+  Teuchos::TimeMonitor t2(*Teuchos::TimeMonitor::getNewTimer(K ? "2.2) Assembly: element loop" : "2a) Internal force"));
+  if (K) {
+    if (K->is_null()) *K = rcp(new Matrix(graph));   // values allocated here, zeroed
+    else {
+      (*K)->resumeFill();
+      (*K)->setAllToScalar(0.0);
+    }
     if (!one) G = rcp(new Matrix(split_->ghost));
-    auto lk = K->getLocalMatrixDevice();
-    decltype(lk) lg;
-    if (!one) lg = G->getLocalMatrixDevice();
-    for (size_t b = 0; b < bodies_.size(); ++b) {
-      const BodyData& bd = bodies_[b];
-      if (bd.e_end <= bd.e_begin) continue;
-      const GaussRule g0 = gauss_rule(bd.pd.p[0] + 1), g1 = gauss_rule(bd.pd.p[1] + 1);
-      dispatch_degree(std::max(bd.pd.p[0], bd.pd.p[1]), [&](auto P) {
-        AssembleElasticity<decltype(P)::value, decltype(lk)> k{bd.pd, bd.mat, g0, g1, bd.e_begin, lk};
+  }
+  using Local = Matrix::local_matrix_device_type;
+  Local lk, lg;
+  if (K) lk = (*K)->getLocalMatrixDevice();
+  if (G) lg = G->getLocalMatrixDevice();
+  for (size_t b = 0; b < bodies_.size(); ++b) {
+    const BodyData& bd = bodies_[b];
+    if (bd.e_end <= bd.e_begin) continue;
+    const GaussRule g0 = gauss_rule(bd.pd.p[0] + 1), g1 = gauss_rule(bd.pd.p[1] + 1);
+    dispatch_degree(std::max(bd.pd.p[0], bd.pd.p[1]), [&](auto P) {
+      AssembleInternal<decltype(P)::value, Local> k{bd.pd, bd.mat, g0, g1, bd.e_begin};
+      k.u = uv;
+      k.f = fv;
+      k.force = f_int != nullptr;
+      k.tangent = K != nullptr;
+      if (K) {
+        k.A = lk;
         if (!one) {
           k.G = lg;
           k.orow = split_->orow[b];
           k.ocol = split_->ocol[b];
           k.grow = split_->grow[b];
         }
-        k.run(bd.e_end);
-      });
+      }
+      k.run(bd.e_end);
+    });
+  }
+  Kokkos::fence();
+  fv = {};
+  uv = {};
+  if (f_int && !one) {
+    if (ov_export_.is_null()) ov_export_ = rcp(new Export(overlap_, owned_));
+    f_int->putScalar(0.0);
+    f_int->doExport(*f_ov, *ov_export_, Tpetra::ADD);
+  }
+  if (K) {
+    // several ranks: sum the ghost rows into their owners' rows (static graphs: values only)
+    Teuchos::TimeMonitor t3(*Teuchos::TimeMonitor::getNewTimer("2.3) Assembly: fillComplete + export"));
+    lk = {};
+    lg = {};
+    if (!one) {
+      G->fillComplete(owned_, split_->ghost_map);
+      (*K)->doExport(*G, *split_->exporter, Tpetra::ADD);
     }
-    Kokkos::fence();
+    (*K)->fillComplete(owned_, owned_);
   }
-  // 3) several ranks: sum the ghost rows into their owners' rows (static graphs: values only)
-  Teuchos::TimeMonitor t3(*Teuchos::TimeMonitor::getNewTimer("2.3) Assembly: fillComplete + export"));
-  if (!one) {
-    G->fillComplete(owned_, split_->ghost_map);
-    K->doExport(*G, *split_->exporter, Tpetra::ADD);
-  }
-  K->fillComplete(owned_, owned_);
-  return K;
 }
 
 LoadPoint LoadPoint::at(double t, int num_stages) {

@@ -56,8 +56,15 @@ class System {
   GO num_dofs() const { return 2 * num_cps_; }
   GO cp_gid(int body, int a) const { return bodies_[body].cp_offset + a; }
 
-  /// Elastic stiffness, owned rows, fill complete (no boundary conditions).
+  /// Internal force f_int(u) and tangent K_T(u) = d f_int / du of every body's material
+  /// (owned rows, no boundary conditions), in one element loop: f_int into *f_int when given,
+  /// K_T into *K when given (created with the stiffness graph when null, refilled in place
+  /// after, so that holders of the RCP see the new values). u == nullptr: u = 0.
+  void assemble_internal(const Vector* u, Vector* f_int, RCP<Matrix>* K) const;
+  /// The tangent at u = 0, fill complete: the small-strain stiffness for every material.
   RCP<Matrix> assemble_stiffness() const;
+  /// Every body's tangent is independent of u (small strain, linear): assembled once.
+  bool constant_tangent() const;
   /// External load vector (Neumann conditions): lambda times the loads at the end of stage
   /// `stage` (0-based; -1: the last).
   RCP<Vector> assemble_loads(double lambda, int stage = -1) const;
@@ -122,6 +129,10 @@ class System {
     std::vector<Kokkos::View<const int*, MemSpace>> orow, ocol, grow;   // per body, per cp
   };
   mutable std::unique_ptr<OwnedGhost> split_;
+  mutable RCP<const Graph> graph_;          // the stiffness graph (owned rows), built once
+  mutable RCP<const Import> ov_import_;     // owned -> overlap (displacements)
+  mutable RCP<const Export> ov_export_;     // overlap -> owned (forces, ADD)
+  RCP<const Graph> stiffness_graph() const;
 
   struct CouplingRange { std::vector<int> lo, hi; };
   static CouplingRange coupling_range(const Patch& pt, int d);
