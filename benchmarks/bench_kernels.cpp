@@ -131,7 +131,8 @@ void BM_Scatter(benchmark::State& st) {
   for (auto _ : st) {
     A->resumeFill();
     A->setAllToScalar(0.0);
-    AssembleInternal<P, decltype(lcl)> k{bd.pd, bd.mat, g, g, 0, lcl};
+    AssembleInternal<P, decltype(lcl)> k{bd.pd, bd.mat, g, g, 0};
+    k.scatter.A = lcl;
     k.tangent = true;
     k.run(ne);
     Kokkos::fence();

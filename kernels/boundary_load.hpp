@@ -7,6 +7,9 @@
 //   t given for a traction.
 // f_a += \sum_q R_a(xi_q) t(xi_q) |dx/dxi| w_q, summed atomically into f (overlap dofs, 2 lid + c).
 // Cost per quadrature point: ~ 10 (p + 1) flops; reads the p + 1 side control points.
+//
+// Finite kinematics: a pressure follows the deformed side (AssembleFollowerPressure below).
+#include "kernels/scatter.hpp"
 #include "kernels/types.hpp"
 
 namespace iga {
@@ -90,6 +93,83 @@ struct AssembleSideLoad {
         for (int c = 0; c < 2; ++c) Kokkos::atomic_add(&f(2 * l + c), R[0][j] * tr[c] * wq);
       }
     }
+  }
+};
+
+/// A pressure on the deformed side (finite kinematics): a follower load, part of the
+/// displacement-dependent force (System::assemble_internal), with its own tangent.
+///   -f_ext,a = \int p R_a n ds = \int p R_a s N(x_,xi) dxi,   N(t) = (t_y, -t_x),
+///   x_,xi = \sum_b R_b' (X_b + u_b),  s = +-1 (side and orientation: n outward),
+/// linear in u, so its derivative is constant in u (not in p):
+///   d(-f_ext,a0)/du_b1 = \int p s R_a R_b' dxi,   d(-f_ext,a1)/du_b0 = -\int p s R_a R_b' dxi.
+/// The pressure p (and the linear p0 -> p1) is at the current point of the load path.
+/// Non-symmetric (the pressure stiffness); the per-side element matrix is 2 (p + 1) square.
+/// Cost per quadrature point: ~ 10 (p + 1) + 4 (p + 1)^2 flops; (2 (p + 1))^2 atomic additions.
+template <class LocalMatrix>
+struct AssembleFollowerPressure {
+  PatchData pd;
+  SideLoad load;   // kind 1; p0, p1 at the current load point; scale = thickness
+  GaussRule g;
+  int e_begin = 0, e_end = 0;
+  Kokkos::View<const double*, MemSpace> u = {};   // overlap displacements (2 lid + c)
+  Kokkos::View<double*, MemSpace> f = {};         // overlap: -f_ext summed in (when force)
+  ElementScatter<LocalMatrix> scatter = {};
+  bool force = false, tangent = false;
+
+  KOKKOS_INLINE_FUNCTION int patch_element(int k) const {
+    switch (load.side) {
+      case 0: return k * pd.ne[0];
+      case 1: return pd.ne[0] - 1 + k * pd.ne[0];
+      case 2: return k;
+      default: return k + (pd.ne[1] - 1) * pd.ne[0];
+    }
+  }
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
+    const int pe = patch_element(k);
+    if (pe < e_begin || pe >= e_end) return;
+    const int d = (load.side <= 1) ? 1 : 0;
+    const int p = pd.p[d], nb = pd.n[d];
+    const double* U = d == 0 ? pd.U0.data() : pd.U1.data();
+    const int s = d == 0 ? pd.span0(k) : pd.span1(k);
+    const double a = U[s], b = U[s + 1], h = 0.5 * (b - a);
+    const double umin = U[0], umax = U[nb + p];
+    const double sgn = ((load.side == 1 || load.side == 2) ? 1.0 : -1.0) * load.orientation;
+    int cps[kMaxBasis1D];
+    double x[kMaxBasis1D][2];   // current positions of the side's control points
+    for (int j = 0; j <= p; ++j) {
+      cps[j] = side_cp(pd, load.side, s - p + j);
+      const int l = pd.lid(cps[j]);
+      for (int c = 0; c < 2; ++c) x[j][c] = pd.cp(cps[j], c) + (u.extent(0) > 0 ? u(2 * l + c) : 0.0);
+    }
+    double fe[2 * kMaxBasis1D] = {}, Ke[2 * kMaxBasis1D][2 * kMaxBasis1D] = {};
+    for (int q = 0; q < g.n; ++q) {
+      const double uq = a + h * (g.x[q] + 1.0);
+      double ders[3][kMaxBasis1D], w[kMaxBasis1D], R[3][kMaxBasis1D];
+      bspline_ders(s, uq, p, U, 1, ders);
+      for (int j = 0; j <= p; ++j) { w[j] = pd.cp(cps[j], 2); ders[2][j] = 0; }
+      rationalize_1d(p, ders, w, R);
+      double tan[2] = {0, 0};
+      for (int j = 0; j <= p; ++j)
+        for (int c = 0; c < 2; ++c) tan[c] += R[1][j] * x[j][c];
+      const double pr = load.p0 + (load.p1 - load.p0) * (uq - umin) / (umax - umin);
+      const double wq = g.w[q] * h * load.scale * pr * sgn;
+      for (int i = 0; i <= p; ++i) {
+        fe[2 * i] += R[0][i] * tan[1] * wq;
+        fe[2 * i + 1] -= R[0][i] * tan[0] * wq;
+        for (int j = 0; j <= p; ++j) {
+          Ke[2 * i][2 * j + 1] += R[0][i] * R[1][j] * wq;
+          Ke[2 * i + 1][2 * j] -= R[0][i] * R[1][j] * wq;
+        }
+      }
+    }
+    if (force)
+      for (int j = 0; j <= p; ++j) {
+        const int l = pd.lid(cps[j]);
+        Kokkos::atomic_add(&f(2 * l), fe[2 * j]);
+        Kokkos::atomic_add(&f(2 * l + 1), fe[2 * j + 1]);
+      }
+    if (tangent) scatter.template add<kMaxBasis1D>(pd.lid, cps, p + 1, &Ke[0][0], 2 * kMaxBasis1D);
   }
 };
 

@@ -29,6 +29,7 @@
 #include <KokkosSparse_CrsMatrix.hpp>
 
 #include "kernels/material.hpp"
+#include "kernels/scatter.hpp"
 #include "kernels/types.hpp"
 
 namespace iga {
@@ -119,24 +120,18 @@ KOKKOS_INLINE_FUNCTION int element_cp(const PatchData& pd, int e, int a) {
 
 /// Assembles the internal force and/or the tangent of the elements [e_begin, e_end) of one
 /// patch (atomic sums: correct on threaded and GPU backends where elements share control points).
-/// u: overlap displacements (empty: u = 0); f: overlap force (empty: no force); A empty: no tangent.
-/// One matrix (orow empty): rows and columns are the overlap numbering pd.lid.
-/// Owned + ghost (several ranks): the row of control point a goes to A, the owned rows'
-/// matrix, at local row orow(a) with columns ocol(.), when a is owned here; otherwise to G,
-/// the few shared rows, at row grow(a) with columns pd.lid(.). (An owned control point couples
-/// with every control point of its elements, so ocol is defined wherever it is used.)
+/// u: overlap displacements (empty: u = 0); f: overlap force; K through `scatter`
+/// (kernels/scatter.hpp: one matrix, or owned + ghost rows on several ranks).
 template <int P, class LocalMatrix>
 struct AssembleInternal {
   PatchData pd;
   Material mat;
   GaussRule g0, g1;
   int e_begin = 0;
-  LocalMatrix A = {};
-  LocalMatrix G = {};
-  Kokkos::View<const int*, MemSpace> orow = {}, ocol = {}, grow = {};
+  ElementScatter<LocalMatrix> scatter = {};
   Kokkos::View<const double*, MemSpace> u = {};
   Kokkos::View<double*, MemSpace> f = {};
-  bool force = false, tangent = false;   // what run() assembles: f (into f), K (into A and G)
+  bool force = false, tangent = false;   // what run() assembles: f (into f), K (through scatter)
 
   template <bool Force, bool Tangent>
   KOKKOS_INLINE_FUNCTION void element(const int e) const {
@@ -160,22 +155,7 @@ struct AssembleInternal {
         Kokkos::atomic_add(&f(2 * l), fe[2 * a]);
         Kokkos::atomic_add(&f(2 * l + 1), fe[2 * a + 1]);
       }
-    if (!Tangent) return;
-    int cols[MaxDof], gcols[MaxDof];
-    const bool split = orow.extent(0) > 0;
-    for (int a = 0; a < nen; ++a) {
-      const int l = pd.lid(cps[a]), o = split ? ocol(cps[a]) : l;
-      cols[2 * a] = 2 * o;
-      cols[2 * a + 1] = 2 * o + 1;
-      gcols[2 * a] = 2 * l;
-      gcols[2 * a + 1] = 2 * l + 1;
-    }
-    for (int r = 0; r < 2 * nen; ++r) {
-      const int cp = cps[r / 2];
-      if (!split) A.sumIntoValues(cols[r], cols, 2 * nen, Ke[r], false, true);
-      else if (orow(cp) >= 0) A.sumIntoValues(2 * orow(cp) + r % 2, cols, 2 * nen, Ke[r], false, true);
-      else G.sumIntoValues(2 * grow(cp) + r % 2, gcols, 2 * nen, Ke[r], false, true);
-    }
+    if (Tangent) scatter.template add<MaxDof / 2>(pd.lid, cps, nen, &Ke[0][0], MaxDof);
   }
 
   void run(int e_end) {

@@ -844,12 +844,27 @@ Problem build(Reader& R, const YAML::Node& root) {
     long long dofs = 0;
     for (const Body& b : P.bodies) dofs += 2LL * static_cast<long long>(b.patch.cp.size());
     P.linear.automatic = true;
-    P.linear.method = dofs <= kAutoDirectMaxDofs ? LinearMethod::Direct
-                      : P.contact.empty()        ? LinearMethod::CG
-                                                 : LinearMethod::GMRES;
+    // finite strain: the tangent may be indefinite (buckling) and, with follower pressure,
+    // non-symmetric: GMRES
+    P.linear.method = dofs <= kAutoDirectMaxDofs                                ? LinearMethod::Direct
+                      : P.contact.empty() && P.kinematics == Kinematics::Small ? LinearMethod::CG
+                                                                               : LinearMethod::GMRES;
   }
   for (const ContactPair& c : P.contact)
     if (c.friction > 0) P.linear.symmetric = false;
+  // a pressure following the deformed surface has a non-symmetric tangent
+  bool follower = false;
+  if (P.kinematics == Kinematics::Finite)
+    for (const Body& b : P.bodies)
+      for (const SideCondition& sc : b.sides)
+        if (sc.load == LoadKind::Pressure || sc.load == LoadKind::LinearPressure) follower = true;
+  if (follower) {
+    P.linear.symmetric = false;
+    if (P.linear.method == LinearMethod::CG)
+      R.fail("solver.linear.method", root["solver"]["linear"]["method"],
+             "cg needs a symmetric tangent, and a pressure with analysis.kinematics: finite follows the deformed "
+             "surface, whose tangent is non-symmetric; use gmres or direct");
+  }
   // friction in slip makes the tangent non-symmetric: CG does not apply
   for (size_t k = 0; k < P.contact.size(); ++k)
     if (P.contact[k].friction > 0 && P.linear.method == LinearMethod::CG)

@@ -321,7 +321,7 @@ RCP<const Graph> System::stiffness_graph() const {
 
 // One element loop for the internal force and the tangent of every material
 // (kernels/elasticity.hpp, AssembleInternal): the small-strain stiffness is its tangent at any u.
-void System::assemble_internal(const Vector* u, Vector* f_int, RCP<Matrix>* K) const {
+void System::assemble_internal(const Vector* u, Vector* f_int, RCP<Matrix>* K, const LoadPoint* lp) const {
   const bool one = overlap_->isSameAs(*owned_);
   const RCP<const Graph> graph = K ? stiffness_graph() : Teuchos::null;
   // displacements on the overlap (the control points this rank's elements touch)
@@ -358,6 +358,17 @@ void System::assemble_internal(const Vector* u, Vector* f_int, RCP<Matrix>* K) c
   Local lk, lg;
   if (K) lk = (*K)->getLocalMatrixDevice();
   if (G) lg = G->getLocalMatrixDevice();
+  const auto scatter = [&](size_t b) {
+    ElementScatter<Local> sc;
+    sc.A = lk;
+    if (!one) {
+      sc.G = lg;
+      sc.orow = split_->orow[b];
+      sc.ocol = split_->ocol[b];
+      sc.grow = split_->grow[b];
+    }
+    return sc;
+  };
   for (size_t b = 0; b < bodies_.size(); ++b) {
     const BodyData& bd = bodies_[b];
     if (bd.e_end <= bd.e_begin) continue;
@@ -368,17 +379,36 @@ void System::assemble_internal(const Vector* u, Vector* f_int, RCP<Matrix>* K) c
       k.f = fv;
       k.force = f_int != nullptr;
       k.tangent = K != nullptr;
-      if (K) {
-        k.A = lk;
-        if (!one) {
-          k.G = lg;
-          k.orow = split_->orow[b];
-          k.ocol = split_->ocol[b];
-          k.grow = split_->grow[b];
-        }
-      }
+      if (K) k.scatter = scatter(b);
       k.run(bd.e_end);
     });
+    // finite kinematics: pressures follow the deformed sides (kernels/boundary_load.hpp)
+    if (lp && P_.kinematics == Kinematics::Finite)
+      for (int side = 0; side < 4; ++side) {
+        const SideCondition& sc = P_.bodies[b].sides[side];
+        if (sc.load != LoadKind::Pressure && sc.load != LoadKind::LinearPressure) continue;
+        AssembleFollowerPressure<Local> k;
+        k.pd = bd.pd;
+        k.load.side = side;
+        k.load.kind = 1;
+        const auto at = [&](const std::vector<double>& v) {
+          return (1.0 - lp->s) * (lp->stage > 0 ? v[lp->stage - 1] : 0.0) + lp->s * v[lp->stage];
+        };
+        k.load.p0 = at(sc.p0);
+        k.load.p1 = at(sc.p1);
+        k.load.scale = P_.thickness;
+        k.load.orientation = bd.orientation;
+        const int d = side <= 1 ? 1 : 0;
+        k.g = gauss_rule(bd.pd.p[d] + 1);
+        k.e_begin = bd.e_begin;
+        k.e_end = bd.e_end;
+        k.u = uv;
+        k.f = fv;
+        k.force = f_int != nullptr;
+        k.tangent = K != nullptr;
+        if (K) k.scatter = scatter(b);
+        Kokkos::parallel_for("iga::AssembleFollowerPressure", Kokkos::RangePolicy<ExecSpace>(0, bd.pd.ne[d]), k);
+      }
   }
   Kokkos::fence();
   fv = {};
@@ -418,6 +448,8 @@ RCP<Vector> System::assemble_loads(double lambda, int stage) const {
       for (int s = 0; s < 4; ++s) {
         const SideCondition& sc = P_.bodies[b].sides[s];
         if (sc.load == LoadKind::None) continue;
+        // finite kinematics: pressures are follower loads, in assemble_internal
+        if (sc.load != LoadKind::Traction && P_.kinematics == Kinematics::Finite) continue;
         AssembleSideLoad<decltype(f)> k;
         k.pd = bd.pd;
         k.load.side = s;

@@ -60,13 +60,16 @@ class System {
   /// (owned rows, no boundary conditions), in one element loop: f_int into *f_int when given,
   /// K_T into *K when given (created with the stiffness graph when null, refilled in place
   /// after, so that holders of the RCP see the new values). u == nullptr: u = 0.
-  void assemble_internal(const Vector* u, Vector* f_int, RCP<Matrix>* K) const;
+  /// Finite kinematics with a load point lp: pressures follow the deformed sides and enter
+  /// here, as -f_ext(u, lp) and its (non-symmetric) tangent; assemble_loads leaves them out.
+  void assemble_internal(const Vector* u, Vector* f_int, RCP<Matrix>* K, const LoadPoint* lp = nullptr) const;
   /// The tangent at u = 0, fill complete: the small-strain stiffness for every material.
   RCP<Matrix> assemble_stiffness() const;
   /// Every body's tangent is independent of u (small strain, linear): assembled once.
   bool constant_tangent() const;
   /// External load vector (Neumann conditions): lambda times the loads at the end of stage
-  /// `stage` (0-based; -1: the last).
+  /// `stage` (0-based; -1: the last). Finite kinematics: tractions only (dead loads);
+  /// pressures follow the surface (assemble_internal).
   RCP<Vector> assemble_loads(double lambda, int stage = -1) const;
 
   /// C++ API: a traction t(x, y) on a side, in addition to the problem file's loads

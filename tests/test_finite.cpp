@@ -259,26 +259,31 @@ TEST(InternalForce, KernelMatchesTheHostReference) {
 }
 
 // The assembled tangent is the derivative of the assembled internal force (central
-// differences along a random direction), for every material, on any number of ranks.
+// differences along a random direction), for every material, with follower pressures in
+// finite kinematics, on any number of ranks.
 TEST(InternalForce, TangentIsTheDerivativeOfTheForce) {
   auto comm = Tpetra::getDefaultComm();
   for (const std::string model : {"linear", "saint_venant_kirchhoff", "neo_hookean"}) {
     const std::string kin = model == "linear" ? "small" : "finite";
-    const Problem P = parse_problem(distorted_block(model, "      west: {displacement: {x: 0, y: 0}}\n", "{kinematics: " + kin + "}"),
-                                    "t.yaml");
+    const std::string bc = "      west: {displacement: {x: 0, y: 0}}\n      east: {pressure: 30.0}\n"
+                           "      north: {pressure: {linear: [10.0, -20.0]}}\n";
+    const Problem P = parse_problem(distorted_block(model, bc, "{kinematics: " + kin + "}"), "t.yaml");
     System sys(P, comm);
     Vector u(sys.owned_map()), v(sys.owned_map());
     u.randomize(-0.05, 0.05);
     v.randomize(-1.0, 1.0);
     RCP<Matrix> K;
-    sys.assemble_internal(&u, nullptr, &K);
+    // finite: pressures on two sides (one linear) follow the surface and enter the force and
+    // the tangent (at load point t = 0.7)
+    const LoadPoint lp = LoadPoint::at(0.7, 1);
+    sys.assemble_internal(&u, nullptr, &K, &lp);
     Vector Kv(sys.owned_map()), fp(sys.owned_map()), fm(sys.owned_map()), up(sys.owned_map()), um(sys.owned_map());
     K->apply(v, Kv);
     const double h = 1e-6;
     up.update(1.0, u, h, v, 0.0);
     um.update(1.0, u, -h, v, 0.0);
-    sys.assemble_internal(&up, &fp, nullptr);
-    sys.assemble_internal(&um, &fm, nullptr);
+    sys.assemble_internal(&up, &fp, nullptr, &lp);
+    sys.assemble_internal(&um, &fm, nullptr, &lp);
     fp.update(-1.0 / (2 * h), fm, 1.0 / (2 * h));
     fp.update(-1.0, Kv, 1.0);
     EXPECT_LT(fp.normInf(), 1e-7 * Kv.normInf()) << model;
@@ -350,6 +355,41 @@ TEST(HomogeneousStretch, MatchesTheClosedFormUniaxialSolution) {
         EXPECT_NEAR(fp.syy, 0.0, 1e-9 * std::abs(P11));
       }
     }
+}
+
+// A pressure in finite kinematics follows the deformed side: uniaxial compression of the
+// distorted patch by a pressure p on its east side (neo-Hookean, lateral side free) gives the
+// Cauchy stress sigma_11 = -p exactly (a dead load would give P_11 = -p); the stretches solve
+// P_11(l1, l2) = -p l2 (the side's current height) with P_22 = 0.
+TEST(FollowerPressure, GivesTheCauchyStress) {
+  const double p = 25.0;
+  std::ostringstream bc;
+  bc << "      west: {displacement: {x: 0}}\n      south: {displacement: {y: 0}}\n"
+     << "      east: {pressure: " << p << "}\n";
+  Solved s = solve_text(distorted_block("neo_hookean", bc.str(), "{kinematics: finite, load_steps: 3}"), Tpetra::getDefaultComm(),
+                        {}, {"solver.newton.tolerance=1e-13"});
+  ASSERT_TRUE(s.res.converged) << s.res.message;
+  if (s.sys->comm()->getRank() != 0) return;
+  const Material& m = s.sys->material(0);
+  // l1 from P_11(l1, l2(l1)) + p l2(l1) = 0 (bisection; l2 from P_22 = 0)
+  double lo = 0.3, hi = 1.0;
+  for (int it = 0; it < 200; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    const auto [l2, P11] = uniaxial(m.model, m.lambda, m.mu, mid);
+    (P11 + p * l2 < 0 ? lo : hi) = mid;
+  }
+  const double l1 = 0.5 * (lo + hi), l2 = uniaxial(m.model, m.lambda, m.mu, l1).first;
+  const Patch& pt = s.P.bodies[0].patch;
+  double err = 0;
+  for (size_t a = 0; a < pt.cp.size(); ++a) {
+    err = std::max(err, std::abs(s.disp[0][2 * a] - (l1 - 1) * pt.cp[a][0]));
+    err = std::max(err, std::abs(s.disp[0][2 * a + 1] - (l2 - 1) * pt.cp[a][1]));
+  }
+  EXPECT_LT(err, 1e-10);
+  const FieldPoint fp = BodyField(s.P, 0, s.disp[0]).eval(0.4, 0.7);
+  EXPECT_NEAR(fp.sxx, -p, 1e-9 * p);
+  EXPECT_NEAR(fp.syy, 0.0, 1e-9 * p);
+  std::printf("l1 = %.6f, l2 = %.6f, sigma_11 = %.12g (-p = %g)\n", l1, l2, fp.sxx, -p);
 }
 
 namespace {

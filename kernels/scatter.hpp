@@ -1,0 +1,45 @@
+#pragma once
+// Summing an element matrix into the local matrices of this rank (atomics: correct on
+// threaded and GPU backends where elements share control points). Shared by the element
+// kernels (elasticity.hpp: internal force and tangent; boundary_load.hpp: follower pressure).
+//
+// One matrix (orow empty): rows and columns are the overlap numbering pd.lid.
+// Owned + ghost (several ranks): the row of control point a goes to A, the owned rows'
+// matrix, at local row orow(a) with columns ocol(.), when a is owned here; otherwise to G,
+// the few shared rows, at row grow(a) with columns pd.lid(.). (An owned control point couples
+// with every control point of its elements, so ocol is defined wherever it is used.)
+// Cost: (2 n)^2 atomic additions for an element of n control points.
+#include "kernels/types.hpp"
+
+namespace iga {
+
+template <class LocalMatrix>
+struct ElementScatter {
+  LocalMatrix A = {};
+  LocalMatrix G = {};
+  Kokkos::View<const int*, MemSpace> orow = {}, ocol = {}, grow = {};
+
+  /// Adds Ke (2 n x 2 n, row r at Ke + r * ld) of the control points cps[0..n) (patch
+  /// numbering) with overlap numbering lid.
+  template <int MaxN>
+  KOKKOS_INLINE_FUNCTION void add(const Kokkos::View<const int*, MemSpace>& lid, const int* cps, int n, const double* Ke,
+                                  int ld) const {
+    int cols[2 * MaxN], gcols[2 * MaxN];
+    const bool split = orow.extent(0) > 0;
+    for (int a = 0; a < n; ++a) {
+      const int l = lid(cps[a]), o = split ? ocol(cps[a]) : l;
+      cols[2 * a] = 2 * o;
+      cols[2 * a + 1] = 2 * o + 1;
+      gcols[2 * a] = 2 * l;
+      gcols[2 * a + 1] = 2 * l + 1;
+    }
+    for (int r = 0; r < 2 * n; ++r) {
+      const int cp = cps[r / 2];
+      if (!split) A.sumIntoValues(cols[r], cols, 2 * n, Ke + r * ld, false, true);
+      else if (orow(cp) >= 0) A.sumIntoValues(2 * orow(cp) + r % 2, cols, 2 * n, Ke + r * ld, false, true);
+      else G.sumIntoValues(2 * grow(cp) + r % 2, gcols, 2 * n, Ke + r * ld, false, true);
+    }
+  }
+};
+
+}  // namespace iga
