@@ -33,6 +33,16 @@ KOKKOS_INLINE_FUNCTION int side_cp(const PatchData& pd, int side, int k) {
   }
 }
 
+/// Patch element that element k along a side belongs to.
+KOKKOS_INLINE_FUNCTION int side_patch_element(const PatchData& pd, int side, int k) {
+  switch (side) {
+    case 0: return k * pd.ne[0];
+    case 1: return pd.ne[0] - 1 + k * pd.ne[0];
+    case 2: return k;
+    default: return k + (pd.ne[1] - 1) * pd.ne[0];
+  }
+}
+
 /// Outward unit normal of a side from the tangent dx/dxi along it.
 KOKKOS_INLINE_FUNCTION void side_normal(int side, int orientation, const double t[2], double n[2]) {
   const double len = kmath::sqrt(t[0] * t[0] + t[1] * t[1]);
@@ -50,14 +60,7 @@ struct AssembleSideLoad {
   int e_begin = 0, e_end = 0;  // patch elements of this rank: a side element is done by its owner
 
   /// Patch element that side element k belongs to.
-  KOKKOS_INLINE_FUNCTION int patch_element(int k) const {
-    switch (load.side) {
-      case 0: return k * pd.ne[0];
-      case 1: return pd.ne[0] - 1 + k * pd.ne[0];
-      case 2: return k;
-      default: return k + (pd.ne[1] - 1) * pd.ne[0];
-    }
-  }
+  KOKKOS_INLINE_FUNCTION int patch_element(int k) const { return side_patch_element(pd, load.side, k); }
 
   KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
     const int pe = patch_element(k);
@@ -116,14 +119,7 @@ struct AssembleFollowerPressure {
   ElementScatter<LocalMatrix> scatter = {};
   bool force = false, tangent = false;
 
-  KOKKOS_INLINE_FUNCTION int patch_element(int k) const {
-    switch (load.side) {
-      case 0: return k * pd.ne[0];
-      case 1: return pd.ne[0] - 1 + k * pd.ne[0];
-      case 2: return k;
-      default: return k + (pd.ne[1] - 1) * pd.ne[0];
-    }
-  }
+  KOKKOS_INLINE_FUNCTION int patch_element(int k) const { return side_patch_element(pd, load.side, k); }
 
   KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
     const int pe = patch_element(k);
