@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "kernels/material.hpp"
+#include "solver/system.hpp"
 
 namespace iga {
 
@@ -27,11 +28,7 @@ HostPatchData host_patch_data(const Patch& P) {
 BodyField::BodyField(const Problem& P, int body, std::vector<double> u)
     : patch_(&P.bodies[body].patch),
       pd_(host_patch_data(P.bodies[body].patch)),
-      mat_(P.kinematics == Kinematics::Small
-               ? Material::plane(P.bodies[body].E, P.bodies[body].nu, P.analysis == Analysis::PlaneStrain, 1.0)
-               : Material::finite(P.bodies[body].model == MaterialModel::NeoHookean ? Material::kNeoHookean
-                                                                                   : Material::kSaintVenantKirchhoff,
-                                  P.bodies[body].E, P.bodies[body].nu, 1.0)),
+      mat_(body_material(P, body, 1.0)),
       plane_strain_(P.analysis == Analysis::PlaneStrain),
       nu_(P.bodies[body].nu),
       u_(std::move(u)) {}

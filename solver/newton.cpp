@@ -101,6 +101,46 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
     int newton_its = 0;
     bool final = false;   // no smaller increment can help (a singular tangent at the committed state)
   };
+  // the residual at uu; a contact state the discretisation cannot represent fails the increment
+  auto evaluate = [&](const Vector& uu, ContactContribution& cc, Outcome& out) {
+    try {
+      residual(uu, cc);
+      return true;
+    } catch (const ContactError& e) {
+      out.why = e.what();
+      return false;
+    }
+  };
+  // K_T(u) = K(u) + K_c, without boundary conditions (K refilled in place where it depends on u:
+  // `tangent` holds it)
+  auto tangent_at = [&](const ContactContribution& cc) {
+    if (!constant_K) sys.assemble_internal(u.get(), nullptr, &K, &lp_now);
+    Teuchos::TimeMonitor t(timer("2b) Tangent: K + K_c, Dirichlet"));
+    return tangent.build(cc.K);
+  };
+  // du from K_T du = r with the constrained rows and columns eliminated; false (out.why set)
+  // when the linear solver threw (Trilinos' exceptions: a failed increment, not an internal error)
+  auto linear_step = [&](const RCP<Matrix>& KT, LinearSolveResult& lr, Outcome& out) {
+    {
+      Teuchos::TimeMonitor t(timer("2b) Tangent: K + K_c, Dirichlet"));
+      sys.apply_dirichlet(*KT);
+    }
+    // a preconditioner built for another sparsity pattern cannot be applied to this one
+    if (tangent.rebuilds() != prec_pattern) { prec.clear(); prec_pattern = tangent.rebuilds(); }
+    du->putScalar(0.0);
+    try {
+      lr = solve_linear(P.linear, KT, du, r, Z, X, &prec);
+    } catch (const std::exception& e) {
+      std::string what = e.what();
+      while (!what.empty() && std::isspace(static_cast<unsigned char>(what.back()))) what.pop_back();
+      what = what.substr(what.find_last_of('\n') + 1);
+      out.why = "the linear solver failed: " + what;
+      prec.clear();
+      return false;
+    }
+    res.linear_iterations += lr.iterations;
+    return true;
+  };
   auto increment = [&](const LoadPoint& lp, int step, int cuts) -> Outcome {
     Outcome out;
     f->update(1.0 - lp.s, *f_prev, lp.s, *f_end, 0.0);
@@ -118,31 +158,15 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
       d.update(-1.0, *u, 1.0);   // du_D: zero on the free dofs
       if (d.normInf() > 0) {
         ContactContribution cc;
-        try {
-          residual(*u, cc);
-        } catch (const ContactError& e) {
-          out.why = e.what();
-          return out;
-        }
-        sys.assemble_internal(u.get(), nullptr, &K, &lp_now);
-        RCP<Matrix> KT = tangent.build(cc.K);
+        if (!evaluate(*u, cc, out)) return out;
+        RCP<Matrix> KT = tangent_at(cc);
         Vector Kd(sys.owned_map());
         KT->apply(d, Kd);
         r->update(-1.0, Kd, 1.0);
-        sys.apply_dirichlet(*KT);
-        if (tangent.rebuilds() != prec_pattern) { prec.clear(); prec_pattern = tangent.rebuilds(); }
         sys.zero_dirichlet(*r);
         ref = r->norm2();
-        du->putScalar(0.0);
         LinearSolveResult lr;
-        try {
-          lr = solve_linear(P.linear, KT, du, r, Z, X, &prec);
-        } catch (const std::exception& e) {
-          out.why = std::string("the linear solver failed in the predictor: ") + e.what();
-          prec.clear();
-          return out;
-        }
-        res.linear_iterations += lr.iterations;
+        if (!linear_step(KT, lr, out)) return out;
         if (!lr.converged || !finite(du->normInf())) {
           out.why = !lr.converged ? lr.message : "the linear solver returned NaN or Inf";
           return out;
@@ -155,12 +179,7 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
       bool newton_ok = false;
       double inc = 1.0;  // last ||alpha du|| / ||u|| (max norms)
       ContactContribution cc;
-      try {
-        residual(*u, cc);
-      } catch (const ContactError& e) {
-        out.why = e.what();
-        return out;
-      }
+      if (!evaluate(*u, cc, out)) return out;
       for (int it = 0; it <= P.newton.max_iterations; ++it) {
         sys.zero_dirichlet(*r);
         const double norm = r->norm2();
@@ -196,28 +215,8 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
           if (progress) progress(log);
           return out;
         }
-        RCP<Matrix> KT;
-        {
-          if (!constant_K) sys.assemble_internal(u.get(), nullptr, &K, &lp_now);   // K(u), in place: `tangent` holds it
-          Teuchos::TimeMonitor t(timer("2b) Tangent: K + K_c, Dirichlet"));
-          KT = tangent.build(cc.K);
-          sys.apply_dirichlet(*KT);
-        }
-        // a preconditioner built for another sparsity pattern cannot be applied to this one
-        if (tangent.rebuilds() != prec_pattern) { prec.clear(); prec_pattern = tangent.rebuilds(); }
-        du->putScalar(0.0);
         LinearSolveResult lr;
-        try {
-          lr = solve_linear(P.linear, KT, du, r, Z, X, &prec);
-        } catch (const std::exception& e) {   // Trilinos' exceptions: a failed increment, not an internal error
-          std::string what = e.what();
-          while (!what.empty() && std::isspace(static_cast<unsigned char>(what.back()))) what.pop_back();
-          what = what.substr(what.find_last_of('\n') + 1);
-          out.why = "the linear solver failed: " + what;
-          prec.clear();
-          return out;
-        }
-        res.linear_iterations += lr.iterations;
+        if (!linear_step(tangent_at(cc), lr, out)) return out;
         log.linear_iterations = lr.iterations;
         if (!lr.converged || !finite(du->normInf())) {
           out.why = !lr.converged ? lr.message : "the linear solver returned NaN or Inf";
@@ -262,12 +261,7 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
         if (best_norm < 0) { out.why = "the line search found no finite residual"; return out; }
         if (best_alpha != last_alpha) {   // the last trial was not the best: back to the best
           u_trial->update(1.0, *u, best_alpha, *du, 0.0);
-          try {
-            residual(*u_trial, cc);
-          } catch (const ContactError& e) {
-            out.why = e.what();
-            return out;
-          }
+          if (!evaluate(*u_trial, cc, out)) return out;
         }
         log.line_search = best_alpha;
         log.seconds = seconds();

@@ -45,6 +45,14 @@ PatchData make_patch_data(const Patch& P) {
 
 }  // namespace
 
+Material body_material(const Problem& P, int b, double thickness) {
+  const Body& body = P.bodies[b];
+  if (P.kinematics == Kinematics::Small)
+    return Material::plane(body.E, body.nu, P.analysis == Analysis::PlaneStrain, thickness);
+  return Material::finite(body.model == MaterialModel::NeoHookean ? Material::kNeoHookean : Material::kSaintVenantKirchhoff,
+                          body.E, body.nu, thickness);
+}
+
 System::System(const Problem& problem, RCP<const Comm> comm) : P_(problem), comm_(comm) {
   const int rank = comm_->getRank(), size = comm_->getSize();
   long long num_elements = 0;
@@ -53,10 +61,7 @@ System::System(const Problem& problem, RCP<const Comm> comm) : P_(problem), comm
     bd.pd = make_patch_data(b.patch);
     bd.cp_offset = num_cps_;
     bd.orientation = b.patch.orientation();
-    bd.mat = P_.kinematics == Kinematics::Small
-                 ? Material::plane(b.E, b.nu, P_.analysis == Analysis::PlaneStrain, P_.thickness)
-                 : Material::finite(b.model == MaterialModel::NeoHookean ? Material::kNeoHookean : Material::kSaintVenantKirchhoff,
-                                    b.E, b.nu, P_.thickness);
+    bd.mat = body_material(P_, static_cast<int>(bodies_.size()), P_.thickness);
     num_cps_ += static_cast<GO>(b.patch.cp.size());
     num_elements += b.patch.num_elements();
     bodies_.push_back(bd);
@@ -326,21 +331,23 @@ void System::assemble_internal(const Vector* u, Vector* f_int, RCP<Matrix>* K, c
   const RCP<const Graph> graph = K ? stiffness_graph() : Teuchos::null;
   // displacements on the overlap (the control points this rank's elements touch)
   Kokkos::View<const double*, MemSpace> uv;
-  RCP<Vector> u_ov;
   if (u) {
     if (one) {
       uv = Kokkos::subview(u->getLocalViewDevice(Tpetra::Access::ReadOnly), Kokkos::ALL(), 0);
     } else {
-      if (ov_import_.is_null()) ov_import_ = rcp(new Import(owned_, overlap_));
-      u_ov = rcp(new Vector(overlap_));
-      u_ov->doImport(*u, *ov_import_, Tpetra::INSERT);
-      uv = Kokkos::subview(u_ov->getLocalViewDevice(Tpetra::Access::ReadOnly), Kokkos::ALL(), 0);
+      if (ov_import_.is_null()) {
+        ov_import_ = rcp(new Import(owned_, overlap_));
+        u_ov_ = rcp(new Vector(overlap_));
+      }
+      u_ov_->doImport(*u, *ov_import_, Tpetra::INSERT);
+      uv = Kokkos::subview(u_ov_->getLocalViewDevice(Tpetra::Access::ReadOnly), Kokkos::ALL(), 0);
     }
   }
   RCP<Vector> f_ov;
   Kokkos::View<double*, MemSpace> fv;
   if (f_int) {
-    f_ov = one ? rcp(f_int, false) : rcp(new Vector(overlap_));
+    if (!one && f_ov_.is_null()) f_ov_ = rcp(new Vector(overlap_));
+    f_ov = one ? rcp(f_int, false) : f_ov_;
     f_ov->putScalar(0.0);
     fv = Kokkos::subview(f_ov->getLocalViewDevice(Tpetra::Access::ReadWrite), Kokkos::ALL(), 0);
   }

@@ -135,6 +135,7 @@ class System {
   mutable RCP<const Graph> graph_;          // the stiffness graph (owned rows), built once
   mutable RCP<const Import> ov_import_;     // owned -> overlap (displacements)
   mutable RCP<const Export> ov_export_;     // overlap -> owned (forces, ADD)
+  mutable RCP<Vector> u_ov_, f_ov_;         // several ranks: overlap displacements and forces
   RCP<const Graph> stiffness_graph() const;
 
   struct CouplingRange { std::vector<int> lo, hi; };
@@ -146,6 +147,10 @@ class System {
                     Teuchos::ArrayRCP<LO>& cols) const;
   std::unique_ptr<OwnedGhost> owned_ghost() const;
 };
+
+/// The kernels' material of body b: small-strain linear (plane strain or stress), or the body's
+/// finite-strain model (analysis.kinematics: finite; `linear` is Saint Venant-Kirchhoff there).
+Material body_material(const Problem& P, int b, double thickness);
 
 /// Owned-range split of n items over `size` ranks: [begin, end) of `rank`.
 inline std::pair<long long, long long> block_range(long long n, int rank, int size) {
