@@ -12,19 +12,6 @@ double FieldPoint::von_mises() const {
                    3.0 * sxy * sxy);
 }
 
-HostPatchData host_patch_data(const Patch& P) {
-  HostPatchData pd;
-  for (int d = 0; d < 2; ++d) {
-    pd.p[d] = P.degree[d];
-    pd.n[d] = P.ncp(d);
-    pd.ne[d] = static_cast<int>(P.element_spans(d).size());
-  }
-  pd.U0 = Kokkos::View<const double*, Kokkos::HostSpace>(P.knots[0].data(), P.knots[0].size());
-  pd.U1 = Kokkos::View<const double*, Kokkos::HostSpace>(P.knots[1].data(), P.knots[1].size());
-  pd.cp = Kokkos::View<const double* [3], Kokkos::HostSpace>(P.cp[0].data(), P.cp.size());
-  return pd;
-}
-
 BodyField::BodyField(const Problem& P, int body, std::vector<double> u)
     : patch_(&P.bodies[body].patch),
       pd_(host_patch_data(P.bodies[body].patch)),

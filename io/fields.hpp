@@ -34,6 +34,4 @@ class BodyField {
   std::vector<double> u_;
 };
 
-HostPatchData host_patch_data(const Patch& P);
-
 }  // namespace iga

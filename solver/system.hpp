@@ -27,6 +27,10 @@ struct BodyData {
   std::vector<int> lid;   // host copy of pd.lid
 };
 
+/// A patch's data as the kernels see it, viewing the patch's host arrays (host evaluation:
+/// output fields, host-integrated loads, references in tests). No lid.
+HostPatchData host_patch_data(const Patch& P);
+
 /// A constrained dof, the side it is reported under, and its prescribed value at the end of
 /// each stage.
 struct DirichletDof {
@@ -76,6 +80,10 @@ class System {
   /// (verification against analytic solutions; integrated on the host).
   using TractionFunction = std::function<std::array<double, 2>(double x, double y)>;
   void add_traction(int body, Side side, TractionFunction t) { user_tractions_.push_back({body, side, std::move(t)}); }
+  /// C++ API: a dead body force b(X, Y) per unit reference area (times the thickness) on a
+  /// body, scaled by the load factor like the file's loads (manufactured solutions; host).
+  using BodyForceFunction = std::function<std::array<double, 2>(double X, double Y)>;
+  void add_body_force(int body, BodyForceFunction b) { user_body_forces_.push_back({body, std::move(b)}); }
 
   /// The locally owned constrained dofs.
   const std::vector<DirichletDof>& dirichlet() const { return dirichlet_; }
@@ -123,6 +131,8 @@ class System {
   std::vector<int> dirichlet_lids_;
   struct UserTraction { int body; Side side; TractionFunction t; };
   std::vector<UserTraction> user_tractions_;
+  struct UserBodyForce { int body; BodyForceFunction b; };
+  std::vector<UserBodyForce> user_body_forces_;
   // Several ranks: element rows of owned control points go straight into the owned rows'
   // global pattern, the few others into a "ghost" matrix whose rows are exported (built once).
   struct OwnedGhost {

@@ -68,22 +68,27 @@ INSTANTIATE_TEST_SUITE_P(Degrees, ProjectionDegree, ::testing::Values(2, 3, 4));
 
 class TangentDegree : public ::testing::TestWithParam<std::tuple<int, bool, const char*>> {};
 
+namespace {
+
 // K_c against central differences of f_c, and f_c against differences of the potential
-// Pi = sum w <lambda - eps g>^2 / (2 eps) (the penalty potential when lambda = 0).
-TEST_P(TangentDegree, ContactTangentMatchesFiniteDifferences) {
-  const int p = std::get<0>(GetParam());
-  const bool with_multipliers = std::get<1>(GetParam());
-  const std::string method = std::get<2>(GetParam());
-  const Problem P = parse_problem(ring_and_block(p, 1.985, method), "tangent.yaml");
+// Pi = sum w <lambda - eps g>^2 / (2 eps) (the penalty potential when lambda = 0), at a
+// deformed state: smooth random displacements of the order of the penetration, plus a rigid
+// shift of the slave block (large sliding: the slave points have travelled shift[0] along
+// the master from where they started).
+void check_contact_tangent(int p, bool with_multipliers, const std::string& method, std::array<double, 2> shift = {0, 0},
+                           const std::string& extra = "") {
+  const Problem P = parse_problem(extra + ring_and_block(p, 1.985, method), "tangent.yaml");
   System sys(P, Tpetra::getDefaultComm());
   std::vector<ContactPairData> pairs{ContactPairData(sys, 0)};
   Vector u0(sys.owned_map());
   {
-    // a general deformed state: smooth random displacements of the order of the penetration
     std::mt19937 rng(p);
     std::uniform_real_distribution<double> d(-2e-3, 2e-3);
     auto h = u0.getLocalViewHost(Tpetra::Access::OverwriteAll);
-    for (size_t l = 0; l < u0.getLocalLength(); ++l) h(l, 0) = d(rng);
+    for (size_t l = 0; l < u0.getLocalLength(); ++l) {
+      const GO dof = sys.owned_map()->getGlobalElement(l);
+      h(l, 0) = d(rng) + (sys.body_of(dof / 2) == 1 ? shift[dof % 2] : 0.0);
+    }
   }
   pairs[0].update(u0);
   if (with_multipliers) {
@@ -126,10 +131,25 @@ TEST_P(TangentDegree, ContactTangentMatchesFiniteDifferences) {
     fp->update(-1.0, Ke, 1.0);
     worst = std::max(worst, fp->norm2());
   }
-  std::printf("  %s p = %d: max |K_c e_j - FD| = %.2e of max |K_c e_j| = %.2e; max |f_c - dPi/du| = %.2e\n", method.c_str(), p, worst,
-              kscale, worst_f);
+  std::printf("  %s p = %d, shift (%g, %g): %d active; max |K_c e_j - FD| = %.2e of max |K_c e_j| = %.2e; max |f_c - dPi/du| = %.2e\n",
+              method.c_str(), p, shift[0], shift[1], c0.active, worst, kscale, worst_f);
   EXPECT_LT(worst, 1e-6 * kscale);
   EXPECT_LT(worst_f, 1e-6 * c0.f->normInf());
+}
+
+}  // namespace
+
+TEST_P(TangentDegree, ContactTangentMatchesFiniteDifferences) {
+  check_contact_tangent(std::get<0>(GetParam()), std::get<1>(GetParam()), std::get<2>(GetParam()));
+}
+
+// Large sliding in finite kinematics: the slave block slid 1.0 along the ring (more than two
+// of its master elements of arc length 0.45) and pressed 0.2 into its flank, where the
+// normal has turned by some 25 degrees; the search finds the new master elements and the
+// tangent stays the derivative of the force.
+TEST(LargeSliding, ContactTangentMatchesFiniteDifferences) {
+  for (const char* method : {"kts_penalty", "mortar_penalty"})
+    for (int p : {2, 3}) check_contact_tangent(p, false, method, {1.0, -0.2}, "analysis: {kinematics: finite}\n");
 }
 
 INSTANTIATE_TEST_SUITE_P(Degrees, TangentDegree,
