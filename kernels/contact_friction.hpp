@@ -319,6 +319,7 @@ struct AssembleMortarFriction {
   SlavePoints sp;
   MortarState ms;
   FrictionData fr;
+  MortarScratch sc;
   double eps = 0;
   int slots = 1, a_begin = 0;
   LocalMatrix K;
@@ -330,33 +331,30 @@ struct AssembleMortarFriction {
     if (st == 0) return;
     const bool slip = st == 2;
     if (slip && !(ms.lambda(A) > 0)) return;
-    int dof[kMortarMaxEntries];
-    double V[kMortarMaxEntries], G[kMortarMaxEntries], row[kMortarMaxEntries];
-    int n = 0;
-    bool over = false;
-    auto add = [&](int dd, double v, double gv) {
-      for (int q = 0; q < n; ++q)
-        if (dof[q] == dd) { V[q] += v; G[q] += gv; return; }
-      if (n == kMortarMaxEntries) { over = true; return; }
-      dof[n] = dd; V[n] = v; G[n++] = gv;
-    };
+    // V_A in v0, delta g_A in v1, on A's dense dof range (contact_mortar.hpp)
+    const SupportRange r = support_range(s, m, sp, slots, A);
+    if (!support_scratch(sc, k, r, ms.flags)) return;
     const SlavePoints& p = sp;
     const FrictionData& f = fr;
+    const MortarScratch& SC = sc;
+    const CurveData &S_ = s, &M_ = m;
     for_each_support_point(s, sp, slots, A, [&](int i, double RA, const double (*)[kMaxBasis1D], int) {
       SlipPoint d;
       int lid[N];
-      gather_slip_point(s, m, p, f, i, d, lid);
+      gather_slip_point(S_, M_, p, f, i, d, lid);
       F S[N], ds, g;
       slip_variation<N>(d, S, ds, g);
       const double w = RA * p.weight(i);
-      for (int r = 0; r < d.nd; ++r) add(lid[r], w * S[r].val(), w * g.fastAccessDx(r));
+      const int ss = p.span(i), mspan = p.mspan(i);
+      for (int q = 0; q < d.nd; ++q) {
+        const int e = q < d.nds ? r.slave(ss - S_.p + q / 2, q % 2) : r.master(mspan - M_.p + (q - d.nds) / 2, (q - d.nds) % 2);
+        SC.v0(k, e) += w * S[q].val();
+        SC.v1(k, e) += w * g.fastAccessDx(q);
+      }
     });
-    if (over) { Kokkos::atomic_add(&ms.flags(1), 1); return; }
+    const int n = support_compact(sc, k, r, s, m);
     const double c = slip ? (fr.tauA(A) >= 0 ? 1.0 : -1.0) * fr.mu * eps / ms.wA(A) : fr.epsT / ms.wA(A);
-    for (int r = 0; r < n; ++r) {
-      for (int q = 0; q < n; ++q) row[q] = c * V[r] * (slip ? G[q] : V[q]);
-      K.sumIntoValues(dof[r], dof, n, row, false, true);
-    }
+    support_outer(sc, k, n, c, slip, K);
   }
 };
 

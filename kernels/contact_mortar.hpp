@@ -22,22 +22,38 @@
 //   whose closest master point is the knot); candidate knots are those of the master elements
 //   in the search-grid cells that the slave element's box overlaps. Each segment gets its own
 //   Gauss rule, so the integrand is smooth on every piece.
-// Layout: the slave quadrature points are slots of SlavePoints, kMortarMaxSegments x nq per
-//   slave element (element-major, segments in increasing xi); unused slots have span = -1.
+// Layout: the slave quadrature points are slots of SlavePoints, max_segments x nq per slave
+//   element (element-major, segments in increasing xi); unused slots have span = -1.
+//   max_segments is a run-time capacity: MortarSegments reports how many segments an element
+//   needs (flags(0), a maximum) and the host grows the slots and runs it again, so any ratio
+//   of slave to master element sizes is handled. cuts(e, k): scratch for the cut points.
 //   Per slave control point A: w_A, g_A, lbar_A, lambda_A, active_A (views over slave cps).
+//   The variations of A (delta g_A, and friction's V_A) live on a dense dof range
+//   (SupportRange: the slave cps A - p .. A + p and the master cps its support points project
+//   into), in per-A scratch rows of a run-time capacity grown the same way (flags(1)).
 // Cost per slave element: ~ (candidates) x 10 Newton steps x 20 (p + 1) flops for the cuts;
 //   per slave cp A: (p + 1) elements x slots x basis evaluation ~ 15 (p + 1)^2 flops.
 #include "kernels/contact_kts.hpp"
 
 namespace iga {
 
-constexpr int kMortarMaxSegments = 16;
-constexpr int kMortarMaxEntries = 160;   // dofs of one delta g_A
+constexpr int kMortarInitialSegments = 16;   // segments per slave element to start with
+constexpr int kMortarInitialEntries = 160;   // dofs per delta g_A to start with
 
 struct MortarState {
   Kokkos::View<double*, MemSpace> wA, gA, lbar, lambda;
   Kokkos::View<int*, MemSpace> active, covered;
-  Kokkos::View<int*, MemSpace> flags;   // [0] segment overflow, [1] entry overflow
+  // maxima of what was needed where a capacity was short: [0] segments of one slave
+  // element, [1] dofs of one delta g_A (0: every capacity sufficed)
+  Kokkos::View<int*, MemSpace> flags;
+};
+
+/// Per-A scratch rows of the assembly kernels (row k for A = a_begin + k): dof ids and up to
+/// two value arrays and a matrix row, `cap` entries each.
+struct MortarScratch {
+  Kokkos::View<int**, Kokkos::LayoutRight, MemSpace> dof;
+  Kokkos::View<double**, Kokkos::LayoutRight, MemSpace> v0, v1, row;
+  KOKKOS_INLINE_FUNCTION int cap() const { return static_cast<int>(dof.extent(1)); }
 };
 
 /// Reference control point positions (for the reference Jacobian).
@@ -53,9 +69,11 @@ struct MortarSegments {
   SearchGrid grid;
   GaussRule gauss;
   double thickness = 1;
+  int max_segments = kMortarInitialSegments;
+  Kokkos::View<double**, Kokkos::LayoutRight, MemSpace> cuts;   // ne x (max_segments + 1) scratch
   Kokkos::View<int*, MemSpace> flags;
 
-  KOKKOS_INLINE_FUNCTION int slots() const { return kMortarMaxSegments * gauss.n; }
+  KOKKOS_INLINE_FUNCTION int slots() const { return max_segments * gauss.n; }
 
   // root of (x_s(xi) - rho) . t on the slave element [a, b] of span `span` (bracketed
   // Newton); xa, xb are the slave's current points at a and b. false if no sign change.
@@ -87,9 +105,8 @@ struct MortarSegments {
   KOKKOS_INLINE_FUNCTION void operator()(const int e) const {
     const int span = s.span(e);
     const double a = s.U(span), b = s.U(span + 1);
-    double bp[kMortarMaxSegments + 1];
-    int nbp = 0;
-    bool overflow = false;
+    double* bp = &cuts(e, 1);   // interior cuts; cuts(e, 0) = a, cuts(e, nbp + 1) = b
+    int nbp = 0, found = 0;     // stored, and found (more than stored where short of room)
     // box of the slave element (its current control points hold it)
     double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
     for (int k = span - s.p; k <= span; ++k)
@@ -123,24 +140,25 @@ struct MortarSegments {
             bool dup = false;
             for (int j = 0; j < nbp; ++j) dup = dup || kmath::fabs(bp[j] - xi) <= 1e-12 * (b - a);
             if (dup) continue;
-            if (nbp + 1 >= kMortarMaxSegments) { overflow = true; continue; }
-            bp[nbp++] = xi;
+            ++found;   // an upper bound once storage is short (duplicates are not seen then)
+            if (nbp + 1 < max_segments) bp[nbp++] = xi;
           }
         }
       }
-    if (overflow) Kokkos::atomic_add(&flags(0), 1);
+    if (found > nbp) {   // short of room: report what is needed, leave the slots to the rerun
+      Kokkos::atomic_fetch_max(&flags(0), found + 1);
+      return;
+    }
     // sorted cut points with the element ends
     for (int i = 1; i < nbp; ++i)
       for (int j = i; j > 0 && bp[j - 1] > bp[j]; --j) {
         const double tmp = bp[j]; bp[j] = bp[j - 1]; bp[j - 1] = tmp;
       }
-    double cuts[kMortarMaxSegments + 1];
-    cuts[0] = a;
-    for (int j = 0; j < nbp; ++j) cuts[j + 1] = bp[j];
-    cuts[nbp + 1] = b;
+    cuts(e, 0) = a;
+    cuts(e, nbp + 1) = b;
     const int base = e * slots();
     const RefCP ref{s.X};
-    for (int seg = 0; seg < kMortarMaxSegments; ++seg)
+    for (int seg = 0; seg < max_segments; ++seg)
       for (int q = 0; q < gauss.n; ++q) {
         const int i = base + seg * gauss.n + q;
         sp.melem(i) = -1;   // slots move between updates: no warm start
@@ -150,8 +168,8 @@ struct MortarSegments {
           sp.weight(i) = 0;
           continue;
         }
-        const double h = 0.5 * (cuts[seg + 1] - cuts[seg]);
-        const double xi = cuts[seg] + h * (gauss.x[q] + 1.0);
+        const double h = 0.5 * (cuts(e, seg + 1) - cuts(e, seg));
+        const double xi = cuts(e, seg) + h * (gauss.x[q] + 1.0);
         double R[3][kMaxBasis1D], X[2], dX[2], ddX[2];
         curve_eval_span(span, s.p, s.U.data(), ref, s.w, xi, X, dX, ddX, R);
         sp.span(i) = span;
@@ -226,40 +244,82 @@ struct MortarPointPressure {
   }
 };
 
-/// delta g_A over the overlap dofs (2 lid + c) of slave control point A; returns the count,
-/// or -1 when more than kMortarMaxEntries dofs.
-KOKKOS_INLINE_FUNCTION int mortar_gap_variation(const CurveData& s, const CurveData& m, const SlavePoints& sp,
-                                                int slots, int A, int dof[kMortarMaxEntries],
-                                                double val[kMortarMaxEntries]) {
-  int n = 0;
-  bool over = false;
-  auto add = [&](int d, double v) {
-    for (int k = 0; k < n; ++k)
-      if (dof[k] == d) { val[k] += v; return; }
-    if (n == kMortarMaxEntries) { over = true; return; }
-    dof[n] = d;
-    val[n++] = v;
-  };
-  for_each_support_point(s, sp, slots, A, [&](int i, double RA, const double (*Rs)[kMaxBasis1D], int span) {
-    const double w = RA * sp.weight(i);
-    const double nn[2] = {sp.normal(i, 0), sp.normal(i, 1)};
-    for (int a = 0; a <= s.p; ++a)
-      for (int c = 0; c < 2; ++c) add(2 * s.lid(span - s.p + a) + c, w * Rs[0][a] * nn[c]);
-    double Rm[3][kMaxBasis1D], rho[2], t[2], dd[2];
+/// The dofs that the variations of slave control point A touch, as one dense range: the
+/// slave cps A - p .. A + p, then the master cps [m_lo, m_lo + nm) into which A's support
+/// points project; entry index of (cp, component) by slave() / master(). One helper for the
+/// gap (AssembleMortarGap) and friction (AssembleMortarFriction) tangents.
+struct SupportRange {
+  int s_lo = 0, ns = 0, m_lo = 0, nm = 0;
+  KOKKOS_INLINE_FUNCTION int size() const { return 2 * (ns + nm); }
+  KOKKOS_INLINE_FUNCTION int slave(int cp, int c) const { return 2 * (cp - s_lo) + c; }
+  KOKKOS_INLINE_FUNCTION int master(int cp, int c) const { return 2 * (ns + cp - m_lo) + c; }
+};
+
+KOKKOS_INLINE_FUNCTION SupportRange support_range(const CurveData& s, const CurveData& m, const SlavePoints& sp,
+                                                  int slots, int A) {
+  SupportRange r;
+  r.s_lo = A - s.p;
+  r.ns = 2 * s.p + 1;
+  int lo = m.nb, hi = -1;
+  for_each_support_point(s, sp, slots, A, [&](int i, double, const double (*)[kMaxBasis1D], int) {
     const int ms = sp.mspan(i);
-    curve_eval_span(ms, m.p, m.U.data(), CurrentCP{m.X, m.u}, m.w, sp.mxi(i), rho, t, dd, Rm);
-    for (int b = 0; b <= m.p; ++b)
-      for (int c = 0; c < 2; ++c) add(2 * m.lid(ms - m.p + b) + c, -w * Rm[0][b] * nn[c]);
+    lo = ms - m.p < lo ? ms - m.p : lo;
+    hi = ms > hi ? ms : hi;
   });
-  return over ? -1 : n;
+  r.m_lo = hi < 0 ? 0 : lo;
+  r.nm = hi < 0 ? 0 : hi - lo + 1;
+  return r;
+}
+
+/// Scratch row k, zeroed over the range; false (and flags(1) raised to what is needed) when
+/// the capacity is short.
+KOKKOS_INLINE_FUNCTION bool support_scratch(const MortarScratch& sc, int k, const SupportRange& r,
+                                            const Kokkos::View<int*, MemSpace>& flags) {
+  if (r.size() > sc.cap()) {
+    Kokkos::atomic_fetch_max(&flags(1), r.size());
+    return false;
+  }
+  for (int q = 0; q < r.size(); ++q) { sc.v0(k, q) = 0; sc.v1(k, q) = 0; }
+  return true;
+}
+
+/// Compacts scratch row k to the entries that were touched (a non-zero value): their
+/// overlap dofs in sc.dof(k, .), the values moved along; returns their count.
+KOKKOS_INLINE_FUNCTION int support_compact(const MortarScratch& sc, int k, const SupportRange& r, const CurveData& s,
+                                           const CurveData& m) {
+  int n = 0;
+  for (int q = 0; q < r.size(); ++q) {
+    if (sc.v0(k, q) == 0 && sc.v1(k, q) == 0) continue;
+    const int cp = q / 2, c = q % 2;
+    const int lid = cp < r.ns ? s.lid(r.s_lo + cp) : m.lid(r.m_lo + cp - r.ns);
+    if (lid < 0) continue;
+    sc.dof(k, n) = 2 * lid + c;
+    sc.v0(k, n) = sc.v0(k, q);
+    sc.v1(k, n++) = sc.v1(k, q);
+  }
+  return n;
+}
+
+/// Sums c a (x) b over the compacted row k into K (a, b: v0 or v1 of the row).
+template <class LocalMatrix>
+KOKKOS_INLINE_FUNCTION void support_outer(const MortarScratch& sc, int k, int n, double c, bool b_is_v1,
+                                          const LocalMatrix& K) {
+  int* dof = &sc.dof(k, 0);
+  double* row = &sc.row(k, 0);
+  for (int r = 0; r < n; ++r) {
+    for (int q = 0; q < n; ++q) row[q] = c * sc.v0(k, r) * (b_is_v1 ? sc.v1(k, q) : sc.v0(k, q));
+    K.sumIntoValues(dof[r], dof, n, row, false, true);
+  }
 }
 
 /// K_c += eps / w_A delta g_A (x) delta g_A for the active slave control points [a_begin, ...).
+/// delta g_A = sum over A's support points of R_A w (N_s . n - N_m . n) (contact_kts.hpp).
 template <class LocalMatrix>
 struct AssembleMortarGap {
   CurveData s, m;
   SlavePoints sp;
   MortarState ms;
+  MortarScratch sc;
   double eps = 0;
   int slots = 1, a_begin = 0;
   LocalMatrix K;
@@ -267,15 +327,24 @@ struct AssembleMortarGap {
   KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
     const int A = a_begin + k;
     if (!ms.active(A)) return;
-    int dof[kMortarMaxEntries];
-    double val[kMortarMaxEntries], row[kMortarMaxEntries];
-    const int n = mortar_gap_variation(s, m, sp, slots, A, dof, val);
-    if (n < 0) { Kokkos::atomic_add(&ms.flags(1), 1); return; }
-    const double c = eps / ms.wA(A);
-    for (int r = 0; r < n; ++r) {
-      for (int q = 0; q < n; ++q) row[q] = c * val[r] * val[q];
-      K.sumIntoValues(dof[r], dof, n, row, false, true);
-    }
+    const SupportRange r = support_range(s, m, sp, slots, A);
+    if (!support_scratch(sc, k, r, ms.flags)) return;
+    const SlavePoints& p = sp;
+    const MortarScratch& S = sc;
+    const CurveData& M = m;
+    for_each_support_point(s, sp, slots, A, [&](int i, double RA, const double (*Rs)[kMaxBasis1D], int span) {
+      const double w = RA * p.weight(i);
+      const double nn[2] = {p.normal(i, 0), p.normal(i, 1)};
+      for (int a = 0; a <= s.p; ++a)
+        for (int c = 0; c < 2; ++c) S.v0(k, r.slave(span - s.p + a, c)) += w * Rs[0][a] * nn[c];
+      double Rm[3][kMaxBasis1D], rho[2], t[2], dd[2];
+      const int mspan = p.mspan(i);
+      curve_eval_span(mspan, M.p, M.U.data(), CurrentCP{M.X, M.u}, M.w, p.mxi(i), rho, t, dd, Rm);
+      for (int b = 0; b <= M.p; ++b)
+        for (int c = 0; c < 2; ++c) S.v0(k, r.master(mspan - M.p + b, c)) -= w * Rm[0][b] * nn[c];
+    });
+    const int n = support_compact(sc, k, r, s, m);
+    support_outer(sc, k, n, eps / ms.wA(A), false, K);
   }
 };
 

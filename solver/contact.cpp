@@ -111,6 +111,8 @@ SearchGrid build_search_grid(const CurveData& m) {
 
 ContactPairData::ContactPairData(const System& sys, int index) : pair_(sys.problem().contact[index]), index_(index) {
   thickness = sys.problem().thickness;
+  rank_ = sys.comm()->getRank();
+  nranks_ = sys.comm()->getSize();
   slave = make_curve(sys, pair_.slave, slave_gid);
   master = make_curve(sys, pair_.master, master_gid);
   mortar_ = pair_.method == ContactMethod::MortarPenalty || pair_.method == ContactMethod::MortarAlm;
@@ -148,12 +150,9 @@ ContactPairData::ContactPairData(const System& sys, int index) : pair_(sys.probl
     const int nq = pair_.quadrature_points > 0 ? pair_.quadrature_points
                                                : std::min(slave.p + master.p + 1, kMaxGauss);
     gauss_ = gauss_rule(nq);
-    slots = kMortarMaxSegments * nq;
+    max_segments_ = kMortarInitialSegments;
+    slots = max_segments_ * nq;
     n = slave.ne * slots;
-    sp_.xi = Kokkos::View<double*, MemSpace>("xi", n);
-    sp_.weight = Kokkos::View<double*, MemSpace>("weight", n);
-    sp_.span = Kokkos::View<int*, MemSpace>("span", n);
-    Kokkos::deep_copy(sp_.span, -1);
     const GaussRule g = gauss_rule(kMaxGauss);
     auto hX = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), slave.X);
     auto hw = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), slave.w);
@@ -178,19 +177,7 @@ ContactPairData::ContactPairData(const System& sys, int index) : pair_(sys.probl
     a_begin = static_cast<int>(ra.first);
     a_end = static_cast<int>(ra.second);
   }
-  sp_.lambda = Kokkos::View<double*, MemSpace>("lambda", n);
-  sp_.valid = Kokkos::View<int*, MemSpace>("valid", n);
-  sp_.mspan = Kokkos::View<int*, MemSpace>("mspan", n);
-  sp_.melem = Kokkos::View<int*, MemSpace>("melem", n);
-  Kokkos::deep_copy(sp_.melem, -1);
-  sp_.mxi = Kokkos::View<double*, MemSpace>("mxi", n);
-  sp_.gap = Kokkos::View<double*, MemSpace>("gap", n);
-  sp_.pressure = Kokkos::View<double*, MemSpace>("pressure", n);
-  sp_.x = Kokkos::View<double* [2], MemSpace>("x", n);
-  sp_.normal = Kokkos::View<double* [2], MemSpace>("normal", n);
-  const auto r = block_range(n, sys.comm()->getRank(), sys.comm()->getSize());
-  p_begin = static_cast<int>(r.first);
-  p_end = static_cast<int>(r.second);
+  allocate_points(n);
   // every rank holds the displacements of both curves (boundary-sized)
   std::vector<GO> cps(slave_gid);
   cps.insert(cps.end(), master_gid.begin(), master_gid.end());
@@ -210,16 +197,6 @@ ContactPairData::ContactPairData(const System& sys, int index) : pair_(sys.probl
   // friction
   fr_.mu = pair_.friction;
   fr_.epsT = pair_.tangential_penalty > 0 ? pair_.tangential_penalty : pair_.penalty;
-  fr_.ref_valid = Kokkos::View<int*, MemSpace>("ref_valid", n);
-  fr_.ref_mxi = Kokkos::View<double*, MemSpace>("ref_mxi", n);
-  fr_.ds = Kokkos::View<double*, MemSpace>("ds", n);
-  fr_.tau = Kokkos::View<double*, MemSpace>("tau", n);
-  fr_.slip = Kokkos::View<double*, MemSpace>("slip", n);
-  fr_.slip_c = Kokkos::View<double*, MemSpace>("slip_c", n);
-  fr_.lamT = Kokkos::View<double*, MemSpace>("lamT", n);
-  fr_.state = Kokkos::View<int*, MemSpace>("state", n);
-  fr_.tangent = Kokkos::View<double* [2], MemSpace>("tangent", n);
-  state_prev_ = Kokkos::View<int*, MemSpace>("state_prev", n);
   if (mortar_) {
     const int nb = slave.nb;
     fr_.sA = Kokkos::View<double*, MemSpace>("sA", nb);
@@ -234,6 +211,46 @@ ContactPairData::ContactPairData(const System& sys, int index) : pair_(sys.probl
     master_c_ = master;
     slave_c_.u = Kokkos::View<double* [2], MemSpace>("u_committed", slave.nb);
     master_c_.u = Kokkos::View<double* [2], MemSpace>("u_committed", master.nb);
+    mortar_scratch(kMortarInitialEntries);
+  }
+  // the state in the reference configuration (u = 0) is the first committed one: the
+  // reference projections of friction start there
+  refresh();
+  commit();
+}
+
+void ContactPairData::allocate_points(int n) {
+  if (mortar_) {
+    sp_.xi = Kokkos::View<double*, MemSpace>("xi", n);
+    sp_.weight = Kokkos::View<double*, MemSpace>("weight", n);
+    sp_.span = Kokkos::View<int*, MemSpace>("span", n);
+    Kokkos::deep_copy(sp_.span, -1);
+    cuts_ = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>("mortar_cuts", slave.ne, max_segments_ + 1);
+  }
+  sp_.lambda = Kokkos::View<double*, MemSpace>("lambda", n);
+  sp_.valid = Kokkos::View<int*, MemSpace>("valid", n);
+  sp_.mspan = Kokkos::View<int*, MemSpace>("mspan", n);
+  sp_.melem = Kokkos::View<int*, MemSpace>("melem", n);
+  Kokkos::deep_copy(sp_.melem, -1);
+  sp_.mxi = Kokkos::View<double*, MemSpace>("mxi", n);
+  sp_.gap = Kokkos::View<double*, MemSpace>("gap", n);
+  sp_.pressure = Kokkos::View<double*, MemSpace>("pressure", n);
+  sp_.x = Kokkos::View<double* [2], MemSpace>("x", n);
+  sp_.normal = Kokkos::View<double* [2], MemSpace>("normal", n);
+  const auto r = block_range(n, rank_, nranks_);
+  p_begin = static_cast<int>(r.first);
+  p_end = static_cast<int>(r.second);
+  fr_.ref_valid = Kokkos::View<int*, MemSpace>("ref_valid", n);
+  fr_.ref_mxi = Kokkos::View<double*, MemSpace>("ref_mxi", n);
+  fr_.ds = Kokkos::View<double*, MemSpace>("ds", n);
+  fr_.tau = Kokkos::View<double*, MemSpace>("tau", n);
+  fr_.slip = Kokkos::View<double*, MemSpace>("slip", n);
+  fr_.slip_c = Kokkos::View<double*, MemSpace>("slip_c", n);
+  fr_.lamT = Kokkos::View<double*, MemSpace>("lamT", n);
+  fr_.state = Kokkos::View<int*, MemSpace>("state", n);
+  fr_.tangent = Kokkos::View<double* [2], MemSpace>("tangent", n);
+  state_prev_ = Kokkos::View<int*, MemSpace>("state_prev", n);
+  if (mortar_) {
     ref_sp_ = sp_;
     ref_sp_.lambda = Kokkos::View<double*, MemSpace>("ref_lambda", n);
     ref_sp_.mspan = Kokkos::View<int*, MemSpace>("ref_mspan", n);
@@ -245,10 +262,14 @@ ContactPairData::ContactPairData(const System& sys, int index) : pair_(sys.probl
     ref_sp_.normal = Kokkos::View<double* [2], MemSpace>("ref_normal", n);
     ref_sp_.valid = fr_.ref_valid;   // the projection writes eta_n and its validity into fr_
   }
-  // the state in the reference configuration (u = 0) is the first committed one: the
-  // reference projections of friction start there
-  refresh();
-  commit();
+}
+
+void ContactPairData::mortar_scratch(int cap) {
+  const int na = std::max(a_end - a_begin, 0);
+  scratch_.dof = Kokkos::View<int**, Kokkos::LayoutRight, MemSpace>("mortar_dof", na, cap);
+  scratch_.v0 = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>("mortar_v0", na, cap);
+  scratch_.v1 = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>("mortar_v1", na, cap);
+  scratch_.row = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>("mortar_row", na, cap);
 }
 
 void ContactPairData::update(const Vector& u) {
@@ -271,16 +292,20 @@ void ContactPairData::update(const Vector& u) {
 void ContactPairData::refresh() {
   const SearchGrid grid = build_search_grid(master);
   if (mortar_) {
-    MortarSegments ks;
-    ks.s = slave; ks.m = master; ks.sp = sp_; ks.grid = grid; ks.gauss = gauss_; ks.thickness = thickness;
-    ks.flags = ms_.flags;
-    Kokkos::deep_copy(ms_.flags, 0);
-    Kokkos::parallel_for("iga::MortarSegments", Kokkos::RangePolicy<ExecSpace>(0, slave.ne), ks);
-    auto fl = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms_.flags);
-    if (fl(0) > 0)
-      throw ContactError("contact pair " + std::to_string(index_) + ": more than " +
-                               std::to_string(kMortarMaxSegments - 1) +
-                               " master knots project into one slave element; refine the slave side or swap master and slave");
+    // segments; where a slave element needs more than the slots hold (a slave much coarser
+    // than the master), grow the slots to what was reported and segment again
+    for (;;) {
+      MortarSegments ks;
+      ks.s = slave; ks.m = master; ks.sp = sp_; ks.grid = grid; ks.gauss = gauss_; ks.thickness = thickness;
+      ks.max_segments = max_segments_; ks.cuts = cuts_; ks.flags = ms_.flags;
+      Kokkos::deep_copy(ms_.flags, 0);
+      Kokkos::parallel_for("iga::MortarSegments", Kokkos::RangePolicy<ExecSpace>(0, slave.ne), ks);
+      auto fl = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms_.flags);
+      if (fl(0) == 0) break;
+      max_segments_ = std::max(fl(0), max_segments_ + max_segments_ / 2);
+      slots = max_segments_ * gauss_.n;
+      allocate_points(slave.ne * slots);
+    }
   }
   ProjectSlavePoints k;
   k.s = slave; k.m = master; k.sp = sp_; k.grid = grid; k.eps = pair_.penalty;
@@ -406,11 +431,15 @@ void ContactPairData::commit() {
 
 void ContactPairData::restore() {
   if (!committed_.lambda.data()) return;   // nothing committed yet: the initial state stands
-  Kokkos::deep_copy(sp_.lambda, committed_.lambda);
-  Kokkos::deep_copy(sp_.mxi, committed_.mxi);
-  Kokkos::deep_copy(sp_.melem, committed_.melem);
-  Kokkos::deep_copy(sp_.mspan, committed_.mspan);
-  Kokkos::deep_copy(sp_.valid, committed_.valid);
+  // mortar slots are segmented anew at every update (and may have grown since): their
+  // per-slot state is not history; the multipliers per control point are
+  if (!mortar_) {
+    Kokkos::deep_copy(sp_.lambda, committed_.lambda);
+    Kokkos::deep_copy(sp_.mxi, committed_.mxi);
+    Kokkos::deep_copy(sp_.melem, committed_.melem);
+    Kokkos::deep_copy(sp_.mspan, committed_.mspan);
+    Kokkos::deep_copy(sp_.valid, committed_.valid);
+  }
   if (mortar_) Kokkos::deep_copy(ms_.lbar, committed_.lbar);
   if (mortar_) Kokkos::deep_copy(fr_.lamTA, committed_.lamTA);
   else Kokkos::deep_copy(fr_.lamT, committed_.lamT);
@@ -596,10 +625,17 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
   graph->fillComplete(sys.owned_map(), sys.owned_map());
   RCP<Matrix> K = rcp(new Matrix(graph));
   Vector f(ov);
-  // 2) kernels: every pair's active points of this rank
-  {
+  // 2) kernels: every pair's active points of this rank. A mortar weighted gap whose dofs
+  // outgrow its pair's scratch rows reports what it needs: the rows grow and the kernels run
+  // again on zeroed K and f (once per growth, so rarely after the first steps)
+  for (bool again = true; again;) {
+    again = false;
     auto lcl = K->getLocalMatrixDevice();
     auto fv = Kokkos::subview(f.getLocalViewDevice(Tpetra::Access::ReadWrite), Kokkos::ALL(), 0);
+    Kokkos::deep_copy(lcl.values, 0.0);
+    Kokkos::deep_copy(fv, 0.0);
+    for (auto& pd : pairs)
+      if (pd.mortar()) Kokkos::deep_copy(pd.ms_.flags, 0);
     for (auto& pd : pairs) {
       for (CurveData* c : {&pd.slave, &pd.master}) {
         const auto& gid = c == &pd.slave ? pd.slave_gid : pd.master_gid;
@@ -629,18 +665,20 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
         dispatch_degree(std::max(pd.slave.p, pd.master.p), [&](auto P) {
           AssembleMortarFriction<decltype(P)::value, decltype(lcl)> k;
           k.s = pd.slave; k.m = pd.master; k.sp = pd.sp_; k.ms = pd.ms_; k.fr = pd.fr_; k.eps = pd.pair().penalty;
-          k.slots = pd.slots; k.a_begin = pd.a_begin; k.K = lcl;
+          k.sc = pd.scratch_; k.slots = pd.slots; k.a_begin = pd.a_begin; k.K = lcl;
           Kokkos::parallel_for("iga::AssembleMortarFriction", Kokkos::RangePolicy<ExecSpace>(0, pd.a_end - pd.a_begin), k);
         });
       if (pd.mortar() && pd.a_end > pd.a_begin) {
         AssembleMortarGap<decltype(lcl)> k;
         k.s = pd.slave; k.m = pd.master; k.sp = pd.sp_; k.ms = pd.ms_; k.eps = pd.pair().penalty;
-        k.slots = pd.slots; k.a_begin = pd.a_begin; k.K = lcl;
+        k.sc = pd.scratch_; k.slots = pd.slots; k.a_begin = pd.a_begin; k.K = lcl;
         Kokkos::parallel_for("iga::AssembleMortarGap", Kokkos::RangePolicy<ExecSpace>(0, pd.a_end - pd.a_begin), k);
         Kokkos::fence();
         auto fl = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.ms_.flags);
-        if (fl(1) > 0) throw ContactError("mortar: a weighted gap couples more than " +
-                                                std::to_string(kMortarMaxEntries) + " dofs");
+        if (fl(1) > 0) {
+          pd.mortar_scratch(std::max(fl(1), pd.scratch_.cap() + pd.scratch_.cap() / 2));
+          again = true;
+        }
       }
     }
     Kokkos::fence();

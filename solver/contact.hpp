@@ -77,7 +77,9 @@ class ContactPairData {
   double thickness = 1;
   // mortar
   MortarState ms_;
-  int slots = 0;                           // quadrature slots per slave element
+  int slots = 0;                           // quadrature slots per slave element (grows)
+  MortarScratch scratch_;                  // per-A rows of the assembly kernels (grows)
+  void mortar_scratch(int cap);            // (re)allocates scratch_ with cap entries per row
   int a_begin = 0, a_end = 0;              // this rank's slave control points
   // friction (every pair: the slip and state outputs; assembled only where mu > 0)
   FrictionData fr_;
@@ -98,6 +100,10 @@ class ContactPairData {
   SlavePoints ref_sp_;
   Kokkos::View<int*, MemSpace> state_prev_;
   FrictionCounts counts_;
+  int rank_ = 0, nranks_ = 1;
+  int max_segments_ = 0;   // mortar: segments per slave element the slots hold
+  Kokkos::View<double**, Kokkos::LayoutRight, MemSpace> cuts_;   // mortar: segment scratch
+  void allocate_points(int n);   // every per-point (per-slot) view, for n points
   void refresh();          // search, projection and contact state at the curves' current u
   void update_friction();
   RCP<const Map> replicated_;

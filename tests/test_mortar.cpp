@@ -168,19 +168,19 @@ INSTANTIATE_TEST_SUITE_P(Degrees, MortarIntegrals, ::testing::Combine(::testing:
 // against 8 master elements.
 class MortarPatch : public ::testing::TestWithParam<std::tuple<int, bool>> {};
 
-TEST_P(MortarPatch, UniformPressureIsTransmittedExactly) {
-  const int p = std::get<0>(GetParam());
-  const bool nonuniform = std::get<1>(GetParam());
+namespace {
+
+// upper_refine: the slave block's refinement; lower_x: the master's elements along x
+void mortar_patch_test(int p, const std::string& upper_refine, int lower_x, const char* label) {
   std::ostringstream os;
   os << "analysis: {type: plane_strain}\nbodies:\n"
      << "  - name: lower\n    material: {youngs_modulus: 1000.0, poisson_ratio: 0.3}\n"
      << "    geometry: {rectangle: {origin: [0.0, 0.0], size: [1.0, 0.5]}}\n"
-     << "    refine: {degree_elevate: " << p - 1 << ", subdivide: [8, 4]}\n"
+     << "    refine: {degree_elevate: " << p - 1 << ", subdivide: [" << lower_x << ", 4]}\n"
      << "    boundary: {south: {displacement: {y: 0.0}}, west: {displacement: {x: 0.0}}}\n"
      << "  - name: upper\n    material: {youngs_modulus: 1000.0, poisson_ratio: 0.3}\n"
      << "    geometry: {rectangle: {origin: [0.0, 0.5], size: [1.0, 0.5]}}\n"
-     << "    refine: {degree_elevate: " << p - 1
-     << (nonuniform ? ", insert_knots: [[0.13, 0.37, 0.52, 0.81], [0.5]], subdivide: [1, 2]}\n" : ", subdivide: [5, 4]}\n")
+     << "    refine: {degree_elevate: " << p - 1 << ", " << upper_refine << "}\n"
      << "    boundary: {west: {displacement: {x: 0.0}}, north: {pressure: 10.0}}\n"
      << "contact:\n  - {master: {body: lower, side: north}, slave: {body: upper, side: south}, method: mortar_alm,"
      << " penalty: 1.0e6}\n"
@@ -201,10 +201,26 @@ TEST_P(MortarPatch, UniformPressureIsTransmittedExactly) {
   for (double l : c.mortar_multipliers()) dev_l = std::max(dev_l, std::abs(l - 10.0) / 10.0);
   const ContactSummary sum = c.summary();
   std::printf("  p = %d, %s: %zu slave points, max |p - q|/q = %.2e, max |lambda_A - q|/q = %.2e, force %.12g\n", p,
-              nonuniform ? "non-uniform" : "uniform", st.pressure.size(), dev, dev_l, sum.normal_force);
-  EXPECT_LT(dev, 1e-6);
-  EXPECT_LT(dev_l, 1e-6);
-  EXPECT_NEAR(sum.normal_force, 10.0, 1e-8 * 10.0);
+              label, st.pressure.size(), dev, dev_l, sum.normal_force);
+  EXPECT_LT(dev, 1e-6) << label;
+  EXPECT_LT(dev_l, 1e-6) << label;
+  EXPECT_NEAR(sum.normal_force, 10.0, 1e-8 * 10.0) << label;
+}
+
+}  // namespace
+
+TEST_P(MortarPatch, UniformPressureIsTransmittedExactly) {
+  const int p = std::get<0>(GetParam());
+  const bool nonuniform = std::get<1>(GetParam());
+  mortar_patch_test(p, nonuniform ? "insert_knots: [[0.13, 0.37, 0.52, 0.81], [0.5]], subdivide: [1, 2]" : "subdivide: [5, 4]", 8,
+                    nonuniform ? "non-uniform" : "uniform");
+}
+
+// Any ratio of slave to master element sizes (issue 19): one slave element over 120 master
+// elements (121 segments, where the slots start with room for 16; delta g_A couples some 250
+// dofs, where the scratch starts with 160): both grow, and the patch test still holds.
+TEST(MortarPatch, OneSlaveElementOverManyMasterElements) {
+  for (int p : {1, 3}) mortar_patch_test(p, "subdivide: [1, 2]", 120, "1 slave over 120 master elements");
 }
 
 INSTANTIATE_TEST_SUITE_P(Degrees, MortarPatch, ::testing::Combine(::testing::Values(1, 2, 3, 4), ::testing::Bool()));
