@@ -180,10 +180,9 @@ struct MortarSegments {
 };
 
 /// Loops over the valid quadrature slots in the support of slave control point A:
-/// f(i, R_A(xi_i), Rs, slave span). Support: slave elements with span in [A, A + p].
+/// f(i, slave span). Support: slave elements with span in [A, A + p].
 template <class F>
-KOKKOS_INLINE_FUNCTION void for_each_support_point(const CurveData& s, const SlavePoints& sp, int slots, int A,
-                                                   const F& f) {
+KOKKOS_INLINE_FUNCTION void for_each_support_slot(const CurveData& s, const SlavePoints& sp, int slots, int A, const F& f) {
   // first element whose span is >= A (element spans increase)
   int lo = 0, hi = s.ne;
   while (lo < hi) {
@@ -193,13 +192,21 @@ KOKKOS_INLINE_FUNCTION void for_each_support_point(const CurveData& s, const Sla
   for (int e = lo; e < s.ne && s.span(e) <= A + s.p; ++e)
     for (int i = e * slots; i < (e + 1) * slots; ++i) {
       if (sp.span(i) < 0 || !sp.valid(i)) continue;
-      double R[3][kMaxBasis1D], x[2], dx[2], ddx[2];
-      const int span = sp.span(i);
-      curve_eval_span(span, s.p, s.U.data(), CurrentCP{s.X, s.u}, s.w, sp.xi(i), x, dx, ddx, R);
-      const int a = A - (span - s.p);
+      const int a = A - (sp.span(i) - s.p);
       if (a < 0 || a > s.p) continue;
-      f(i, R[0][a], R, span);
+      f(i, sp.span(i));
     }
+}
+
+/// The same slots with the slave basis evaluated there: f(i, R_A(xi_i), Rs, slave span).
+template <class F>
+KOKKOS_INLINE_FUNCTION void for_each_support_point(const CurveData& s, const SlavePoints& sp, int slots, int A,
+                                                   const F& f) {
+  for_each_support_slot(s, sp, slots, A, [&](int i, int span) {
+    double R[3][kMaxBasis1D], x[2], dx[2], ddx[2];
+    curve_eval_span(span, s.p, s.U.data(), CurrentCP{s.X, s.u}, s.w, sp.xi(i), x, dx, ddx, R);
+    f(i, R[0][A - (span - s.p)], R, span);
+  });
 }
 
 /// Weighted gaps, multipliers and the active set of every slave control point.
@@ -261,7 +268,7 @@ KOKKOS_INLINE_FUNCTION SupportRange support_range(const CurveData& s, const Curv
   r.s_lo = A - s.p;
   r.ns = 2 * s.p + 1;
   int lo = m.nb, hi = -1;
-  for_each_support_point(s, sp, slots, A, [&](int i, double, const double (*)[kMaxBasis1D], int) {
+  for_each_support_slot(s, sp, slots, A, [&](int i, int) {
     const int ms = sp.mspan(i);
     lo = ms - m.p < lo ? ms - m.p : lo;
     hi = ms > hi ? ms : hi;

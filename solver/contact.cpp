@@ -628,12 +628,14 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
   // 2) kernels: every pair's active points of this rank. A mortar weighted gap whose dofs
   // outgrow its pair's scratch rows reports what it needs: the rows grow and the kernels run
   // again on zeroed K and f (once per growth, so rarely after the first steps)
-  for (bool again = true; again;) {
-    again = false;
+  for (bool again = false, first = true; first || again; first = false) {
     auto lcl = K->getLocalMatrixDevice();
     auto fv = Kokkos::subview(f.getLocalViewDevice(Tpetra::Access::ReadWrite), Kokkos::ALL(), 0);
-    Kokkos::deep_copy(lcl.values, 0.0);
-    Kokkos::deep_copy(fv, 0.0);
+    if (again) {   // a rerun: the first pass's sums go (K and f start at zero)
+      Kokkos::deep_copy(lcl.values, 0.0);
+      Kokkos::deep_copy(fv, 0.0);
+    }
+    again = false;
     for (auto& pd : pairs)
       if (pd.mortar()) Kokkos::deep_copy(pd.ms_.flags, 0);
     for (auto& pd : pairs) {

@@ -23,13 +23,20 @@ Kokkos::View<T*, MemSpace> to_device(const std::string& name, const std::vector<
   return d;
 }
 
-PatchData make_patch_data(const Patch& P) {
-  PatchData pd;
+// Degrees, basis functions and elements per direction: the part of the kernels' patch data
+// that is the same on the device and on the host.
+template <class PD>
+void set_patch_shape(PD& pd, const Patch& P) {
   for (int d = 0; d < 2; ++d) {
     pd.p[d] = P.degree[d];
     pd.n[d] = P.ncp(d);
     pd.ne[d] = static_cast<int>(P.element_spans(d).size());
   }
+}
+
+PatchData make_patch_data(const Patch& P) {
+  PatchData pd;
+  set_patch_shape(pd, P);
   pd.U0 = to_device("U0", P.knots[0]);
   pd.U1 = to_device("U1", P.knots[1]);
   pd.span0 = to_device("span0", P.element_spans(0));
@@ -440,11 +447,7 @@ void System::assemble_internal(const Vector* u, Vector* f_int, RCP<Matrix>* K, c
 
 HostPatchData host_patch_data(const Patch& P) {
   HostPatchData pd;
-  for (int d = 0; d < 2; ++d) {
-    pd.p[d] = P.degree[d];
-    pd.n[d] = P.ncp(d);
-    pd.ne[d] = static_cast<int>(P.element_spans(d).size());
-  }
+  set_patch_shape(pd, P);
   pd.U0 = Kokkos::View<const double*, Kokkos::HostSpace>(P.knots[0].data(), P.knots[0].size());
   pd.U1 = Kokkos::View<const double*, Kokkos::HostSpace>(P.knots[1].data(), P.knots[1].size());
   pd.cp = Kokkos::View<const double* [3], Kokkos::HostSpace>(P.cp[0].data(), P.cp.size());
