@@ -21,6 +21,7 @@ run wheel2 2 "$ex/wheel.yaml"
 run blocks 1 "$ex/two_blocks_left.yaml"
 run wheel_last 1 "$ex/wheel.yaml" --set output.steps=last
 run sliding 2 "$ex/sliding_block.yaml"
+run cook 2 "$ex/cooks_membrane.yaml"   # finite deformation, no contact pair
 /usr/bin/python3 - "$tmp" <<'PY' || fail=1
 import json, sys
 d = sys.argv[1]

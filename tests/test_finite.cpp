@@ -625,8 +625,8 @@ TEST(SmallLoads, LameCylinderAndHertzWheel) {
   EXPECT_NEAR(cf.max_pressure, p0, 0.05 * p0);
 }
 
-// Cook's membrane (examples/cooks_membrane.yaml, neo-Hookean, tip moved by some 15 % of the
-// panel's size): the tip displacement converges under refinement, degree 2 on 4..32 elements
+// Cook's membrane (examples/cooks_membrane.yaml, neo-Hookean, the tip moved by 11.8, a quarter of the
+// panel's width): the tip displacement converges under refinement, degree 2 on 4..32 elements
 // a side. The clamped edge's corners are singular, so the rate is below the smooth one
 // (measured: successive differences shrink by 2.5-2.8); the finest mesh is checked against
 // the Richardson extrapolation of the last three, and degree 3 against degree 2.
