@@ -91,16 +91,28 @@ void describe(const iga::Problem& P, int ranks, std::ostream& os) {
   }
   os << "\n";
   for (const auto& b : P.bodies) {
-    const auto& pt = b.patch;
-    dofs += 2LL * pt.cp.size();
-    os << "  body " << b.name << ": degree [" << pt.degree[0] << ", " << pt.degree[1] << "], "
-       << pt.element_spans(0).size() << " x " << pt.element_spans(1).size() << " elements, " << 2 * pt.cp.size()
-       << " dofs, E = " << b.E << ", nu = " << b.nu << "\n";
+    dofs += 2LL * b.num_cps;
+    if (!b.multipatch()) {
+      const auto& pt = b.patches[0];
+      os << "  body " << b.name << ": degree [" << pt.degree[0] << ", " << pt.degree[1] << "], "
+         << pt.element_spans(0).size() << " x " << pt.element_spans(1).size() << " elements, " << 2 * pt.cp.size()
+         << " dofs, E = " << b.E << ", nu = " << b.nu << "\n";
+      continue;
+    }
+    size_t ne = 0;
+    for (const auto& pt : b.patches) ne += pt.num_elements();
+    os << "  body " << b.name << ": " << b.patches.size() << " patches, " << b.interfaces.size() << " interfaces, " << ne
+       << " elements, " << 2 * b.num_cps << " dofs, E = " << b.E << ", nu = " << b.nu << "\n";
+    for (size_t k = 0; k < b.patches.size(); ++k) {
+      const auto& pt = b.patches[k];
+      os << "    patch " << k << ": degree [" << pt.degree[0] << ", " << pt.degree[1] << "], " << pt.element_spans(0).size()
+         << " x " << pt.element_spans(1).size() << " elements\n";
+    }
   }
   for (size_t k = 0; k < P.contact.size(); ++k) {
     const auto& c = P.contact[k];
-    os << "  contact " << k << ": master " << P.bodies[c.master.body].name << "." << iga::side_name(c.master.side)
-       << ", slave " << P.bodies[c.slave.body].name << "." << iga::side_name(c.slave.side) << ", "
+    os << "  contact " << k << ": master " << P.bodies[c.master.body].name << "." << c.master.label << ", slave "
+       << P.bodies[c.slave.body].name << "." << c.slave.label << ", "
        << iga::contact_method_name(c.method) << ", penalty " << c.penalty << "\n";
   }
   os << "  total " << dofs << " dofs on " << ranks << " rank(s) x " << iga::ExecSpace::concurrency() << " "

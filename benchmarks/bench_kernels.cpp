@@ -41,8 +41,8 @@ void BM_Basis(benchmark::State& st) {
   const Problem prob = block_problem(P, elements_for(P));
   System sys(prob, Tpetra::getDefaultComm());
   EvaluateBasis<P> k;
-  k.pd = sys.bodies()[0].pd; k.g0 = gauss_rule(P + 1); k.g1 = gauss_rule(P + 1);
-  const int ne = prob.bodies[0].patch.num_elements();
+  k.pd = sys.blocks()[0].pd; k.g0 = gauss_rule(P + 1); k.g1 = gauss_rule(P + 1);
+  const int ne = prob.bodies[0].patches[0].num_elements();
   k.run(ne);
   for (auto _ : st) { k.run(ne); Kokkos::fence(); }
   const double pts = static_cast<double>(ne) * (P + 1) * (P + 1) * st.iterations();
@@ -54,10 +54,10 @@ template <int P>
 void BM_ElementStiffness(benchmark::State& st) {
   const Problem prob = block_problem(P, elements_for(P));
   System sys(prob, Tpetra::getDefaultComm());
-  const PatchData pd = sys.bodies()[0].pd;
+  const PatchData pd = sys.blocks()[0].pd;
   const Material mat = sys.material(0);
   const GaussRule g = gauss_rule(P + 1);
-  const int ne = prob.bodies[0].patch.num_elements();
+  const int ne = prob.bodies[0].patches[0].num_elements();
   Kokkos::View<double*, MemSpace> trace("trace", ne);
   for (auto _ : st) {
     Kokkos::parallel_for("bench::ElementStiffness", Kokkos::RangePolicy<ExecSpace>(0, ne), KOKKOS_LAMBDA(const int e) {
@@ -82,10 +82,10 @@ template <int P>
 void BM_FiniteStrain(benchmark::State& st) {
   const Problem prob = block_problem(P, elements_for(P));
   System sys(prob, Tpetra::getDefaultComm());
-  const PatchData pd = sys.bodies()[0].pd;
+  const PatchData pd = sys.blocks()[0].pd;
   const Material mat = Material::finite(static_cast<int>(st.range(0)), 1.0, 0.3, 1.0);
   const GaussRule g = gauss_rule(P + 1);
-  const int ne = prob.bodies[0].patch.num_elements();
+  const int ne = prob.bodies[0].patches[0].num_elements();
   // a smooth displacement of the control points: u = 0.1 (sin y, x y)
   const int ncp = pd.n[0] * pd.n[1];
   Kokkos::View<double*, MemSpace> u("u", 2 * ncp);
@@ -124,8 +124,8 @@ void BM_Scatter(benchmark::State& st) {
   const Problem prob = block_problem(P, elements_for(P));
   System sys(prob, Tpetra::getDefaultComm());
   RCP<Matrix> A = sys.assemble_stiffness();
-  const BodyData& bd = sys.bodies()[0];
-  const int ne = prob.bodies[0].patch.num_elements();
+  const PatchBlock& bd = sys.blocks()[0];
+  const int ne = prob.bodies[0].patches[0].num_elements();
   auto lcl = A->getLocalMatrixDevice();
   const GaussRule g = gauss_rule(P + 1);
   for (auto _ : st) {

@@ -19,8 +19,9 @@ struct FieldPoint {
 
 class BodyField {
  public:
-  /// `u` holds the body's control point displacements, 2 per control point.
-  BodyField(const Problem& P, int body, std::vector<double> u);
+  /// `u` holds the body's control point displacements, 2 per (merged) control point; the
+  /// field is that of one of its patches.
+  BodyField(const Problem& P, int body, const std::vector<double>& u, int patch = 0);
   /// Field at (u, v) in the patch's knot range; (s0, s1) the spans to use (-1: find them).
   FieldPoint eval(double u, double v, int s0 = -1, int s1 = -1) const;
   const Patch& patch() const { return *patch_; }

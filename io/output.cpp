@@ -32,10 +32,10 @@ std::vector<std::vector<double>> gather_displacements(const System& sys, const V
   std::vector<std::vector<double>> out;
   if (!root) return out;
   auto h = full.getLocalViewHost(Tpetra::Access::ReadOnly);
-  for (size_t b = 0; b < sys.bodies().size(); ++b) {
-    const size_t n = sys.problem().bodies[b].patch.cp.size();
+  for (size_t b = 0; b < sys.problem().bodies.size(); ++b) {
+    const size_t n = static_cast<size_t>(sys.problem().bodies[b].num_cps);
     std::vector<double> v(2 * n);
-    for (size_t k = 0; k < 2 * n; ++k) v[k] = h(2 * sys.bodies()[b].cp_offset + k, 0);
+    for (size_t k = 0; k < 2 * n; ++k) v[k] = h(2 * sys.body_offset(static_cast<int>(b)) + k, 0);
     out.push_back(std::move(v));
   }
   return out;
@@ -63,23 +63,30 @@ nlohmann::json linear_solver_json(const LinearOptions& opt, const DirectSolverSt
 }
 
 nlohmann::json reactions_json(const System& sys, const Vector& residual) {
+  // per patch block: 4 sides and 4 corners, [Rx, Ry] each
   const Problem& P = sys.problem();
-  const size_t nb = P.bodies.size();
-  std::vector<double> local(nb * 8, 0.0), global(nb * 8, 0.0);
+  const size_t nb = sys.blocks().size();
+  std::vector<double> local(nb * 16, 0.0), global(nb * 16, 0.0);
   auto h = residual.getLocalViewHost(Tpetra::Access::ReadOnly);
   for (const DirichletDof& d : sys.dirichlet()) {
     const LO l = sys.owned_map()->getLocalElement(d.dof);
-    local[d.body * 8 + d.side * 2 + d.dof % 2] += -h(l, 0);
+    local[d.block * 16 + d.side * 2 + d.dof % 2] += -h(l, 0);
   }
   Teuchos::reduceAll(*sys.comm(), Teuchos::REDUCE_SUM, static_cast<int>(local.size()), local.data(), global.data());
   nlohmann::json j = nlohmann::json::object();
-  for (size_t b = 0; b < nb; ++b) {
-    nlohmann::json sides = nlohmann::json::object();
-    for (int s = 0; s < 4; ++s) {
-      const auto& sc = P.bodies[b].sides[s];
-      if (sc.fixed[0] || sc.fixed[1]) sides[side_name(static_cast<Side>(s))] = {global[b * 8 + 2 * s], global[b * 8 + 2 * s + 1]};
+  for (size_t k = 0; k < nb; ++k) {
+    const PatchBlock& bd = sys.blocks()[k];
+    const Body& body = P.bodies[bd.body];
+    nlohmann::json& sides = j[body.name];
+    for (int s = 0; s < 8; ++s) {
+      const auto& sc = s < 4 ? body.sides[bd.patch][s] : body.corners[bd.patch][s - 4];
+      if (!(sc.fixed[0] || sc.fixed[1])) continue;
+      const std::string name = s < 4 ? body.side_label(bd.patch, static_cast<Side>(s))
+                                     : (body.multipatch() ? "patch" + std::to_string(bd.patch) + "." : std::string()) +
+                                           corner_name(static_cast<Corner>(s - 4));
+      sides[name] = {global[k * 16 + 2 * s], global[k * 16 + 2 * s + 1]};
     }
-    if (!sides.empty()) j[P.bodies[b].name] = sides;
+    if (sides.is_null()) j.erase(body.name);
   }
   return j;
 }
@@ -124,16 +131,6 @@ std::string step_name(int step) {
   return buf;
 }
 
-// Parametric point of slave curve parameter xi on a side of a patch.
-std::array<double, 2> side_point(const Patch& pt, Side side, double xi) {
-  switch (side) {
-    case Side::West: return {pt.knots[0].front(), xi};
-    case Side::East: return {pt.knots[0].back(), xi};
-    case Side::South: return {xi, pt.knots[1].front()};
-    case Side::North: default: return {xi, pt.knots[1].back()};
-  }
-}
-
 }  // namespace
 
 // ------------------------------------------------------------------ ResultWriter
@@ -149,8 +146,8 @@ nlohmann::json ResultWriter::contact_json(const std::vector<ContactPairData>& co
   nlohmann::json out = nlohmann::json::array();
   for (const auto& c : contact) {
     const ContactSummary s = c.summary();
-    out.push_back({{"master", {{"body", P.bodies[c.pair().master.body].name}, {"side", side_name(c.pair().master.side)}}},
-                   {"slave", {{"body", P.bodies[c.pair().slave.body].name}, {"side", side_name(c.pair().slave.side)}}},
+    out.push_back({{"master", {{"body", P.bodies[c.pair().master.body].name}, {"side", c.pair().master.label}}},
+                   {"slave", {{"body", P.bodies[c.pair().slave.body].name}, {"side", c.pair().slave.label}}},
                    {"method", contact_method_name(c.pair().method)},
                    {"normal_force", s.normal_force},
                    {"force", {s.fx, s.fy}},
@@ -203,9 +200,10 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
     grids << "  <Grid Name=\"step_" << name.substr(7) << "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
           << "   <Time Value=\"" << tv << "\"/>\n";
     double umax = 0;
-    for (size_t b = 0; b < P.bodies.size(); ++b) {
-      const Patch& pt = P.bodies[b].patch;
-      const BodyField field(P, static_cast<int>(b), disp[b]);
+    for (const PatchBlock& blk : sys_.blocks()) {
+      const size_t b = static_cast<size_t>(blk.body);
+      const Patch& pt = P.bodies[b].patches[blk.patch];
+      const BodyField field(P, blk.body, disp[b], blk.patch);
       const int s = P.output.samples_per_element;
       const auto su = samples(pt.knots[0], pt.element_spans(0), s);
       const auto sv = samples(pt.knots[1], pt.element_spans(1), s);
@@ -234,13 +232,15 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
       const hsize_t m = static_cast<hsize_t>(m0) * m1;
       std::vector<double> cxyz, cd3;
       for (hsize_t a = 0; a < m; ++a) {
+        const int g = P.bodies[b].cp_index[blk.patch][a];
         cxyz.insert(cxyz.end(), {pt.cp[a][0], pt.cp[a][1], 0.0});
-        cd3.insert(cd3.end(), {disp[b][2 * a], disp[b][2 * a + 1], 0.0});
+        cd3.insert(cd3.end(), {disp[b][2 * g], disp[b][2 * g + 1], 0.0});
       }
       const std::vector<int> cquads = grid_quads(m0, m1);
       const hsize_t mq = cquads.size() / 4;
 
-      const std::string& bn = P.bodies[b].name;
+      // a multi-patch body: one grid per patch, <body>.patch<k>
+      const std::string bn = P.bodies[b].name + (P.bodies[b].multipatch() ? ".patch" + std::to_string(blk.patch) : std::string());
       const std::string g = "/bodies/" + bn;
       f.group(g);
       f.write_int(g + "/shape", {n1, n0}, {2});
@@ -287,14 +287,17 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
       // move with the bodies under any Warp By Vector scale
       const auto& cs = cstate[k];
       const ContactPair& pair = contact[k].pair();
-      const Patch& spt = P.bodies[pair.slave.body].patch;
-      const BodyField field(P, pair.slave.body, disp[pair.slave.body]);
+      const Body& sb = P.bodies[pair.slave.body];
+      const SurfaceChain chain = surface_chain(P, pair.slave);
+      std::vector<BodyField> sfields;
+      for (size_t q = 0; q < sb.patches.size(); ++q) sfields.emplace_back(P, pair.slave.body, disp[pair.slave.body], static_cast<int>(q));
       const hsize_t n = cs.x.size();
       std::vector<double> xyz, d3, xyz_def, gap(cs.gap), active, state;
       std::vector<int> conn;
       for (size_t i = 0; i < n; ++i) {
-        const auto uv = side_point(spt, pair.slave.side, cs.xi[i]);
-        const FieldPoint fp = field.eval(uv[0], uv[1]);
+        double pu, pv;
+        const int q = chain.locate(sb.patches, cs.xi[i], pu, pv);
+        const FieldPoint fp = sfields[q].eval(pu, pv);
         xyz.insert(xyz.end(), {fp.x, fp.y, 0.0});
         d3.insert(d3.end(), {fp.ux, fp.uy, 0.0});
         xyz_def.insert(xyz_def.end(), {cs.x[i], cs.y[i], 0.0});
@@ -404,15 +407,14 @@ nlohmann::json ResultWriter::finish(const SolveResult& res) {
     }
 
     nlohmann::json probes = nlohmann::json::array();
-    std::vector<BodyField> fields;
-    for (size_t b = 0; b < P.bodies.size(); ++b) fields.emplace_back(P, static_cast<int>(b), disp[b]);
     for (const Probe& pr : P.output.probes) {
-      const Patch& pt = P.bodies[pr.body].patch;
+      const Patch& pt = P.bodies[pr.body].patches[pr.patch];
+      const BodyField field(P, pr.body, disp[pr.body], pr.patch);
       const double u = pt.knots[0].front() + pr.at[0] * (pt.knots[0].back() - pt.knots[0].front());
       const double v = pt.knots[1].front() + pr.at[1] * (pt.knots[1].back() - pt.knots[1].front());
-      const FieldPoint fp = fields[pr.body].eval(u, v);
-      probes.push_back({{"body", P.bodies[pr.body].name}, {"at", {pr.at[0], pr.at[1]}}, {"x", fp.x}, {"y", fp.y},
-                        {"displacement", {fp.ux, fp.uy}}, {"stress", {fp.sxx, fp.syy, fp.sxy}}});
+      const FieldPoint fp = field.eval(u, v);
+      probes.push_back({{"body", P.bodies[pr.body].name}, {"patch", pr.patch}, {"at", {pr.at[0], pr.at[1]}}, {"x", fp.x},
+                        {"y", fp.y}, {"displacement", {fp.ux, fp.uy}}, {"stress", {fp.sxx, fp.syy, fp.sxy}}});
     }
     summary["probes"] = probes;
     summary["max_displacement"] = max_displacement_;

@@ -78,19 +78,23 @@ BezierMesh bezier_mesh(const Problem& P, const std::vector<std::vector<double>>&
     throw std::invalid_argument("bezier_mesh: one displacement vector per body expected");
   BezierMesh m;
   for (size_t b = 0; b < P.bodies.size(); ++b) {
-    const Patch& pt = P.bodies[b].patch;
-    if (cp_displacement[b].size() != 2 * pt.cp.size())
-      throw std::invalid_argument("bezier_mesh: body " + P.bodies[b].name + ": 2 displacements per control point expected");
-    m.body_names.push_back(P.bodies[b].name);
+   if (cp_displacement[b].size() != 2 * static_cast<size_t>(P.bodies[b].num_cps))
+     throw std::invalid_argument("bezier_mesh: body " + P.bodies[b].name + ": 2 displacements per control point expected");
+   m.body_names.push_back(P.bodies[b].name);
+   for (size_t k = 0; k < P.bodies[b].patches.size(); ++k) {
+    const Patch& pt = P.bodies[b].patches[k];
     const BezierPatch B(pt);
-    const BodyField field(P, static_cast<int>(b), cp_displacement[b]);
+    const BodyField field(P, static_cast<int>(b), cp_displacement[b], static_cast<int>(k));
+    std::vector<double> ucp(2 * pt.cp.size());
+    for (size_t a = 0; a < pt.cp.size(); ++a)
+      for (int c = 0; c < 2; ++c) ucp[2 * a + c] = cp_displacement[b][2 * P.bodies[b].cp_index[k][a] + c];
     const int p0 = B.degree()[0], p1 = B.degree()[1], n0 = p0 + 1, n = B.points_per_element();
     const auto t = fit_points(p0, p1);
     std::vector<Point3> pts(n);
     std::vector<double> u(2 * n), w(n), vals(5 * n), coef(5 * n);
     for (int e = 0; e < B.num_elements(); ++e) {
       B.element_points(e, pts.data());
-      B.element_field(e, cp_displacement[b].data(), 2, u.data());
+      B.element_field(e, ucp.data(), 2, u.data());
       const auto r0 = B.range(e, 0), r1 = B.range(e, 1);
       const int s0 = B.span(e, 0), s1 = B.span(e, 1);
       for (int j = 0; j < n; ++j) {
@@ -124,11 +128,13 @@ BezierMesh bezier_mesh(const Problem& P, const std::vector<std::vector<double>>&
       m.offsets.push_back(static_cast<std::int64_t>(base + n));
       m.degrees.insert(m.degrees.end(), {p0, p1, 0});
       m.body.push_back(static_cast<int>(b));
+      m.patch.push_back(static_cast<int>(k));
       m.element.push_back(e);
       m.element_ij.insert(m.element_ij.end(), {e % B.num_elements(0), e / B.num_elements(0)});
       m.knot_span.insert(m.knot_span.end(), {s0, s1});
       m.range.insert(m.range.end(), {r0[0], r0[1], r1[0], r1[1]});
     }
+   }
   }
   return m;
 }
@@ -234,6 +240,7 @@ std::string vtu_text(const BezierMesh& m, double load_factor, const std::string&
     << "   <CellData Scalars=\"body\" HigherOrderDegrees=\"HigherOrderDegrees\">\n";
   w.array("Int32", "HigherOrderDegrees", 3, m.degrees, in);
   w.array("Int32", "body", 0, m.body, in);
+  w.array("Int32", "patch", 0, m.patch, in);
   w.array("Int32", "element", 0, m.element, in);
   w.array("Int32", "element_ij", 2, m.element_ij, in);
   w.array("Int32", "knot_span", 2, m.knot_span, in);

@@ -31,6 +31,7 @@
 //   von_mises          N      Float64  (point scalars)
 //   HigherOrderDegrees C x 3  Int32    p0, p1, 0 (cell attribute HigherOrderDegrees)
 //   body               C      Int32    index into Problem::bodies
+//   patch              C      Int32    the body's patch (0 for single-patch bodies)
 //   element            C      Int32    e0 + e1 * ne0
 //   element_ij         C x 2  Int32    e0, e1
 //   knot_span          C x 2  Int32    knot span indices s0, s1 into the patch's knot vectors
@@ -71,7 +72,7 @@ struct BezierMesh {
   std::vector<double> von_mises;      // 1 per point
   std::vector<std::int64_t> offsets;  // end of each cell's points (VTK "offsets")
   std::vector<int> degrees;           // 3 per cell
-  std::vector<int> body, element;     // 1 per cell
+  std::vector<int> body, patch, element;   // 1 per cell (patch: of its body)
   std::vector<int> element_ij;        // 2 per cell
   std::vector<int> knot_span;         // 2 per cell
   std::vector<double> range;          // 4 per cell

@@ -7,12 +7,14 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <limits>
 #include <set>
 #include <sstream>
 
 #include "model/geometry_check.hpp"
+#include "model/geometry_file.hpp"
 
 namespace iga {
 
@@ -52,6 +54,15 @@ const char* material_model_name(MaterialModel m) {
     case MaterialModel::NeoHookean: return "neo_hookean";
   }
   return "?";
+}
+
+std::string Body::side_label(int patch, Side s) const {
+  return multipatch() ? patch_side_name({patch, s}) : std::string(side_name(s));
+}
+
+SurfaceChain surface_chain(const Problem& P, const ContactSurface& s) {
+  const Body& b = P.bodies[s.body];
+  return make_chain(b.patches, s.sides, b.tolerance);
 }
 
 int Problem::find_body(const std::string& name) const {
@@ -374,6 +385,46 @@ void read_side(const Reader& R, const YAML::Node& n, const std::string& path, Si
   }
 }
 
+// What a boundary or contact name designates on a body: (patch side, -1) or (patch, corner).
+// Names: west/east/south/north and the corners south_west, ... (single-patch bodies),
+// patch<k>.<side or corner>, or a named boundary of the body's geometry file.
+std::vector<std::pair<PatchSide, int>> boundary_places(const Reader& R, const Body& b, const std::string& name,
+                                                       const std::string& key, const YAML::Node& at, bool corners = true) {
+  const int np = static_cast<int>(b.patches.size());
+  std::string part = name;
+  int patch = 0;
+  bool prefixed = false;
+  if (name.rfind("patch", 0) == 0 && name.find('.') != std::string::npos) {
+    const std::string num = name.substr(5, name.find('.') - 5);
+    const bool digits = !num.empty() && num.size() < 9 && std::all_of(num.begin(), num.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
+    if (!digits) R.fail(key, at, "expected patch<k>.<side> with k a patch number");
+    patch = std::stoi(num);
+    if (patch >= np)
+      R.fail(key, at, "body '" + b.name + "' has " + std::to_string(np) + " patch" + (np > 1 ? "es" : "") + " (patch0 .. patch" +
+                          std::to_string(np - 1) + ")");
+    part = name.substr(name.find('.') + 1);
+    prefixed = true;
+  }
+  Side s;
+  Corner c;
+  const bool is_side = parse_side(part, s), is_corner = corners && parse_corner(part, c);
+  if ((is_side || is_corner) && !prefixed && np > 1)
+    R.fail(key, at, "body '" + b.name + "' has " + std::to_string(np) + " patches: name the side as patch<k>." + part);
+  if (is_side) return {{PatchSide{patch, s}, -1}};
+  if (is_corner) return {{PatchSide{patch, Side::West}, static_cast<int>(c)}};
+  if (!prefixed)
+    for (const auto& [nm, list] : b.named)
+      if (nm == name) {
+        std::vector<std::pair<PatchSide, int>> out;
+        for (const PatchSide& ps : list) out.push_back({ps, -1});
+        return out;
+      }
+  std::string names;
+  for (const auto& [nm, list] : b.named) names += ", " + nm;
+  R.fail(key, at, std::string("unknown side (") + (np > 1 ? "patch<k>.west|east|south|north" : "west, east, south, north") +
+                      (corners ? ", or a corner south_west, south_east, north_west, north_east" : "") + names + ")");
+}
+
 Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
   R.keys(n, path, {"name", "material", "geometry", "refine", "boundary"});
   Body b;
@@ -406,93 +457,192 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
 
   if (!n["geometry"]) R.missing(path + ".geometry");
   const YAML::Node g = n["geometry"];
-  R.keys(g, path + ".geometry", {"nurbs", "rectangle", "quarter_annulus"});
-  if (g.size() != 1) R.fail(path + ".geometry", g, "give exactly one of nurbs, rectangle, quarter_annulus");
-  if (g["nurbs"]) b.patch = read_nurbs(R, g["nurbs"], path + ".geometry.nurbs");
-  else if (g["rectangle"]) b.patch = make_rectangle(R, g["rectangle"], path + ".geometry.rectangle");
-  else b.patch = make_quarter_annulus(R, g["quarter_annulus"], path + ".geometry.quarter_annulus");
+  R.keys(g, path + ".geometry", {"nurbs", "rectangle", "quarter_annulus", "file", "patches"});
+  if (g.size() != 1) R.fail(path + ".geometry", g, "give exactly one of nurbs, rectangle, quarter_annulus, file");
+  std::vector<Interface> declared;
+  if (g["nurbs"]) b.patches = {read_nurbs(R, g["nurbs"], path + ".geometry.nurbs")};
+  else if (g["patches"]) {
+    // several patches listed inline, each as `nurbs`; interfaces are found by coincidence
+    const YAML::Node ps = g["patches"];
+    if (!ps.IsSequence() || ps.size() == 0) R.fail(path + ".geometry.patches", ps, "expected a list of patches {degree, knots, control_points}");
+    for (size_t k = 0; k < ps.size(); ++k) b.patches.push_back(read_nurbs(R, ps[k], path + ".geometry.patches[" + std::to_string(k) + "]"));
+  }
+  else if (g["rectangle"]) b.patches = {make_rectangle(R, g["rectangle"], path + ".geometry.rectangle")};
+  else if (g["quarter_annulus"]) b.patches = {make_quarter_annulus(R, g["quarter_annulus"], path + ".geometry.quarter_annulus")};
+  else {
+    // a geometry file, relative to the problem file; its own errors name it and its line
+    const std::string name = R.string(g["file"], path + ".geometry.file");
+    namespace fs = std::filesystem;
+    const fs::path gp = fs::path(name).is_absolute() ? fs::path(name) : fs::path(R.file).parent_path() / name;
+    std::error_code ec;
+    if (!fs::is_regular_file(gp, ec)) R.fail(path + ".geometry.file", g["file"], "cannot open the geometry file " + gp.string());
+    MultiPatch mp = read_geometry_file(gp.string());
+    if (mp.patches.empty()) R.fail(path + ".geometry.file", g["file"], "the geometry file holds no patch");
+    for (size_t k = 0; k < mp.patches.size(); ++k)
+      for (int d = 0; d < 2; ++d)
+        if (mp.patches[k].degree[d] > 5)
+          R.fail(path + ".geometry.file", g["file"], "patch " + std::to_string(k) + " has degree " +
+                 std::to_string(mp.patches[k].degree[d]) + " (1..5 are supported)");
+    b.patches = std::move(mp.patches);
+    declared = std::move(mp.interfaces);
+    b.named = std::move(mp.named);
+  }
+  const int np = static_cast<int>(b.patches.size());
+  // interfaces: declared ones and those found on the unrefined patches (refinement keeps
+  // conforming sides conforming only when both are refined alike: checked after it)
+  b.tolerance = 1e-8 * std::max(patches_diameter(b.patches), 1e-300);
+  {
+    for (const Interface& f : declared) {
+      const std::string err = check_interface(b.patches, f, b.tolerance);
+      if (!err.empty()) R.fail(path + ".geometry.file", g["file"], "body '" + b.name + "': " + err);
+    }
+    b.interfaces = declared;
+    for (const Interface& f : find_interfaces(b.patches, b.tolerance)) {
+      bool known = false;
+      for (const Interface& d : declared) known = known || (d.a == f.a && d.b == f.b) || (d.a == f.b && d.b == f.a);
+      if (!known) b.interfaces.push_back(f);
+    }
+    const std::string nc = find_nonconforming(b.patches, b.interfaces, b.tolerance);
+    if (!nc.empty()) R.fail(path + ".geometry", g, "body '" + b.name + "': " + nc);
+  }
 
   if (n["refine"]) {
     const YAML::Node r = n["refine"];
     R.keys(r, path + ".refine", {"degree_elevate", "insert_knots", "subdivide"});
     // sizes after each refinement, checked before it is done (a refinement too large for
-    // the machine is refused at once, not after minutes of knot insertion)
-    auto dofs_if = [&](std::array<long long, 2> ncp) { return 2.0 * static_cast<double>(ncp[0]) * static_cast<double>(ncp[1]); };
-    auto elements = [&](int d) { return static_cast<double>(b.patch.element_spans(d).size()); };
-    auto max_degree = [&] { return std::max(b.patch.degree[0], b.patch.degree[1]); };
+    // the machine is refused at once, not after minutes of knot insertion); every patch of
+    // the body is refined alike
+    using NcpFn = std::function<std::array<long long, 2>(const Patch&)>;
+    using ElFn = std::function<std::array<double, 2>(const Patch&)>;
+    auto totals = [&](const NcpFn& ncp, const ElFn& el) {
+      double dofs = 0, sample = 0;
+      for (const Patch& q : b.patches) {
+        const auto c = ncp(q);
+        const auto e = el(q);
+        dofs += 2.0 * static_cast<double>(c[0]) * static_cast<double>(c[1]);
+        sample += R.sample_bytes(e[0], e[1]);
+      }
+      return std::pair<double, double>(dofs, sample);
+    };
+    auto elements = [](const Patch& q) {
+      return std::array<double, 2>{static_cast<double>(q.element_spans(0).size()), static_cast<double>(q.element_spans(1).size())};
+    };
+    auto max_degree = [&] {
+      int m = 1;
+      for (const Patch& q : b.patches) m = std::max({m, q.degree[0], q.degree[1]});
+      return m;
+    };
     if (r["degree_elevate"]) {
       const auto e = R.int_pair(r["degree_elevate"], path + ".refine.degree_elevate");
-      std::array<long long, 2> ncp{};
-      for (int d = 0; d < 2; ++d) {
-        if (e[d] < 0) R.fail(path + ".refine.degree_elevate", r["degree_elevate"], "must be >= 0");
-        if (b.patch.degree[d] + e[d] > 5)
-          R.fail(path + ".refine.degree_elevate", r["degree_elevate"],
-                 "would raise degree " + std::to_string(b.patch.degree[d]) + " above the supported 5");
-        ncp[d] = b.patch.ncp(d) + static_cast<long long>(e[d]) * (distinct_knots(b.patch.knots[d]) - 1);
-      }
-      R.fits(path + ".refine.degree_elevate", r["degree_elevate"], dofs_if(ncp),
-             std::max(b.patch.degree[0] + e[0], b.patch.degree[1] + e[1]), R.sample_bytes(elements(0), elements(1)));
-      for (int d = 0; d < 2; ++d) b.patch.elevate(d, e[d]);
+      for (const Patch& q : b.patches)
+        for (int d = 0; d < 2; ++d) {
+          if (e[d] < 0) R.fail(path + ".refine.degree_elevate", r["degree_elevate"], "must be >= 0");
+          if (q.degree[d] + e[d] > 5)
+            R.fail(path + ".refine.degree_elevate", r["degree_elevate"],
+                   "would raise degree " + std::to_string(q.degree[d]) + " above the supported 5");
+        }
+      const auto t = totals([&](const Patch& q) {
+        std::array<long long, 2> c{};
+        for (int d = 0; d < 2; ++d) c[d] = q.ncp(d) + static_cast<long long>(e[d]) * (distinct_knots(q.knots[d]) - 1);
+        return c;
+      }, elements);
+      R.fits(path + ".refine.degree_elevate", r["degree_elevate"], t.first, max_degree() + std::max(e[0], e[1]), t.second);
+      for (Patch& q : b.patches)
+        for (int d = 0; d < 2; ++d) q.elevate(d, e[d]);
     }
     if (r["insert_knots"]) {
       const YAML::Node ik = r["insert_knots"];
       const std::string key = path + ".refine.insert_knots";
       if (!ik.IsSequence() || ik.size() != 2) R.fail(key, ik, "expected two lists [[xi knots], [eta knots]] in [0, 1]");
-      std::array<long long, 2> ncp{};
+      std::array<long long, 2> added{};
       for (int d = 0; d < 2; ++d) {
         if (ik[d].IsSequence() && ik[d].size() > kMaxInsertedKnots)
           R.fail(key + "[" + std::to_string(d) + "]", ik[d],
                  "at most " + std::to_string(kMaxInsertedKnots) + " knots per direction; use subdivide for uniform refinement");
-        ncp[d] = b.patch.ncp(d) + (ik[d].IsSequence() ? static_cast<long long>(ik[d].size()) : 0);
+        added[d] = ik[d].IsSequence() ? static_cast<long long>(ik[d].size()) : 0;
       }
-      R.fits(key, ik, dofs_if(ncp), max_degree(),
-             R.sample_bytes(elements(0) + (ncp[0] - b.patch.ncp(0)), elements(1) + (ncp[1] - b.patch.ncp(1))));
+      const auto t = totals([&](const Patch& q) { return std::array<long long, 2>{q.ncp(0) + added[0], q.ncp(1) + added[1]}; },
+                            [&](const Patch& q) {
+                              auto e = elements(q);
+                              return std::array<double, 2>{e[0] + added[0], e[1] + added[1]};
+                            });
+      R.fits(key, ik, t.first, max_degree(), t.second);
       for (int d = 0; d < 2; ++d) {
         const auto ks = R.numbers(ik[d], key + "[" + std::to_string(d) + "]");
-        const auto& U = b.patch.knots[d];
-        for (double t : ks) {
-          if (!(t > 0 && t < 1)) R.fail(key + "[" + std::to_string(d) + "]", ik[d], "knots must lie strictly inside (0, 1)");
-          b.patch.insert_knot(d, U.front() + t * (U.back() - U.front()));
+        for (Patch& q : b.patches) {
+          const auto U = q.knots[d];
+          for (double t : ks) {
+            if (!(t > 0 && t < 1)) R.fail(key + "[" + std::to_string(d) + "]", ik[d], "knots must lie strictly inside (0, 1)");
+            q.insert_knot(d, U.front() + t * (U.back() - U.front()));
+          }
+          const std::string err = q.validate();
+          if (!err.empty()) R.fail(key + "[" + std::to_string(d) + "]", ik[d], err);
         }
-        const std::string err = b.patch.validate();
-        if (!err.empty()) R.fail(key + "[" + std::to_string(d) + "]", ik[d], err);
       }
     }
     if (r["subdivide"]) {
       const auto s = R.int_pair(r["subdivide"], path + ".refine.subdivide");
-      std::array<long long, 2> ncp{};
-      for (int d = 0; d < 2; ++d) {
+      for (int d = 0; d < 2; ++d)
         if (s[d] < 1 || s[d] > 100000) R.fail(path + ".refine.subdivide", r["subdivide"], "must be 1..100000");
-        ncp[d] = b.patch.ncp(d) + static_cast<long long>(s[d] - 1) * static_cast<long long>(b.patch.element_spans(d).size());
-      }
-      R.fits(path + ".refine.subdivide", r["subdivide"], dofs_if(ncp), max_degree(),
-             R.sample_bytes(elements(0) * s[0], elements(1) * s[1]));
-      for (int d = 0; d < 2; ++d) b.patch.subdivide(d, s[d]);
+      const auto t = totals([&](const Patch& q) {
+        std::array<long long, 2> c{};
+        for (int d = 0; d < 2; ++d) c[d] = q.ncp(d) + static_cast<long long>(s[d] - 1) * static_cast<long long>(q.element_spans(d).size());
+        return c;
+      }, [&](const Patch& q) {
+        auto e = elements(q);
+        return std::array<double, 2>{e[0] * s[0], e[1] * s[1]};
+      });
+      R.fits(path + ".refine.subdivide", r["subdivide"], t.first, max_degree(), t.second);
+      for (Patch& q : b.patches)
+        for (int d = 0; d < 2; ++d) q.subdivide(d, s[d]);
+    }
+    for (const Interface& f : b.interfaces) {
+      const std::string err = check_interface(b.patches, f, b.tolerance);
+      if (!err.empty()) R.fail(path + ".refine", r, "body '" + b.name + "': " + err);
     }
   }
+  b.cp_index = merge_control_points(b.patches, b.interfaces, b.num_cps);
   // a folded or flat patch (det J changing sign or vanishing inside) is bad input, blamed on
   // the control points where they were given
-  const std::string bad = check_jacobian(b.patch);
-  if (!bad.empty()) {
-    if (g["nurbs"]) R.fail(path + ".geometry.nurbs.control_points", g["nurbs"]["control_points"], "body '" + b.name + "': " + bad);
-    R.fail(path + ".geometry", g, "body '" + b.name + "': " + bad);
+  for (int k = 0; k < np; ++k) {
+    const std::string bad = check_jacobian(b.patches[k]);
+    if (bad.empty()) continue;
+    const std::string who = "body '" + b.name + "'" + (np > 1 ? ", patch " + std::to_string(k) : std::string()) + ": ";
+    if (g["nurbs"]) R.fail(path + ".geometry.nurbs.control_points", g["nurbs"]["control_points"], who + bad);
+    if (g["patches"])
+      R.fail(path + ".geometry.patches[" + std::to_string(k) + "].control_points", g["patches"][k]["control_points"], who + bad);
+    R.fail(path + (g["file"] ? ".geometry.file" : ".geometry"), g["file"] ? g["file"] : g, who + bad);
   }
+  b.sides.assign(np, {});
+  b.corners.assign(np, {});
   if (n["boundary"]) {
     const YAML::Node bc = n["boundary"];
-    R.keys(bc, path + ".boundary", {"west", "east", "south", "north"});
+    if (!bc.IsMap()) R.fail(path + ".boundary", bc, "expected a mapping");
     for (const auto& kv : bc) {
-      Side s;
-      parse_side(kv.first.as<std::string>(), s);
-      read_side(R, kv.second, path + ".boundary." + kv.first.as<std::string>(), b.sides[static_cast<int>(s)]);
+      const std::string name = kv.first.as<std::string>(), key = path + ".boundary." + name;
+      const auto where = boundary_places(R, b, name, key, kv.second);
+      for (const auto& [ps, corner] : where) {
+        SideCondition& sc = corner < 0 ? b.sides[ps.patch][static_cast<int>(ps.side)] : b.corners[ps.patch][corner];
+        if (!sc.value.empty()) R.fail(key, kv.second, "this side is given a condition twice (by its name and another)");
+        read_side(R, kv.second, key, sc);
+        if (corner >= 0 && sc.load != LoadKind::None)
+          R.fail(key, kv.second, "a corner takes a displacement only (a point load is not supported)");
+        if (corner < 0 && sc.load != LoadKind::None)
+          for (const Interface& f : b.interfaces)
+            if (f.a == ps || f.b == ps)
+              R.fail(key, kv.second, patch_side_name(ps) + " is an interface between patches, inside the body: no load there");
+      }
     }
   }
-  for (auto& sc : b.sides)   // free sides: zero values at every stage end
-    if (sc.value.empty()) {
-      sc.value.assign(R.stages, {0.0, 0.0});
-      sc.p0.assign(R.stages, 0.0);
-      sc.p1.assign(R.stages, 0.0);
-      sc.traction.assign(R.stages, {0.0, 0.0});
-    }
+  for (int k = 0; k < np; ++k)
+    for (auto* arr : {&b.sides[k], &b.corners[k]})
+      for (auto& sc : *arr)   // free sides: zero values at every stage end
+        if (sc.value.empty()) {
+          sc.value.assign(R.stages, {0.0, 0.0});
+          sc.p0.assign(R.stages, 0.0);
+          sc.p1.assign(R.stages, 0.0);
+          sc.traction.assign(R.stages, {0.0, 0.0});
+        }
   return b;
 }
 
@@ -503,8 +653,35 @@ ContactSurface read_surface(const Reader& R, const Problem& P, const YAML::Node&
   ContactSurface s;
   s.body = P.find_body(R.string(n["body"], path + ".body"));
   if (s.body < 0) R.fail(path + ".body", n["body"], "no body of that name");
-  if (!parse_side(R.string(n["side"], path + ".side"), s.side))
-    R.fail(path + ".side", n["side"], "unknown side (west, east, south, north)");
+  const Body& b = P.bodies[s.body];
+  const YAML::Node sd = n["side"];
+  std::vector<std::pair<std::string, YAML::Node>> names;
+  if (sd.IsSequence()) {
+    if (sd.size() == 0) R.fail(path + ".side", sd, "expected a side or a list of patch sides");
+    for (size_t k = 0; k < sd.size(); ++k) names.push_back({R.string(sd[k], path + ".side[" + std::to_string(k) + "]"), sd[k]});
+  } else {
+    names.push_back({R.string(sd, path + ".side"), sd});
+  }
+  for (const auto& [name, node] : names) {
+    for (const auto& pl : boundary_places(R, b, name, path + ".side", node, false)) s.sides.push_back(pl.first);
+    s.label += (s.label.empty() ? "" : "+") + name;
+  }
+  try {
+    const SurfaceChain ch = make_chain(b.patches, s.sides, b.tolerance);
+    // the joints must be shared control points (one dof), not two that merely touch
+    const size_t np = ch.pieces.size(), joints = np > 1 ? np - 1 + (ch.closed ? 1 : 0) : 0;
+    for (size_t k = 0; k < joints; ++k) {
+      const auto& A = ch.pieces[k];
+      const auto& B = ch.pieces[(k + 1) % np];
+      const auto ia = b.patches[A.side.patch].side_indices(A.side.side), ib = b.patches[B.side.patch].side_indices(B.side.side);
+      const int ea = A.reversed ? ia.front() : ia.back(), sb = B.reversed ? ib.back() : ib.front();
+      if (b.cp_index[A.side.patch][ea] != b.cp_index[B.side.patch][sb])
+        throw std::invalid_argument(patch_side_name(A.side) + " and " + patch_side_name(B.side) +
+                                    " touch at a point that is not shared by an interface of their patches");
+    }
+  } catch (const std::invalid_argument& e) {
+    R.fail(path + ".side", sd, e.what());
+  }
   return s;
 }
 
@@ -512,17 +689,20 @@ ContactSurface read_surface(const Reader& R, const Problem& P, const YAML::Node&
 // rigid motion is left free.
 int rigid_rank(const Body& b) {
   double G[3][3] = {};
-  for (int s = 0; s < 4; ++s) {
-    const auto& sc = b.sides[s];
-    for (int a : b.patch.side_indices(static_cast<Side>(s)))
-      for (int c = 0; c < 2; ++c)
-        if (sc.fixed[c]) {
-          const double x = b.patch.cp[a][0], y = b.patch.cp[a][1];
-          const double row[3] = {c == 0 ? 1.0 : 0.0, c == 1 ? 1.0 : 0.0, c == 0 ? -y : x};
-          for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j) G[i][j] += row[i] * row[j];
-        }
-  }
+  auto add = [&](const Point3& cp, int c) {
+    const double x = cp[0], y = cp[1];
+    const double row[3] = {c == 0 ? 1.0 : 0.0, c == 1 ? 1.0 : 0.0, c == 0 ? -y : x};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) G[i][j] += row[i] * row[j];
+  };
+  for (size_t k = 0; k < b.patches.size(); ++k)
+    for (int s = 0; s < 4; ++s) {
+      for (int c = 0; c < 2; ++c) {
+        if (b.sides[k][s].fixed[c])
+          for (int a : b.patches[k].side_indices(static_cast<Side>(s))) add(b.patches[k].cp[a], c);
+        if (b.corners[k][s].fixed[c]) add(b.patches[k].cp[corner_index(b.patches[k], static_cast<Corner>(s))], c);
+      }
+    }
   // rank by Gaussian elimination with full pivoting on the 3x3 Gram matrix
   double scale = 0;
   for (int i = 0; i < 3; ++i) scale = std::max(scale, G[i][i]);
@@ -706,7 +886,7 @@ Problem build(Reader& R, const YAML::Node& root) {
       if (!n["slave"]) R.missing(path + ".slave");
       cp.master = read_surface(R, P, n["master"], path + ".master");
       cp.slave = read_surface(R, P, n["slave"], path + ".slave");
-      if (cp.master.body == cp.slave.body && cp.master.side == cp.slave.side)
+      if (cp.master.body == cp.slave.body && cp.master.sides == cp.slave.sides)
         R.fail(path + ".slave", n["slave"], "master and slave are the same side of the same body");
       if (cp.master.body == cp.slave.body)
         R.fail(path + ".slave", n["slave"],
@@ -822,12 +1002,18 @@ Problem build(Reader& R, const YAML::Node& root) {
       if (!pr.IsSequence()) R.fail("output.probes", pr, "expected a list of {body, at}");
       for (size_t k = 0; k < pr.size(); ++k) {
         const std::string path = "output.probes[" + std::to_string(k) + "]";
-        R.keys(pr[k], path, {"body", "at"});
+        R.keys(pr[k], path, {"body", "patch", "at"});
         if (!pr[k]["body"]) R.missing(path + ".body");
         if (!pr[k]["at"]) R.missing(path + ".at");
         Probe p;
         p.body = P.find_body(R.string(pr[k]["body"], path + ".body"));
         if (p.body < 0) R.fail(path + ".body", pr[k]["body"], "no body of that name");
+        if (pr[k]["patch"]) {
+          p.patch = R.integer(pr[k]["patch"], path + ".patch");
+          const int np = static_cast<int>(P.bodies[p.body].patches.size());
+          if (p.patch < 0 || p.patch >= np)
+            R.fail(path + ".patch", pr[k]["patch"], "body '" + P.bodies[p.body].name + "' has patches 0.." + std::to_string(np - 1));
+        }
         const auto at = R.numbers(pr[k]["at"], path + ".at", 2);
         for (int d = 0; d < 2; ++d)
           if (at[d] < 0 || at[d] > 1) R.fail(path + ".at", pr[k]["at"], "parametric coordinates must lie in [0, 1]");
@@ -842,7 +1028,7 @@ Problem build(Reader& R, const YAML::Node& root) {
   // moving projection) is not positive definite far from the solution.
   if (!P.linear.method_given) {
     long long dofs = 0;
-    for (const Body& b : P.bodies) dofs += 2LL * static_cast<long long>(b.patch.cp.size());
+    for (const Body& b : P.bodies) dofs += 2LL * b.num_cps;
     P.linear.automatic = true;
     // finite strain: the tangent may be indefinite (buckling) and, with follower pressure,
     // non-symmetric: GMRES
@@ -856,7 +1042,8 @@ Problem build(Reader& R, const YAML::Node& root) {
   bool follower = false;
   if (P.kinematics == Kinematics::Finite)
     for (const Body& b : P.bodies)
-      for (const SideCondition& sc : b.sides)
+      for (const auto& sides : b.sides)
+        for (const SideCondition& sc : sides)
         if (sc.load == LoadKind::Pressure || sc.load == LoadKind::LinearPressure) follower = true;
   if (follower) {
     P.linear.symmetric = false;
@@ -893,10 +1080,11 @@ Problem build(Reader& R, const YAML::Node& root) {
     double dofs = 0, out_bytes = 0;
     int degree = 1;
     for (const auto& b : P.bodies) {
-      dofs += 2.0 * static_cast<double>(b.patch.cp.size());
-      degree = std::max({degree, b.patch.degree[0], b.patch.degree[1]});
-      out_bytes += R.sample_bytes(static_cast<double>(b.patch.element_spans(0).size()),
-                                  static_cast<double>(b.patch.element_spans(1).size()));
+      dofs += 2.0 * b.num_cps;
+      for (const Patch& q : b.patches) {
+        degree = std::max({degree, q.degree[0], q.degree[1]});
+        out_bytes += R.sample_bytes(static_cast<double>(q.element_spans(0).size()), static_cast<double>(q.element_spans(1).size()));
+      }
     }
     const bool output_dominates = out_bytes > 0.5 * dofs * 103.0 * (2 * degree + 1) * (2 * degree + 1);
     if (output_dominates && root["output"] && root["output"]["samples_per_element"])

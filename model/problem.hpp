@@ -10,14 +10,12 @@
 
 namespace Teuchos { class ParameterList; }
 
+#include "model/input_error.hpp"
+#include "model/multipatch.hpp"
 #include "model/nurbs.hpp"
 
 namespace iga {
 
-/// Bad input: the message is one line naming the file, the key and the value.
-struct InputError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 enum class Analysis { PlaneStrain, PlaneStress };
 /// analysis.kinematics: small strain (linear), or finite (total Lagrangian, plane strain)
@@ -45,17 +43,31 @@ struct SideCondition {
   std::vector<std::array<double, 2>> traction;   // per stage end
 };
 
+/// A body: one or several NURBS patches of one material. Patches meet along conforming
+/// interfaces, where their control points are merged (one set of dofs), so the displacement
+/// is continuous. Single-patch bodies are the case of one patch and no interfaces.
 struct Body {
   std::string name;
   double E = 0, nu = 0;
   MaterialModel model = MaterialModel::Linear;
-  Patch patch;                          // refined
-  std::array<SideCondition, 4> sides;   // indexed by Side
+  std::vector<Patch> patches;                         // refined, in the file's order
+  std::vector<std::array<SideCondition, 4>> sides;    // per patch, indexed by Side
+  std::vector<std::array<SideCondition, 4>> corners;  // per patch, indexed by Corner (displacement only)
+  std::vector<Interface> interfaces;                  // conforming (found or declared, checked)
+  std::vector<std::pair<std::string, std::vector<PatchSide>>> named;   // named boundaries (geometry file)
+  std::vector<std::vector<int>> cp_index;             // per patch: control point -> the body's merged one
+  int num_cps = 0;                                    // merged control points
+  double tolerance = 0;                               // coincidence of control points (relative to the body's size)
+  bool multipatch() const { return patches.size() > 1; }
+  /// "north" on a single-patch body, "patch1.north" on a multi-patch one.
+  std::string side_label(int patch, Side s) const;
 };
 
+/// A contact surface: one side, or a chain of patch sides of a multi-patch body.
 struct ContactSurface {
   int body = -1;
-  Side side = Side::North;
+  std::vector<PatchSide> sides;
+  std::string label;   // as written: "north", "patch0.south+patch1.south", a named boundary
 };
 
 struct ContactPair {
@@ -94,6 +106,7 @@ struct LinearOptions {
 
 struct Probe {
   int body = -1;
+  int patch = 0;
   std::array<double, 2> at{0, 0};
 };
 
@@ -130,6 +143,9 @@ constexpr long long kAutoDirectMaxDofs = 200000;
 constexpr size_t kMaxInsertedKnots = 1000;            // per direction; subdivide refines uniformly
 constexpr int kMaxLoadSteps = 10000;
 constexpr int kMaxContactQuadrature = 12;             // contact quadrature points per slave span
+
+/// The curve of a contact surface (a side, or a chain of patch sides joined end to end).
+SurfaceChain surface_chain(const Problem& P, const ContactSurface& s);
 
 /// Reads, overrides (`key.path=value`, as `--set`) and validates a problem file.
 /// Throws InputError with a one-line message on any bad input.

@@ -22,15 +22,16 @@ Kokkos::View<T*, MemSpace> dview(const std::string& name, const std::vector<T>& 
 }
 
 CurveData make_curve(const System& sys, const ContactSurface& s, std::vector<GO>& gids) {
-  const Body& body = sys.problem().bodies[s.body];
-  const Curve c = body.patch.side_curve(s.side);
+  const SurfaceChain ch = surface_chain(sys.problem(), s);
+  const Curve& c = ch.curve;
   CurveData d;
   d.p = c.degree;
   d.nb = c.ncp();
   const auto spans = c.element_spans();
   d.ne = static_cast<int>(spans.size());
-  d.side = static_cast<int>(s.side);
-  d.orientation = body.patch.orientation();
+  // the outward normal's sign: side_normal(East, sign) = sign (t_y, -t_x)
+  d.side = static_cast<int>(Side::East);
+  d.orientation = ch.normal_sign;
   d.U = dview("U", c.knots);
   d.span = dview("span", spans);
   d.X = Kokkos::View<double* [2], MemSpace>("X", d.nb);
@@ -42,7 +43,7 @@ CurveData make_curve(const System& sys, const ContactSurface& s, std::vector<GO>
     hX(k, 0) = c.cp[k][0];
     hX(k, 1) = c.cp[k][1];
     w[k] = c.cp[k][2];
-    gids[k] = sys.cp_gid(s.body, c.patch_index[k]);
+    gids[k] = sys.cp_gid(s.body, ch.cp_patch[k], c.patch_index[k]);
   }
   Kokkos::deep_copy(d.X, hX);
   d.w = dview("w", w);
@@ -116,7 +117,7 @@ ContactPairData::ContactPairData(const System& sys, int index) : pair_(sys.probl
   slave = make_curve(sys, pair_.slave, slave_gid);
   master = make_curve(sys, pair_.master, master_gid);
   mortar_ = pair_.method == ContactMethod::MortarPenalty || pair_.method == ContactMethod::MortarAlm;
-  const Curve c = sys.problem().bodies[pair_.slave.body].patch.side_curve(pair_.slave.side);
+  const Curve c = surface_chain(sys.problem(), pair_.slave).curve;
   h_min_ = 1e300;
   for (int s : c.element_spans()) {
     const double a = c.knots[s], b = c.knots[s + 1];

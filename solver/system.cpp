@@ -63,15 +63,31 @@ Material body_material(const Problem& P, int b, double thickness) {
 System::System(const Problem& problem, RCP<const Comm> comm) : P_(problem), comm_(comm) {
   const int rank = comm_->getRank(), size = comm_->getSize();
   long long num_elements = 0;
-  for (const Body& b : P_.bodies) {
-    BodyData bd;
-    bd.pd = make_patch_data(b.patch);
-    bd.cp_offset = num_cps_;
-    bd.orientation = b.patch.orientation();
-    bd.mat = body_material(P_, static_cast<int>(bodies_.size()), P_.thickness);
-    num_cps_ += static_cast<GO>(b.patch.cp.size());
-    num_elements += b.patch.num_elements();
-    bodies_.push_back(bd);
+  for (size_t b = 0; b < P_.bodies.size(); ++b) {
+    const Body& body = P_.bodies[b];
+    body_offset_.push_back(num_cps_);
+    materials_.push_back(body_material(P_, static_cast<int>(b), P_.thickness));
+    cp_pos_.resize(num_cps_ + body.num_cps);
+    for (size_t k = 0; k < body.patches.size(); ++k) {
+      const Patch& pt = body.patches[k];
+      PatchBlock bd;
+      bd.pd = make_patch_data(pt);
+      bd.body = static_cast<int>(b);
+      bd.patch = static_cast<int>(k);
+      bd.orientation = pt.orientation();
+      bd.mat = materials_.back();
+      bd.gid.resize(pt.cp.size());
+      for (size_t a = 0; a < pt.cp.size(); ++a) {
+        bd.gid[a] = num_cps_ + body.cp_index[k][a];
+        cp_pos_[bd.gid[a]] = pt.cp[a];
+      }
+      num_elements += pt.num_elements();
+      blocks_.push_back(std::move(bd));
+    }
+    num_cps_ += body.num_cps;
+    size_t total = 0;
+    for (const Patch& pt : body.patches) total += pt.cp.size();
+    merged_ = merged_ || total != static_cast<size_t>(body.num_cps);
   }
   // owned control points: a contiguous block per rank; dofs 2g, 2g+1
   const auto cpr = block_range(num_cps_, rank, size);
@@ -80,56 +96,63 @@ System::System(const Problem& problem, RCP<const Comm> comm) : P_(problem), comm
   for (GO g = cpr.first; g < cpr.second; ++g) { owned.push_back(2 * g); owned.push_back(2 * g + 1); }
   owned_ = rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(), owned, 0, comm_));
 
-  // elements: a contiguous block of the global element list per rank
+  // elements: a contiguous block of the global element list (block after block) per rank
   const auto er = block_range(num_elements, rank, size);
   long long e0 = 0;
   std::vector<GO> touched;
-  for (size_t b = 0; b < bodies_.size(); ++b) {
-    const long long ne = P_.bodies[b].patch.num_elements();
-    BodyData& bd = bodies_[b];
+  for (PatchBlock& bd : blocks_) {
+    const Patch& pt = P_.bodies[bd.body].patches[bd.patch];
+    const long long ne = pt.num_elements();
     bd.e_begin = static_cast<int>(std::clamp(er.first - e0, 0LL, ne));
     bd.e_end = static_cast<int>(std::clamp(er.second - e0, 0LL, ne));
     e0 += ne;
-    const Patch& pt = P_.bodies[b].patch;
     const auto sp0 = pt.element_spans(0), sp1 = pt.element_spans(1);
     for (int e = bd.e_begin; e < bd.e_end; ++e) {
       const int s0 = sp0[e % sp0.size()], s1 = sp1[e / sp0.size()];
       for (int j = s1 - pt.degree[1]; j <= s1; ++j)
-        for (int i = s0 - pt.degree[0]; i <= s0; ++i) touched.push_back(bd.cp_offset + pt.index(i, j));
+        for (int i = s0 - pt.degree[0]; i <= s0; ++i) touched.push_back(bd.gid[pt.index(i, j)]);
     }
   }
   std::sort(touched.begin(), touched.end());
   touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
   overlap_ = cp_dof_map(touched);
-  for (size_t b = 0; b < bodies_.size(); ++b) {
-    BodyData& bd = bodies_[b];
-    const int ncp = static_cast<int>(P_.bodies[b].patch.cp.size());
+  for (PatchBlock& bd : blocks_) {
+    const int ncp = static_cast<int>(bd.gid.size());
     std::vector<int> lid(ncp, -1);
     for (int a = 0; a < ncp; ++a) {
-      const LO l = overlap_->getLocalElement(2 * (bd.cp_offset + a));
+      const LO l = overlap_->getLocalElement(2 * bd.gid[a]);
       if (l != Teuchos::OrdinalTraits<LO>::invalid()) lid[a] = l / 2;
     }
     bd.pd.lid = to_device("lid", lid);
     bd.lid = std::move(lid);
   }
 
-  // Dirichlet dofs owned here; a dof constrained by several sides is reported under the first
+  // Dirichlet dofs owned here (sides, then corner points); a dof constrained by several is
+  // reported under the first
   std::map<GO, DirichletDof> dd;
-  for (size_t b = 0; b < bodies_.size(); ++b)
-    for (int s = 0; s < 4; ++s) {
-      const SideCondition& sc = P_.bodies[b].sides[s];
-      for (int a : P_.bodies[b].patch.side_indices(static_cast<Side>(s)))
-        for (int c = 0; c < 2; ++c)
-          if (sc.fixed[c]) {
-            const GO dof = 2 * (bodies_[b].cp_offset + a) + c;
-            if (owned_->isNodeGlobalElement(dof) && !dd.count(dof))
-            {
-              std::vector<double> v;
-              for (const auto& e : sc.value) v.push_back(e[c]);
-              dd[dof] = DirichletDof{dof, static_cast<int>(b), s, v};
-            }
+  auto constrain = [&](int blk, int slot, const SideCondition& sc, const std::vector<int>& cps) {
+    for (int a : cps)
+      for (int c = 0; c < 2; ++c)
+        if (sc.fixed[c]) {
+          const GO dof = 2 * blocks_[blk].gid[a] + c;
+          if (owned_->isNodeGlobalElement(dof) && !dd.count(dof)) {
+            std::vector<double> v;
+            for (const auto& e : sc.value) v.push_back(e[c]);
+            dd[dof] = DirichletDof{dof, blk, slot, v};
           }
-    }
+        }
+  };
+  for (size_t k = 0; k < blocks_.size(); ++k) {
+    const Body& body = P_.bodies[blocks_[k].body];
+    const Patch& pt = body.patches[blocks_[k].patch];
+    for (int s = 0; s < 4; ++s) constrain(static_cast<int>(k), s, body.sides[blocks_[k].patch][s], pt.side_indices(static_cast<Side>(s)));
+  }
+  for (size_t k = 0; k < blocks_.size(); ++k) {
+    const Body& body = P_.bodies[blocks_[k].body];
+    const Patch& pt = body.patches[blocks_[k].patch];
+    for (int c = 0; c < 4; ++c)
+      constrain(static_cast<int>(k), 4 + c, body.corners[blocks_[k].patch][c], {corner_index(pt, static_cast<Corner>(c))});
+  }
   for (const auto& kv : dd) {
     dirichlet_.push_back(kv.second);
     dirichlet_lids_.push_back(owned_->getLocalElement(kv.first));
@@ -172,13 +195,14 @@ System::CouplingRange System::coupling_range(const Patch& pt, int d) {
   return r;
 }
 
-// Calls f(b, row, a') for every control point a' of body b coupled with a control point a that
-// is a row here (row = row_of(b, a) >= 0), rows in patch order, a' with j' outer, i' inner
-// (so in increasing global id).
+// Calls f(b, row, a') for every control point a' of patch block b coupled with a control point
+// a that is a row here (row = row_of(b, a) >= 0), rows in patch order, a' with j' outer, i'
+// inner (so in increasing global id within a patch). A control point shared by patches gets
+// its couplings from each of them (coupling_csr merges the repeats).
 template <class RowOf, class F>
 void System::for_each_coupling(RowOf row_of, F f) const {
-  for (size_t b = 0; b < bodies_.size(); ++b) {
-    const Patch& pt = P_.bodies[b].patch;
+  for (size_t b = 0; b < blocks_.size(); ++b) {
+    const Patch& pt = P_.bodies[blocks_[b].body].patches[blocks_[b].patch];
     const CouplingRange r0 = coupling_range(pt, 0), r1 = coupling_range(pt, 1);
     const int n0 = static_cast<int>(r0.lo.size()), n1 = static_cast<int>(r1.lo.size());
     for (int j = 0; j < n1; ++j)
@@ -218,6 +242,22 @@ void System::coupling_csr(LO nrows, RowOf row_of, ColOf col_of, Teuchos::ArrayRC
       cols[k++] = 2 * c + 1;
     }
   });
+  // several patches: a control point on an interface couples through each of its patches,
+  // and its rows hold columns more than once (and out of order): merge them
+  if (merged_) {
+    size_t out = 0, begin = 0;
+    for (LO r = 0; r < 2 * nrows; ++r) {
+      const size_t end = rowptr[r + 1];
+      std::sort(cols.begin() + begin, cols.begin() + end);
+      const auto last = std::unique(cols.begin() + begin, cols.begin() + end);
+      for (auto it = cols.begin() + begin; it != last; ++it) cols[out++] = *it;
+      begin = end;
+      rowptr[r + 1] = out;
+    }
+    Teuchos::ArrayRCP<LO> packed(out);
+    std::copy(cols.begin(), cols.begin() + out, packed.begin());
+    cols = packed;
+  }
 }
 
 // Several ranks: the global pattern of this rank's owned rows (columns: every control point
@@ -230,12 +270,12 @@ std::unique_ptr<System::OwnedGhost> System::owned_ghost() const {
   const bool any = owned_->getNodeNumElements() > 0;
   const GO first = any ? owned_->getMinGlobalIndex() / 2 : 0, last = any ? owned_->getMaxGlobalIndex() / 2 + 1 : 0;
   auto owned_row = [&](size_t b, int a) -> LO {
-    const GO g = bodies_[b].cp_offset + a;
+    const GO g = blocks_[b].gid[a];
     return g >= first && g < last ? static_cast<LO>(g - first) : -1;
   };
   // mark the control points coupled with owned ones
   std::vector<LO> colpos(num_cps_, -1);
-  for_each_coupling(owned_row, [&](size_t b, LO, int a) { colpos[bodies_[b].cp_offset + a] = 0; });
+  for_each_coupling(owned_row, [&](size_t b, LO, int a) { colpos[blocks_[b].gid[a]] = 0; });
   std::vector<GO> dofs;
   auto add = [&](GO g) {
     colpos[g] = static_cast<LO>(dofs.size() / 2);
@@ -250,7 +290,7 @@ std::unique_ptr<System::OwnedGhost> System::owned_ghost() const {
   Teuchos::ArrayRCP<size_t> rowptr;
   Teuchos::ArrayRCP<LO> cols;
   coupling_csr(static_cast<LO>(last - first), owned_row,
-               [&](size_t b, int a) { return colpos[bodies_[b].cp_offset + a]; }, rowptr, cols);
+               [&](size_t b, int a) { return colpos[blocks_[b].gid[a]]; }, rowptr, cols);
   // rows come out in global order: only those coupling control points owned below this
   // rank's (numbered after the owned ones) need sorting
   for (LO r = 0; r < 2 * static_cast<LO>(last - first); ++r)
@@ -260,32 +300,38 @@ std::unique_ptr<System::OwnedGhost> System::owned_ghost() const {
   g->fillComplete(owned_, owned_);
   og->owned = g;
 
-  // ghost rows, in increasing global id
+  // ghost rows, in increasing global id (a control point shared by patches: one row)
   std::vector<GO> ghost_dofs;
-  std::vector<std::vector<int>> grow(bodies_.size());
-  for (size_t b = 0; b < bodies_.size(); ++b) {
-    const auto& lid = bodies_[b].lid;
-    grow[b].assign(lid.size(), -1);
-    for (size_t a = 0; a < lid.size(); ++a)
-      if (lid[a] >= 0 && owned_row(b, static_cast<int>(a)) < 0) {
-        grow[b][a] = static_cast<int>(ghost_dofs.size() / 2);
-        ghost_dofs.push_back(2 * (bodies_[b].cp_offset + static_cast<GO>(a)));
-        ghost_dofs.push_back(2 * (bodies_[b].cp_offset + static_cast<GO>(a)) + 1);
-      }
+  std::vector<std::vector<int>> grow(blocks_.size());
+  {
+    std::vector<GO> ghosts;
+    for (size_t b = 0; b < blocks_.size(); ++b)
+      for (size_t a = 0; a < blocks_[b].lid.size(); ++a)
+        if (blocks_[b].lid[a] >= 0 && owned_row(b, static_cast<int>(a)) < 0) ghosts.push_back(blocks_[b].gid[a]);
+    std::sort(ghosts.begin(), ghosts.end());
+    ghosts.erase(std::unique(ghosts.begin(), ghosts.end()), ghosts.end());
+    for (GO g : ghosts) { ghost_dofs.push_back(2 * g); ghost_dofs.push_back(2 * g + 1); }
+    for (size_t b = 0; b < blocks_.size(); ++b) {
+      const auto& lid = blocks_[b].lid;
+      grow[b].assign(lid.size(), -1);
+      for (size_t a = 0; a < lid.size(); ++a)
+        if (lid[a] >= 0 && owned_row(b, static_cast<int>(a)) < 0)
+          grow[b][a] = static_cast<int>(std::lower_bound(ghosts.begin(), ghosts.end(), blocks_[b].gid[a]) - ghosts.begin());
+    }
   }
   og->ghost_map = rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(), ghost_dofs, 0, comm_));
   coupling_csr(static_cast<LO>(ghost_dofs.size() / 2), [&](size_t b, int a) { return grow[b][a]; },
-               [&](size_t b, int a) { return bodies_[b].lid[a]; }, rowptr, cols);
+               [&](size_t b, int a) { return blocks_[b].lid[a]; }, rowptr, cols);
   RCP<Graph> gg = rcp(new Graph(og->ghost_map, overlap_, rowptr, cols));
   gg->fillComplete(owned_, og->ghost_map);
   og->ghost = gg;
   og->exporter = rcp(new Export(og->ghost_map, owned_));
-  for (size_t b = 0; b < bodies_.size(); ++b) {
-    const size_t n = bodies_[b].lid.size();
+  for (size_t b = 0; b < blocks_.size(); ++b) {
+    const size_t n = blocks_[b].lid.size();
     std::vector<int> orow(n), ocol(n);
     for (size_t a = 0; a < n; ++a) {
       orow[a] = owned_row(b, static_cast<int>(a));
-      ocol[a] = colpos[bodies_[b].cp_offset + static_cast<GO>(a)];
+      ocol[a] = colpos[blocks_[b].gid[a]];
     }
     og->orow.push_back(to_device("orow", orow));
     og->ocol.push_back(to_device("ocol", ocol));
@@ -301,8 +347,8 @@ RCP<Matrix> System::assemble_stiffness() const {
 }
 
 bool System::constant_tangent() const {
-  for (const BodyData& bd : bodies_)
-    if (!bd.mat.constant_tangent()) return false;
+  for (const Material& m : materials_)
+    if (!m.constant_tangent()) return false;
   return true;
 }
 
@@ -319,7 +365,7 @@ RCP<const Graph> System::stiffness_graph() const {
     const LO nov = static_cast<LO>(overlap_->getNodeNumElements() / 2);
     Teuchos::ArrayRCP<size_t> rowptr;
     Teuchos::ArrayRCP<LO> cols;
-    coupling_csr(nov, [&](size_t b, int a) { return bodies_[b].lid[a]; }, [&](size_t b, int a) { return bodies_[b].lid[a]; },
+    coupling_csr(nov, [&](size_t b, int a) { return blocks_[b].lid[a]; }, [&](size_t b, int a) { return blocks_[b].lid[a]; },
                  rowptr, cols);
     RCP<Graph> g = rcp(new Graph(overlap_, overlap_, rowptr, cols));
     g->fillComplete(owned_, owned_);
@@ -383,8 +429,8 @@ void System::assemble_internal(const Vector* u, Vector* f_int, RCP<Matrix>* K, c
     }
     return sc;
   };
-  for (size_t b = 0; b < bodies_.size(); ++b) {
-    const BodyData& bd = bodies_[b];
+  for (size_t b = 0; b < blocks_.size(); ++b) {
+    const PatchBlock& bd = blocks_[b];
     if (bd.e_end <= bd.e_begin) continue;
     const GaussRule g0 = gauss_rule(bd.pd.p[0] + 1), g1 = gauss_rule(bd.pd.p[1] + 1);
     dispatch_degree(std::max(bd.pd.p[0], bd.pd.p[1]), [&](auto P) {
@@ -399,7 +445,7 @@ void System::assemble_internal(const Vector* u, Vector* f_int, RCP<Matrix>* K, c
     // finite kinematics: pressures follow the deformed sides (kernels/boundary_load.hpp)
     if (lp && P_.kinematics == Kinematics::Finite)
       for (int side = 0; side < 4; ++side) {
-        const SideCondition& sc = P_.bodies[b].sides[side];
+        const SideCondition& sc = P_.bodies[bd.body].sides[bd.patch][side];
         if (sc.load != LoadKind::Pressure && sc.load != LoadKind::LinearPressure) continue;
         AssembleFollowerPressure<Local> k;
         k.pd = bd.pd;
@@ -466,10 +512,9 @@ RCP<Vector> System::assemble_loads(double lambda, int stage) const {
   Vector f_ov(overlap_);
   {
     auto f = Kokkos::subview(f_ov.getLocalViewDevice(Tpetra::Access::ReadWrite), Kokkos::ALL(), 0);
-    for (size_t b = 0; b < bodies_.size(); ++b) {
-      const BodyData& bd = bodies_[b];
+    for (const PatchBlock& bd : blocks_) {
       for (int s = 0; s < 4; ++s) {
-        const SideCondition& sc = P_.bodies[b].sides[s];
+        const SideCondition& sc = P_.bodies[bd.body].sides[bd.patch][s];
         if (sc.load == LoadKind::None) continue;
         // finite kinematics: pressures are follower loads, in assemble_internal
         if (sc.load != LoadKind::Traction && P_.kinematics == Kinematics::Finite) continue;
@@ -493,8 +538,8 @@ RCP<Vector> System::assemble_loads(double lambda, int stage) const {
   if (!user_tractions_.empty()) {
     auto h = f_ov.getLocalViewHost(Tpetra::Access::ReadWrite);
     for (const auto& ut : user_tractions_) {
-      const BodyData& bd = bodies_[ut.body];
-      const Curve c = P_.bodies[ut.body].patch.side_curve(ut.side);
+      const PatchBlock& bd = blocks_[block_of(ut.body, ut.patch)];
+      const Curve c = P_.bodies[ut.body].patches[ut.patch].side_curve(ut.side);
       const GaussRule g = gauss_rule(c.degree + 2);
       const auto spans = c.element_spans();
       for (size_t k = 0; k < spans.size(); ++k) {
@@ -528,9 +573,10 @@ RCP<Vector> System::assemble_loads(double lambda, int stage) const {
   }
   if (!user_body_forces_.empty()) {
     auto h = f_ov.getLocalViewHost(Tpetra::Access::ReadWrite);
-    for (const auto& ub : user_body_forces_) {
-      const BodyData& bd = bodies_[ub.body];
-      const Patch& pt = P_.bodies[ub.body].patch;
+    for (const auto& ub : user_body_forces_)
+     for (const PatchBlock& bd : blocks_) {
+      if (bd.body != ub.body) continue;
+      const Patch& pt = P_.bodies[bd.body].patches[bd.patch];
       const HostPatchData pd = host_patch_data(pt);
       const auto sp0 = pt.element_spans(0), sp1 = pt.element_spans(1);
       const GaussRule g0 = gauss_rule(pd.p[0] + 2), g1 = gauss_rule(pd.p[1] + 2);
@@ -617,15 +663,16 @@ void System::apply_dirichlet(Matrix& A) const {
 }
 
 size_t System::body_of(GO g) const {
-  size_t b = 0;
-  while (b + 1 < bodies_.size() && bodies_[b + 1].cp_offset <= g) ++b;
-  return b;
+  return static_cast<size_t>(std::upper_bound(body_offset_.begin(), body_offset_.end(), g) - body_offset_.begin()) - 1;
 }
 
-const Point3& System::control_point(GO g) const {
-  const size_t b = body_of(g);
-  return P_.bodies[b].patch.cp[g - bodies_[b].cp_offset];
+size_t System::block_of(int body, int patch) const {
+  for (size_t k = 0; k < blocks_.size(); ++k)
+    if (blocks_[k].body == body && blocks_[k].patch == patch) return k;
+  throw std::out_of_range("no patch " + std::to_string(patch) + " in body " + std::to_string(body));
 }
+
+const Point3& System::control_point(GO g) const { return cp_pos_[g]; }
 
 RCP<MultiVector> System::rigid_body_modes() const {
   RCP<MultiVector> Z = rcp(new MultiVector(owned_, 3));
@@ -656,18 +703,23 @@ RCP<MultiVector> System::aggregation_coordinates() const {
   // points (a collapsed edge) then have distinct coordinates, strongly coupled to each other;
   // elsewhere the nudge is far below the element size.
   double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
-  for (const auto& body : P_.bodies)
-    for (const auto& c : body.patch.cp)
-      for (int d = 0; d < 2; ++d) lo[d] = std::min(lo[d], c[d]), hi[d] = std::max(hi[d], c[d]);
+  for (const auto& c : cp_pos_)
+    for (int d = 0; d < 2; ++d) lo[d] = std::min(lo[d], c[d]), hi[d] = std::max(hi[d], c[d]);
   const double D = std::max(std::hypot(hi[0] - lo[0], hi[1] - lo[1]), 1e-300);
+  // the nudge: each control point's place in the net of the first patch it belongs to
+  std::vector<std::array<double, 2>> place(num_cps_, {-1.0, -1.0});
+  for (const PatchBlock& bd : blocks_) {
+    const Patch& q = P_.bodies[bd.body].patches[bd.patch];
+    for (size_t a = 0; a < bd.gid.size(); ++a)
+      if (place[bd.gid[a]][0] < 0)
+        place[bd.gid[a]] = {static_cast<double>(a % q.ncp(0)) / q.ncp(0) + bd.patch, static_cast<double>(a / q.ncp(0)) / q.ncp(1)};
+  }
   auto h = X->getLocalViewHost(Tpetra::Access::OverwriteAll);
   for (size_t l = 0; l < n; ++l) {
     const size_t b = body_of(gids[l]);
-    const Patch& q = P_.bodies[b].patch;
-    const GO a = gids[l] - bodies_[b].cp_offset;
-    const double i = static_cast<double>(a % q.ncp(0)) / q.ncp(0), j = static_cast<double>(a / q.ncp(0)) / q.ncp(1);
-    h(l, 0) = q.cp[a][0] + 1e-6 * D * i + 1e3 * D * static_cast<double>(b);
-    h(l, 1) = q.cp[a][1] + 1e-6 * D * j;
+    const Point3& c = cp_pos_[gids[l]];
+    h(l, 0) = c[0] + 1e-6 * D * place[gids[l]][0] + 1e3 * D * static_cast<double>(b);
+    h(l, 1) = c[1] + 1e-6 * D * place[gids[l]][1];
   }
   return X;
 }

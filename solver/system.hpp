@@ -3,8 +3,9 @@
 // The discretised problem on this rank: dof numbering, the Tpetra maps, the element
 // partition, assembly of the elastic stiffness and loads, Dirichlet conditions.
 //
-// Numbering: control points of all bodies are numbered body after body (xi fastest), global
-// cp g has dofs 2 g (x) and 2 g + 1 (y). Control points are split into contiguous blocks
+// Numbering: control points of all bodies are numbered body after body, within a body in its
+// merged numbering (Body::cp_index: patch after patch, xi fastest, a control point shared by
+// patches at an interface once); global cp g has dofs 2 g (x) and 2 g + 1 (y). Control points are split into contiguous blocks
 // over the ranks (the owned map); elements likewise, so that a rank's elements mostly touch
 // its own control points. A rank assembles its elements into an overlapping matrix whose
 // rows are the dofs its elements touch, and Tpetra exports (sums) that into the owned one.
@@ -18,10 +19,13 @@
 
 namespace iga {
 
-struct BodyData {
+/// One patch of one body: the unit of the element loops. A single-patch body is one block;
+/// a multi-patch body has one per patch, whose control points on interfaces share global ids.
+struct PatchBlock {
   PatchData pd;           // device data; pd.lid is the elasticity overlap numbering
-  GO cp_offset = 0;       // global id of its first control point
-  int e_begin = 0, e_end = 0;  // this rank's elements, in the body's numbering
+  int body = 0, patch = 0;
+  std::vector<GO> gid;    // global control point id of each patch control point
+  int e_begin = 0, e_end = 0;  // this rank's elements, in the patch's numbering
   int orientation = 1;
   Material mat;
   std::vector<int> lid;   // host copy of pd.lid
@@ -31,11 +35,11 @@ struct BodyData {
 /// output fields, host-integrated loads, references in tests). No lid.
 HostPatchData host_patch_data(const Patch& P);
 
-/// A constrained dof, the side it is reported under, and its prescribed value at the end of
-/// each stage.
+/// A constrained dof, the patch block and place it is reported under (0..3: a Side, 4..7: a
+/// Corner + 4), and its prescribed value at the end of each stage.
 struct DirichletDof {
   GO dof;
-  int body, side;
+  int block, side;
   std::vector<double> values;
 };
 
@@ -56,9 +60,13 @@ class System {
   const Problem& problem() const { return P_; }
   RCP<const Comm> comm() const { return comm_; }
   RCP<const Map> owned_map() const { return owned_; }
-  const std::vector<BodyData>& bodies() const { return bodies_; }
+  /// The patch blocks, body after body, patch after patch.
+  const std::vector<PatchBlock>& blocks() const { return blocks_; }
   GO num_dofs() const { return 2 * num_cps_; }
-  GO cp_gid(int body, int a) const { return bodies_[body].cp_offset + a; }
+  /// Global id of control point a of a body's patch.
+  GO cp_gid(int body, int patch, int a) const { return body_offset_[body] + P_.bodies[body].cp_index[patch][a]; }
+  /// Global id of a body's first control point; its control points are the next num_cps.
+  GO body_offset(int body) const { return body_offset_[body]; }
 
   /// Internal force f_int(u) and tangent K_T(u) = d f_int / du of every body's material
   /// (owned rows, no boundary conditions), in one element loop: f_int into *f_int when given,
@@ -79,7 +87,9 @@ class System {
   /// C++ API: a traction t(x, y) on a side, in addition to the problem file's loads
   /// (verification against analytic solutions; integrated on the host).
   using TractionFunction = std::function<std::array<double, 2>(double x, double y)>;
-  void add_traction(int body, Side side, TractionFunction t) { user_tractions_.push_back({body, side, std::move(t)}); }
+  void add_traction(int body, Side side, TractionFunction t, int patch = 0) {
+    user_tractions_.push_back({body, patch, side, std::move(t)});
+  }
   /// C++ API: a dead body force b(X, Y) per unit reference area (times the thickness) on a
   /// body, scaled by the load factor like the file's loads (manufactured solutions; host).
   using BodyForceFunction = std::function<std::array<double, 2>(double X, double Y)>;
@@ -108,6 +118,8 @@ class System {
 
   /// The body that global control point g belongs to.
   size_t body_of(GO g) const;
+  /// The block of a body's patch.
+  size_t block_of(int body, int patch) const;
   /// Reference position of global control point g.
   const Point3& control_point(GO g) const;
 
@@ -118,18 +130,22 @@ class System {
   RCP<Vector> export_vector(const Vector& overlap) const;
 
   /// Material D of body b (thickness included).
-  const Material& material(int b) const { return bodies_[b].mat; }
+  const Material& material(int b) const { return materials_[b]; }
 
  private:
   Problem P_;
   RCP<const Comm> comm_;
   RCP<const Map> owned_;
   RCP<const Map> overlap_;   // elasticity overlap
-  std::vector<BodyData> bodies_;
+  std::vector<PatchBlock> blocks_;
+  std::vector<GO> body_offset_;
+  std::vector<Point3> cp_pos_;
+  std::vector<Material> materials_;   // reference position of every global control point
   GO num_cps_ = 0;
+  bool merged_ = false;   // some control points are shared by patches (interfaces)
   std::vector<DirichletDof> dirichlet_;
   std::vector<int> dirichlet_lids_;
-  struct UserTraction { int body; Side side; TractionFunction t; };
+  struct UserTraction { int body, patch; Side side; TractionFunction t; };
   std::vector<UserTraction> user_tractions_;
   struct UserBodyForce { int body; BodyForceFunction b; };
   std::vector<UserBodyForce> user_body_forces_;
@@ -139,7 +155,7 @@ class System {
     RCP<const Graph> owned, ghost;
     RCP<const Map> ghost_map;
     RCP<const Export> exporter;   // ghost rows -> owned rows
-    std::vector<Kokkos::View<const int*, MemSpace>> orow, ocol, grow;   // per body, per cp
+    std::vector<Kokkos::View<const int*, MemSpace>> orow, ocol, grow;   // per block, per cp
   };
   mutable std::unique_ptr<OwnedGhost> split_;
   mutable RCP<const Graph> graph_;          // the stiffness graph (owned rows), built once

@@ -86,10 +86,11 @@ struct Errors {
 /// Relative L2 errors of displacement and stress over one body (rank 0 only).
 inline Errors l2_errors(const Solved& s, int body, const Exact& ex, int extra_points = 2) {
   Errors e;
-  BodyField f(s.P, body, s.disp[body]);
-  const Patch& pt = s.P.bodies[body].patch;
-  const GaussRule g0 = gauss_rule(pt.degree[0] + extra_points), g1 = gauss_rule(pt.degree[1] + extra_points);
   double eu = 0, nu = 0, es = 0, ns = 0;
+  for (size_t k = 0; k < s.P.bodies[body].patches.size(); ++k) {
+  BodyField f(s.P, body, s.disp[body], static_cast<int>(k));
+  const Patch& pt = s.P.bodies[body].patches[k];
+  const GaussRule g0 = gauss_rule(pt.degree[0] + extra_points), g1 = gauss_rule(pt.degree[1] + extra_points);
   for (int s1 : pt.element_spans(1))
     for (int s0 : pt.element_spans(0)) {
       const double ua = pt.knots[0][s0], ub = pt.knots[0][s0 + 1], va = pt.knots[1][s1], vb = pt.knots[1][s1 + 1];
@@ -106,6 +107,7 @@ inline Errors l2_errors(const Solved& s, int body, const Exact& ex, int extra_po
           ns += w * (se[0] * se[0] + se[1] * se[1] + 2 * se[2] * se[2]);
         }
     }
+  }
   e.u_l2 = std::sqrt(eu);
   e.u_rel = std::sqrt(eu / nu);
   e.s_l2 = std::sqrt(es);

@@ -202,7 +202,7 @@ TEST(InternalForce, KernelMatchesTheHostReference) {
     RCP<Matrix> K;
     sys.assemble_internal(&u, &f, &K);
     // host reference
-    const Patch& pt = P.bodies[0].patch;
+    const Patch& pt = P.bodies[0].patches[0];
     const HostPatchData pd = host_patch_data(pt);
     const Material mat = sys.material(0);
     std::vector<double> fr(n, 0.0), Kr(n * n, 0.0), uh(n);
@@ -339,7 +339,7 @@ TEST(HomogeneousStretch, MatchesTheClosedFormUniaxialSolution) {
       const auto [l2, P11] = uniaxial(m.model, m.lambda, m.mu, l1);
       const auto r = reactions_json(*s.sys, *s.res.residual);
       if (s.sys->comm()->getRank() == 0) {
-        const Patch& pt = s.P.bodies[0].patch;
+        const Patch& pt = s.P.bodies[0].patches[0];
         double err = 0;
         for (size_t a = 0; a < pt.cp.size(); ++a) {
           err = std::max(err, std::abs(s.disp[0][2 * a] - (l1 - 1) * pt.cp[a][0]));
@@ -379,7 +379,7 @@ TEST(FollowerPressure, GivesTheCauchyStress) {
     (P11 + p * l2 < 0 ? lo : hi) = mid;
   }
   const double l1 = 0.5 * (lo + hi), l2 = uniaxial(m.model, m.lambda, m.mu, l1).first;
-  const Patch& pt = s.P.bodies[0].patch;
+  const Patch& pt = s.P.bodies[0].patches[0];
   double err = 0;
   for (size_t a = 0; a < pt.cp.size(); ++a) {
     err = std::max(err, std::abs(s.disp[0][2 * a] - (l1 - 1) * pt.cp[a][0]));

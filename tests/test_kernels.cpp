@@ -77,7 +77,7 @@ TEST_P(KernelDegree, ElementStiffnessMatchesHostReference) {
   const Patch P = distorted_patch(p);
   const Problem prob = parse_problem(patch_yaml(P), "kernel.yaml");
   System sys(prob, Tpetra::getDefaultComm());
-  const BodyData& bd = sys.bodies()[0];
+  const PatchBlock& bd = sys.blocks()[0];
   const int ne = P.num_elements(), nd = 2 * (p + 1) * (p + 1);
   Kokkos::View<double**, MemSpace> out("Ke", ne, nd * nd);
   const GaussRule g = gauss_rule(p + 1);
@@ -172,12 +172,12 @@ TEST(BasisKernel, PartitionOfUnityAndExactArea) {
         "    boundary: {west: {displacement: {x: 0, y: 0}}}\n";
     const Problem prob = parse_problem(yaml, "basis.yaml");
     System sys(prob, Tpetra::getDefaultComm());
-    const BodyData& bd = sys.bodies()[0];
+    const PatchBlock& bd = sys.blocks()[0];
     double area = 0, worst_sum = 0, worst_grad = 0;
     dispatch_degree(p, [&](auto PP) {
       EvaluateBasis<decltype(PP)::value> k;
       k.pd = bd.pd; k.g0 = gauss_rule(p + 1); k.g1 = gauss_rule(p + 1); k.e_begin = 0;
-      const int ne = prob.bodies[0].patch.num_elements();
+      const int ne = prob.bodies[0].patches[0].num_elements();
       k.run(ne);
       auto R = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), k.R);
       auto dR = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), k.dR);

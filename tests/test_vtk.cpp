@@ -109,7 +109,7 @@ TEST(VtkOrder, HigherOrderQuadrilateralPointIndex) {
 TEST(VtkBezier, CellsReproduceThePatchAndTheDisplacement) {
   const auto& s = annulus();
   const BezierMesh m = bezier_mesh(s.P, s.disp);
-  ASSERT_EQ(m.num_cells(), static_cast<size_t>(s.P.bodies[0].patch.num_elements() + s.P.bodies[1].patch.num_elements()));
+  ASSERT_EQ(m.num_cells(), static_cast<size_t>(s.P.bodies[0].patches[0].num_elements() + s.P.bodies[1].patches[0].num_elements()));
   EXPECT_EQ(m.body_names, (std::vector<std::string>{"annulus", "block"}));
   std::vector<BodyField> fields;
   for (int b = 0; b < 2; ++b) fields.emplace_back(s.P, b, s.disp[b]);
@@ -122,7 +122,7 @@ TEST(VtkBezier, CellsReproduceThePatchAndTheDisplacement) {
   ASSERT_GT(umax[1], 0);
   int on_circle = 0;
   for (size_t c = 0; c < m.num_cells(); ++c) {
-    const Patch& pt = s.P.bodies[m.body[c]].patch;
+    const Patch& pt = s.P.bodies[m.body[c]].patches[m.patch[c]];
     EXPECT_EQ(m.degrees[3 * c], pt.degree[0]);
     EXPECT_EQ(m.degrees[3 * c + 1], pt.degree[1]);
     EXPECT_EQ(m.degrees[3 * c + 2], 0);
@@ -181,7 +181,7 @@ TEST(VtkBezier, StressFitInterpolatesBodyFieldAtTheCollocationPoints) {
 TEST(VtkBezier, StressFitIsExactForAFieldInTheSpace) {
   const auto& s = annulus();
   for (int b = 0; b < 2; ++b) {
-    const Patch& pt = s.P.bodies[b].patch;
+    const Patch& pt = s.P.bodies[b].patches[0];
     const BezierPatch B(pt);
     const BodyField f(s.P, b, s.disp[b]);
     const int p0 = B.degree()[0], p1 = B.degree()[1], n = B.points_per_element();

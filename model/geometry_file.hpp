@@ -1,0 +1,24 @@
+#pragma once
+// Geometry files IGA users already have: the G+Smo XML format (read and written) and the
+// GeoPDEs multipatch text format v2.1 (read). See docs/geometry-files.md.
+#include <string>
+#include <vector>
+
+#include "model/multipatch.hpp"
+
+namespace iga {
+
+/// Reads a geometry file by its extension: .xml (G+Smo) or .txt (GeoPDEs). Patches come in the
+/// file's order, sides in igacontact's numbering (West, East, South, North). Throws InputError,
+/// one line: "<file>:<line>: <what is wrong>" (the line where the format lets us know it).
+MultiPatch read_geometry_file(const std::string& path);
+MultiPatch read_gismo_xml(const std::string& path);
+MultiPatch read_geopdes(const std::string& path);
+
+/// Writes multipatches into one G+Smo XML file: their patches as consecutive <Geometry>
+/// elements (TensorNurbs2, or TensorBSpline2 where every weight is 1) and one <MultiPatch>
+/// per entry with its interfaces and boundary, in that order; read_gismo_xml reads the first
+/// back. Throws std::runtime_error naming the file if it cannot be written.
+void write_gismo_xml(const std::string& path, const std::vector<const MultiPatch*>& multipatches);
+
+}  // namespace iga

@@ -1,0 +1,294 @@
+#include "model/multipatch.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+namespace iga {
+
+std::string patch_side_name(const PatchSide& s) { return "patch" + std::to_string(s.patch) + "." + side_name(s.side); }
+
+const char* corner_name(Corner c) {
+  switch (c) {
+    case Corner::SouthWest: return "south_west";
+    case Corner::SouthEast: return "south_east";
+    case Corner::NorthWest: return "north_west";
+    case Corner::NorthEast: return "north_east";
+  }
+  return "?";
+}
+
+bool parse_corner(const std::string& name, Corner& c) {
+  for (int k = 0; k < 4; ++k)
+    if (name == corner_name(static_cast<Corner>(k))) {
+      c = static_cast<Corner>(k);
+      return true;
+    }
+  return false;
+}
+
+int corner_index(const Patch& P, Corner c) {
+  const int k = static_cast<int>(c);
+  return P.index(k % 2 == 0 ? 0 : P.ncp(0) - 1, k < 2 ? 0 : P.ncp(1) - 1);
+}
+
+double patches_diameter(const std::vector<Patch>& patches) {
+  double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+  for (const Patch& P : patches)
+    for (const auto& c : P.cp)
+      for (int d = 0; d < 2; ++d) lo[d] = std::min(lo[d], c[d]), hi[d] = std::max(hi[d], c[d]);
+  return patches.empty() ? 0.0 : std::hypot(hi[0] - lo[0], hi[1] - lo[1]);
+}
+
+namespace {
+
+double dist(const Point3& a, const Point3& b) { return std::hypot(a[0] - b[0], a[1] - b[1]); }
+
+std::vector<Point3> side_points(const Patch& P, Side s) {
+  std::vector<Point3> v;
+  for (int a : P.side_indices(s)) v.push_back(P.cp[a]);
+  return v;
+}
+
+bool collapsed(const std::vector<Point3>& v, double tol) {
+  for (const auto& p : v)
+    if (dist(p, v.front()) > tol) return false;
+  return true;
+}
+
+// 0: no match, 1: coincident in the same direction, 2: reversed.
+int coincide(const std::vector<Point3>& a, const std::vector<Point3>& b, double tol) {
+  if (a.size() != b.size()) return 0;
+  bool fwd = true, rev = true;
+  for (size_t k = 0; k < a.size(); ++k) {
+    fwd = fwd && dist(a[k], b[k]) <= tol;
+    rev = rev && dist(a[k], b[b.size() - 1 - k]) <= tol;
+  }
+  return fwd ? 1 : rev ? 2 : 0;
+}
+
+int base_normal_sign(const Patch& P, Side s) {
+  return ((s == Side::East || s == Side::South) ? 1 : -1) * P.orientation();
+}
+
+}  // namespace
+
+std::vector<Interface> find_interfaces(const std::vector<Patch>& patches, double tol) {
+  std::vector<Interface> out;
+  const int np = static_cast<int>(patches.size());
+  for (int p = 0; p < np; ++p)
+    for (int s = 0; s < 4; ++s) {
+      const auto a = side_points(patches[p], static_cast<Side>(s));
+      if (collapsed(a, tol)) continue;
+      for (int q = p; q < np; ++q)
+        for (int t = (q == p ? s + 1 : 0); t < 4; ++t) {
+          const auto b = side_points(patches[q], static_cast<Side>(t));
+          const int m = coincide(a, b, tol);
+          if (m) out.push_back({{p, static_cast<Side>(s)}, {q, static_cast<Side>(t)}, m == 2});
+        }
+    }
+  return out;
+}
+
+std::string find_nonconforming(const std::vector<Patch>& patches, const std::vector<Interface>& found, double tol) {
+  const int np = static_cast<int>(patches.size());
+  auto is_interface = [&](PatchSide x, PatchSide y) {
+    for (const Interface& f : found)
+      if ((f.a == x && f.b == y) || (f.a == y && f.b == x)) return true;
+    return false;
+  };
+  for (int p = 0; p < np; ++p)
+    for (int s = 0; s < 4; ++s) {
+      const auto a = side_points(patches[p], static_cast<Side>(s));
+      if (collapsed(a, tol)) continue;
+      for (int q = p; q < np; ++q)
+        for (int t = (q == p ? s + 1 : 0); t < 4; ++t) {
+          const PatchSide x{p, static_cast<Side>(s)}, y{q, static_cast<Side>(t)};
+          if (is_interface(x, y)) continue;
+          const auto b = side_points(patches[q], static_cast<Side>(t));
+          const bool ends = (dist(a.front(), b.front()) <= tol && dist(a.back(), b.back()) <= tol) ||
+                            (dist(a.front(), b.back()) <= tol && dist(a.back(), b.front()) <= tol);
+          if (!ends) continue;
+          // the same end points: the same curve with other control points, or a different
+          // curve between the same two corners (a lens); compare mid-parameter points
+          const Curve ca = patches[p].side_curve(x.side), cb = patches[q].side_curve(y.side);
+          const auto ma = ca.eval(0.5 * (ca.knots.front() + ca.knots.back()));
+          const auto mb = cb.eval(0.5 * (cb.knots.front() + cb.knots.back()));
+          if (std::hypot(ma[0] - mb[0], ma[1] - mb[1]) > 1e3 * tol) continue;
+          return patch_side_name(x) + " and " + patch_side_name(y) + " meet along a curve with different control points (" +
+                 std::to_string(a.size()) + " and " + std::to_string(b.size()) +
+                 "): a non-conforming interface; give both sides the same knots and degree";
+        }
+    }
+  return "";
+}
+
+std::string check_interface(const std::vector<Patch>& patches, const Interface& f, double tol) {
+  const int np = static_cast<int>(patches.size());
+  const std::string names = patch_side_name(f.a) + " and " + patch_side_name(f.b);
+  if (f.a.patch < 0 || f.a.patch >= np || f.b.patch < 0 || f.b.patch >= np)
+    return "interface " + names + " names a patch that does not exist (" + std::to_string(np) + " patches)";
+  const auto a = side_points(patches[f.a.patch], f.a.side), b = side_points(patches[f.b.patch], f.b.side);
+  if (a.size() != b.size())
+    return "interface " + names + " is not conforming: " + std::to_string(a.size()) + " and " + std::to_string(b.size()) +
+           " control points along it (refine both patches alike along the interface)";
+  const int m = coincide(a, b, tol);
+  if (m == 0 || (m == 1) == f.reversed) {
+    if (m != 0) return "";   // coincident in the other direction: the orientation flag is wrong, the geometry decides
+    return "interface " + names + " is not conforming: the control points along it do not coincide";
+  }
+  return "";
+}
+
+std::vector<std::vector<int>> merge_control_points(const std::vector<Patch>& patches,
+                                                   const std::vector<Interface>& interfaces, int& n) {
+  std::vector<size_t> offset(patches.size() + 1, 0);
+  for (size_t p = 0; p < patches.size(); ++p) offset[p + 1] = offset[p] + patches[p].cp.size();
+  std::vector<size_t> parent(offset.back());
+  std::iota(parent.begin(), parent.end(), size_t{0});
+  auto find = [&](size_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (const Interface& f : interfaces) {
+    const auto ia = patches[f.a.patch].side_indices(f.a.side), ib = patches[f.b.patch].side_indices(f.b.side);
+    // the geometry decides the direction (a wrong flag in a file is harmless)
+    const bool rev = dist(patches[f.a.patch].cp[ia.front()], patches[f.b.patch].cp[ib.front()]) >
+                     dist(patches[f.a.patch].cp[ia.front()], patches[f.b.patch].cp[ib.back()]);
+    for (size_t k = 0; k < ia.size() && k < ib.size(); ++k) {
+      const size_t x = find(offset[f.a.patch] + ia[k]), y = find(offset[f.b.patch] + ib[rev ? ib.size() - 1 - k : k]);
+      if (x != y) parent[std::max(x, y)] = std::min(x, y);   // the root: the first appearance
+    }
+  }
+  std::vector<int> number(parent.size(), -1);
+  std::vector<std::vector<int>> out(patches.size());
+  n = 0;
+  for (size_t p = 0; p < patches.size(); ++p)
+    for (size_t a = 0; a < patches[p].cp.size(); ++a) {
+      const size_t r = find(offset[p] + a);
+      if (number[r] < 0) number[r] = n++;
+      out[p].push_back(number[r]);
+    }
+  return out;
+}
+
+int SurfaceChain::locate(const std::vector<Patch>& patches, double t, double& u, double& v) const {
+  size_t k = 0;
+  while (k + 1 < pieces.size() && t > pieces[k].t1) ++k;
+  const Piece& pc = pieces[k];
+  const double f = std::clamp((t - pc.t0) / (pc.t1 - pc.t0), 0.0, 1.0);
+  const double s = pc.reversed ? pc.b - f * (pc.b - pc.a) : pc.a + f * (pc.b - pc.a);
+  const Patch& P = patches[pc.side.patch];
+  switch (pc.side.side) {
+    case Side::West: u = P.knots[0].front(); v = s; break;
+    case Side::East: u = P.knots[0].back(); v = s; break;
+    case Side::South: u = s; v = P.knots[1].front(); break;
+    case Side::North: u = s; v = P.knots[1].back(); break;
+  }
+  return pc.side.patch;
+}
+
+SurfaceChain make_chain(const std::vector<Patch>& patches, const std::vector<PatchSide>& sides, double tol) {
+  if (sides.empty()) throw std::invalid_argument("no sides given");
+  for (const PatchSide& s : sides)
+    if (s.patch < 0 || s.patch >= static_cast<int>(patches.size()))
+      throw std::invalid_argument(patch_side_name(s) + ": the body has " + std::to_string(patches.size()) + " patches");
+  for (size_t i = 0; i < sides.size(); ++i)
+    for (size_t j = i + 1; j < sides.size(); ++j)
+      if (sides[i] == sides[j]) throw std::invalid_argument(patch_side_name(sides[i]) + " is listed twice");
+  SurfaceChain ch;
+  std::vector<Curve> cv;
+  for (const PatchSide& s : sides) cv.push_back(patches[s.patch].side_curve(s.side));
+  const int p = cv[0].degree;
+  for (size_t i = 0; i < sides.size(); ++i)
+    if (cv[i].degree != p)
+      throw std::invalid_argument(patch_side_name(sides[i]) + " has degree " + std::to_string(cv[i].degree) + " and " +
+                                  patch_side_name(sides[0]) + " degree " + std::to_string(p) +
+                                  ": the sides of a chain need the same degree");
+  const size_t n = sides.size();
+  // order head to tail: start from a side whose start or end meets no other side (an open
+  // chain's end), else (closed) from the first listed
+  auto meets = [&](const Point3& x, size_t self) {
+    for (size_t j = 0; j < n; ++j)
+      if (j != self && (dist(x, cv[j].cp.front()) <= tol || dist(x, cv[j].cp.back()) <= tol)) return true;
+    return false;
+  };
+  size_t first = 0;
+  bool first_rev = false;
+  for (size_t i = 0; i < n && n > 1; ++i) {
+    if (!meets(cv[i].cp.front(), i)) { first = i; first_rev = false; break; }
+    if (!meets(cv[i].cp.back(), i)) { first = i; first_rev = true; break; }
+  }
+  std::vector<bool> used(n, false);
+  std::vector<std::pair<size_t, bool>> order{{first, first_rev}};
+  used[first] = true;
+  for (size_t k = 1; k < n; ++k) {
+    const auto& [last, lrev] = order.back();
+    const Point3 end = lrev ? cv[last].cp.front() : cv[last].cp.back();
+    bool found = false;
+    for (size_t j = 0; j < n && !found; ++j) {
+      if (used[j]) continue;
+      if (dist(end, cv[j].cp.front()) <= tol) order.push_back({j, false}), found = true;
+      else if (dist(end, cv[j].cp.back()) <= tol) order.push_back({j, true}), found = true;
+      if (found) used[j] = true;
+    }
+    if (!found) {
+      std::string rest;
+      for (size_t j = 0; j < n; ++j)
+        if (!used[j]) rest += (rest.empty() ? "" : ", ") + patch_side_name(sides[j]);
+      throw std::invalid_argument("the sides do not join end to end into one chain (" + rest + " left over after " +
+                                  patch_side_name(sides[last]) + ")");
+    }
+  }
+  // one piece keeps its own parameter and direction
+  const bool single = n == 1;
+  if (single) order[0].second = false;
+  Curve& c = ch.curve;
+  c.degree = p;
+  double scale = 1.0;
+  for (size_t k = 0; k < n; ++k) {
+    const auto [i, rev] = order[k];
+    Curve pc = cv[i];
+    std::vector<int> pidx = pc.patch_index;
+    const double a = pc.knots.front(), b = pc.knots.back();
+    if (rev) {
+      std::reverse(pc.cp.begin(), pc.cp.end());
+      std::reverse(pidx.begin(), pidx.end());
+      std::vector<double> U(pc.knots.size());
+      for (size_t m = 0; m < U.size(); ++m) U[m] = a + b - pc.knots[pc.knots.size() - 1 - m];
+      pc.knots = U;
+    }
+    SurfaceChain::Piece piece;
+    piece.side = sides[i];
+    piece.reversed = rev;
+    piece.a = a;
+    piece.b = b;
+    piece.t0 = single ? a : static_cast<double>(k);
+    piece.t1 = single ? b : static_cast<double>(k + 1);
+    const int sign = base_normal_sign(patches[sides[i].patch], sides[i].side) * (rev ? -1 : 1);
+    if (k == 0) ch.normal_sign = sign;
+    else if (sign != ch.normal_sign)
+      throw std::invalid_argument(patch_side_name(sides[i]) + " faces the other way from " + patch_side_name(sides[order[0].first]) +
+                                  " along the chain: its body lies on the other side (not one boundary curve)");
+    // knots mapped onto [t0, t1]; a joint: the end knot p times (C0)
+    auto map = [&](double u) { return single ? u : piece.t0 + (u - a) / (b - a); };
+    const size_t nk = pc.knots.size();
+    for (size_t m = (k == 0 ? 0 : static_cast<size_t>(p) + 1); m < nk - (k + 1 == n ? 0 : 1); ++m) c.knots.push_back(map(pc.knots[m]));
+    // weights: a piece's rational basis is unchanged by scaling all its weights; scale so
+    // the joint's weight matches the previous piece's
+    if (k > 0) scale = c.cp.back()[2] / pc.cp.front()[2];
+    for (size_t m = (k == 0 ? 0 : 1); m < pc.cp.size(); ++m) {
+      Point3 q = pc.cp[m];
+      q[2] *= scale;
+      c.cp.push_back(q);
+      c.patch_index.push_back(pidx[m]);
+      ch.cp_patch.push_back(sides[i].patch);
+    }
+    ch.pieces.push_back(piece);
+  }
+  ch.closed = n > 1 && dist(c.cp.front(), c.cp.back()) <= tol;
+  return ch;
+}
+
+}  // namespace iga

@@ -1,0 +1,464 @@
+// Geometry files: G+Smo XML and GeoPDEs v2.1 text (model/geometry_file.*). The same geometry
+// read from both formats, exact circles, interfaces checked against the geometry, real G+Smo
+// files, the writer's round trip, and the catalogue of malformed inputs with their messages.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "model/geometry_file.hpp"
+
+using namespace iga;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kSrc = IGACONTACT_SOURCE_DIR;
+const std::string kFiles = kSrc + "/tests/geometry_files";
+const std::string kExamples = kSrc + "/examples/geometry";
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// A fresh folder for files the test writes, removed afterwards.
+struct Scratch {
+  fs::path path;
+  explicit Scratch(const std::string& name) : path(fs::temp_directory_path() / ("igacontact_geometry_file_" + name)) {
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~Scratch() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+  fs::path operator/(const std::string& f) const { return path / f; }
+};
+
+// Point at parameter t in [0, 1] along a side, in the side's own parameter direction.
+std::array<double, 2> side_point(const Patch& P, Side s, double t) {
+  auto at = [&](int d, double x) { return P.knots[d].front() + x * (P.knots[d].back() - P.knots[d].front()); };
+  switch (s) {
+    case Side::West: return P.eval(at(0, 0), at(1, t));
+    case Side::East: return P.eval(at(0, 1), at(1, t));
+    case Side::South: return P.eval(at(0, t), at(1, 0));
+    case Side::North: return P.eval(at(0, t), at(1, 1));
+  }
+  return {0, 0};
+}
+
+double dist(const std::array<double, 2>& a, const std::array<double, 2>& b) {
+  return std::hypot(a[0] - b[0], a[1] - b[1]);
+}
+
+std::string side_str(const PatchSide& s) { return std::to_string(s.patch) + "." + side_name(s.side); }
+
+// Every declared interface: the two sides coincide point by point, in the declared direction.
+void expect_interfaces_match(const MultiPatch& mp, double tol, const std::string& what) {
+  for (const Interface& f : mp.interfaces)
+    for (double t : {0.0, 0.1, 0.3, 0.5, 0.77, 1.0}) {
+      const auto a = side_point(mp.patches[f.a.patch], f.a.side, t);
+      const auto b = side_point(mp.patches[f.b.patch], f.b.side, f.reversed ? 1 - t : t);
+      EXPECT_LT(dist(a, b), tol) << what << ": interface " << side_str(f.a) << " / " << side_str(f.b)
+                                 << (f.reversed ? " (reversed)" : "") << " at t = " << t;
+    }
+}
+
+void expect_same_topology(const MultiPatch& a, const MultiPatch& b, const std::string& what) {
+  ASSERT_EQ(a.interfaces.size(), b.interfaces.size()) << what;
+  for (size_t k = 0; k < a.interfaces.size(); ++k) {
+    EXPECT_TRUE(a.interfaces[k].a == b.interfaces[k].a) << what << " interface " << k;
+    EXPECT_TRUE(a.interfaces[k].b == b.interfaces[k].b) << what << " interface " << k;
+    EXPECT_EQ(a.interfaces[k].reversed, b.interfaces[k].reversed) << what << " interface " << k;
+  }
+  EXPECT_TRUE(a.boundary == b.boundary) << what;
+  ASSERT_EQ(a.named.size(), b.named.size()) << what;
+  for (size_t k = 0; k < a.named.size(); ++k) {
+    EXPECT_EQ(a.named[k].first, b.named[k].first) << what;
+    EXPECT_TRUE(a.named[k].second == b.named[k].second) << what << " " << a.named[k].first;
+  }
+}
+
+// Same degrees and knots, control points within tol (relative to 1 + |x|; exactly when tol = 0), and the same
+// points at a grid of parameters within 1e-14.
+void expect_same_patches(const MultiPatch& a, const MultiPatch& b, double tol, const std::string& what) {
+  ASSERT_EQ(a.patches.size(), b.patches.size()) << what;
+  for (size_t k = 0; k < a.patches.size(); ++k) {
+    const Patch& P = a.patches[k];
+    const Patch& Q = b.patches[k];
+    EXPECT_EQ(P.degree, Q.degree) << what << " patch " << k;
+    EXPECT_EQ(P.knots[0], Q.knots[0]) << what << " patch " << k;
+    EXPECT_EQ(P.knots[1], Q.knots[1]) << what << " patch " << k;
+    ASSERT_EQ(P.cp.size(), Q.cp.size()) << what << " patch " << k;
+    for (size_t i = 0; i < P.cp.size(); ++i)
+      for (int c = 0; c < 3; ++c) {
+        if (tol == 0) EXPECT_EQ(P.cp[i][c], Q.cp[i][c]) << what << " patch " << k << " cp " << i;
+        else EXPECT_NEAR(P.cp[i][c], Q.cp[i][c], tol * (1 + std::abs(P.cp[i][c]))) << what << " patch " << k << " cp " << i;
+      }
+    for (double u : {0.0, 0.13, 0.5, 0.61, 1.0})
+      for (double v : {0.0, 0.29, 0.5, 0.87, 1.0}) {
+        auto at = [&](int d, double x) { return P.knots[d].front() + x * (P.knots[d].back() - P.knots[d].front()); };
+        EXPECT_LT(dist(P.eval(at(0, u), at(1, v)), Q.eval(at(0, u), at(1, v))), 1e-14)
+            << what << " patch " << k << " at " << u << ", " << v;
+      }
+  }
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+
+TEST(GeometryFile, ExamplesReadTheSameFromGismoAndGeoPDEs) {
+  for (const std::string name : {"ring4", "wheel4", "wheel4_joint", "plate_with_hole"}) {
+    const MultiPatch x = read_geometry_file(kExamples + "/" + name + ".xml");
+    const MultiPatch t = read_geometry_file(kExamples + "/" + name + ".txt");
+    // GeoPDEs stores w x: dividing by w may move the last bit.
+    expect_same_patches(x, t, 1e-15, name);
+    expect_same_topology(x, t, name);
+    expect_interfaces_match(x, 1e-14, name + ".xml");
+    expect_interfaces_match(t, 1e-14, name + ".txt");
+  }
+}
+
+TEST(GeometryFile, SameTwoPatchGeometryInBothFormatsWithAReversedInterface) {
+  const MultiPatch x = read_gismo_xml(kFiles + "/two_patches_reversed.xml");
+  const MultiPatch t = read_geopdes(kFiles + "/two_patches_reversed.txt");
+  ASSERT_EQ(x.patches.size(), 2u);
+  // id_index "10 7": patch 0 is Geometry 10 (the rational one), patch 1 Geometry 7.
+  EXPECT_EQ(x.patches[0].degree, (std::array<int, 2>{2, 1}));
+  EXPECT_EQ(x.patches[1].degree, (std::array<int, 2>{1, 1}));
+  EXPECT_EQ(x.patches[0].knots[0], (std::vector<double>{0, 0, 0, 0.5, 1, 1, 1}));
+  EXPECT_DOUBLE_EQ(x.patches[0].cp[1][2], 0.8);
+  ASSERT_EQ(x.interfaces.size(), 1u);
+  EXPECT_TRUE((x.interfaces[0].a == PatchSide{0, Side::East}));
+  EXPECT_TRUE((x.interfaces[0].b == PatchSide{1, Side::South}));
+  EXPECT_TRUE(x.interfaces[0].reversed);
+  ASSERT_EQ(x.named.size(), 4u);
+  EXPECT_EQ(x.named[1].first, "boundary2");
+  EXPECT_TRUE((x.named[1].second == std::vector<PatchSide>{{0, Side::South}, {1, Side::East}}));
+  EXPECT_EQ(x.boundary.size(), 6u);
+  expect_same_patches(x, t, 1e-15, "two_patches_reversed");
+  expect_same_topology(x, t, "two_patches_reversed");
+  expect_interfaces_match(x, 1e-14, "two_patches_reversed");
+  // Had the flag been read the other way round, the sides would not meet.
+  MultiPatch wrong = x;
+  wrong.interfaces[0].reversed = false;
+  const auto a = side_point(wrong.patches[0], Side::East, 0), b = side_point(wrong.patches[1], Side::South, 0);
+  EXPECT_GT(dist(a, b), 0.5);
+}
+
+TEST(GeometryFile, LegacyFiveNumberInterfacesAndFilesWithoutMultiPatch) {
+  const MultiPatch x = read_gismo_xml(kFiles + "/two_patches_reversed.xml");
+  const MultiPatch legacy = read_gismo_xml(kFiles + "/legacy_interfaces.xml");
+  expect_same_topology(x, legacy, "legacy_interfaces");
+
+  const MultiPatch plain = read_gismo_xml(kFiles + "/no_multipatch.xml");
+  ASSERT_EQ(plain.patches.size(), 2u);
+  EXPECT_TRUE(plain.interfaces.empty());
+  EXPECT_TRUE(plain.boundary.empty());
+  EXPECT_TRUE(plain.named.empty());
+  // order="coordinates": all x then all y.
+  const std::vector<Point3> expect{{1, 0, 1}, {2, 0, 1}, {1, 1, 1}, {2, 1, 1}};
+  EXPECT_EQ(plain.patches[1].cp, expect);
+  EXPECT_EQ(plain.patches[0].cp[1], (Point3{1, 0, 1}));
+}
+
+TEST(GeometryFile, QuarterAnnuliReproduceExactRadii) {
+  struct Case {
+    std::string file;
+    double cx, cy, ri, ro;
+  };
+  for (const Case& c : {Case{"ring4.xml", 0, 0, 1, 2}, Case{"ring4.txt", 0, 0, 1, 2}, Case{"wheel4.xml", 0, 10, 5, 10},
+                        Case{"wheel4_joint.txt", 0, 10, 5, 10}}) {
+    const MultiPatch mp = read_geometry_file(kExamples + "/" + c.file);
+    ASSERT_EQ(mp.patches.size(), 4u) << c.file;
+    for (size_t k = 0; k < 4; ++k) {
+      const Patch& P = mp.patches[k];
+      EXPECT_EQ(P.degree, (std::array<int, 2>{2, 1})) << c.file;
+      EXPECT_EQ(P.orientation(), -1) << c.file << ": xi counter-clockwise, eta outwards";
+      for (int i = 0; i <= 40; ++i) {
+        const double u = i / 40.0;
+        for (auto [v, r] : {std::pair{0.0, c.ri}, std::pair{1.0, c.ro}}) {
+          const auto x = P.eval(u, v);
+          EXPECT_NEAR(std::hypot(x[0] - c.cx, x[1] - c.cy), r, 1e-14 * r) << c.file << " patch " << k << " u " << u;
+        }
+      }
+    }
+    EXPECT_EQ(mp.interfaces.size(), 4u);
+    ASSERT_EQ(mp.named.size(), 2u);
+    EXPECT_EQ(mp.named[0].first, "inner");
+    EXPECT_EQ(mp.named[1].first, "outer");
+    for (size_t k = 0; k < 4; ++k) EXPECT_TRUE((mp.named[1].second[k] == PatchSide{int(k), Side::North}));
+  }
+  // ring4: patch k starts at k * 90 degrees.
+  const MultiPatch ring = read_geometry_file(kExamples + "/ring4.xml");
+  EXPECT_LT(dist(ring.patches[1].eval(0, 0), {0, 1}), 1e-15);
+  EXPECT_LT(dist(ring.patches[3].eval(1, 1), {2, 0}), 1e-15);
+  // The wheel touches y = 0 in the middle of patch 0, or at the joint of patches 2 and 3.
+  const MultiPatch w = read_geometry_file(kExamples + "/wheel4.xml");
+  EXPECT_LT(dist(w.patches[0].eval(0.5, 1), {0, 0}), 1e-14);
+  EXPECT_LT(dist(w.patches[0].eval(0, 1), {-10 * std::sqrt(0.5), 10 - 10 * std::sqrt(0.5)}), 1e-14);
+  const MultiPatch j = read_geometry_file(kExamples + "/wheel4_joint.xml");
+  EXPECT_LT(dist(j.patches[2].eval(1, 1), {0, 0}), 1e-14);
+  EXPECT_LT(dist(j.patches[3].eval(0, 1), {0, 0}), 1e-14);
+}
+
+TEST(GeometryFile, PlateWithHole) {
+  const MultiPatch mp = read_geometry_file(kExamples + "/plate_with_hole.xml");
+  ASSERT_EQ(mp.patches.size(), 2u);
+  for (const Patch& P : mp.patches) {
+    EXPECT_EQ(P.degree, (std::array<int, 2>{2, 2}));
+    EXPECT_EQ(P.orientation(), 1);
+    for (int i = 0; i <= 40; ++i) {
+      const double v = i / 40.0;
+      const auto h = P.eval(0, v);   // the hole: west side
+      EXPECT_NEAR(std::hypot(h[0], h[1]), 1.0, 1e-14);
+    }
+  }
+  // Patch 0 from the x axis to the diagonal, patch 1 from the diagonal to the y axis.
+  for (int i = 0; i <= 20; ++i) {
+    const double t = i / 20.0;
+    EXPECT_NEAR(mp.patches[0].eval(t, 0)[1], 0.0, 1e-15);   // bottom: y = 0
+    EXPECT_NEAR(mp.patches[0].eval(1, t)[0], 4.0, 1e-15);   // right: x = 4
+    EXPECT_NEAR(mp.patches[1].eval(1, t)[1], 4.0, 1e-15);   // top: y = 4
+    EXPECT_NEAR(mp.patches[1].eval(t, 1)[0], 0.0, 1e-15);   // left: x = 0
+    const auto d = mp.patches[0].eval(t, 1);                // the diagonal
+    EXPECT_NEAR(d[0], d[1], 1e-14);
+  }
+  EXPECT_LT(dist(mp.patches[0].eval(0, 0), {1, 0}), 1e-15);
+  EXPECT_LT(dist(mp.patches[0].eval(1, 1), {4, 4}), 1e-15);
+  ASSERT_EQ(mp.interfaces.size(), 1u);
+  EXPECT_TRUE((mp.interfaces[0].a == PatchSide{0, Side::North}));
+  EXPECT_TRUE((mp.interfaces[0].b == PatchSide{1, Side::South}));
+  expect_interfaces_match(mp, 1e-14, "plate_with_hole");
+  std::vector<std::string> names;
+  for (const auto& n : mp.named) names.push_back(n.first);
+  EXPECT_EQ(names, (std::vector<std::string>{"hole", "bottom", "right", "top", "left"}));
+}
+
+TEST(GeometryFile, RealGismoFiles) {
+  // G+Smo 0.8.1 output, unmodified (tests/geometry_files/README.md).
+  const MultiPatch disk = read_gismo_xml(kFiles + "/gismo/square_with_disk.xml");
+  ASSERT_EQ(disk.patches.size(), 5u);
+  EXPECT_EQ(disk.interfaces.size(), 8u);
+  EXPECT_EQ(disk.boundary.size(), 4u);
+  expect_interfaces_match(disk, 1e-13, "square_with_disk");
+  // Patch 0 is the unit disc (its four sides are quarter circles), its neighbours fill the
+  // square [-2, 2]^2 whose sides are their north sides. The file's weights have 15 digits.
+  for (int s = 0; s < 4; ++s)
+    for (double t : {0.0, 0.25, 0.5, 0.9})
+      EXPECT_NEAR(std::hypot(side_point(disk.patches[0], Side(s), t)[0], side_point(disk.patches[0], Side(s), t)[1]),
+                  1.0, 1e-13);
+  for (const PatchSide& b : disk.boundary) {
+    EXPECT_EQ(b.side, Side::North);
+    const auto x = side_point(disk.patches[b.patch], b.side, 0.3);
+    EXPECT_NEAR(std::max(std::abs(x[0]), std::abs(x[1])), 2.0, 1e-13);
+  }
+  // Interface 4 3 0 1 1 0 0 0: patch 4's south runs against patch 0's west.
+  bool found = false;
+  for (const Interface& f : disk.interfaces)
+    if (f.a == PatchSide{4, Side::South} && f.b == PatchSide{0, Side::West}) found = f.reversed;
+  EXPECT_TRUE(found);
+
+  const MultiPatch rect = read_gismo_xml(kFiles + "/gismo/rectangle_with_disk_hole.xml");
+  ASSERT_EQ(rect.patches.size(), 11u);
+  EXPECT_EQ(rect.interfaces.size(), 11u);
+  EXPECT_EQ(rect.boundary.size(), 22u);
+  expect_interfaces_match(rect, 1e-13, "rectangle_with_disk_hole");
+  EXPECT_EQ(rect.patches[0].cp.front()[2], 1.0);   // TensorBSpline2
+}
+
+TEST(GeometryFile, WriteThenReadGivesIdenticalPatchesAndTopology) {
+  const Scratch dir("roundtrip");
+  for (const std::string& in : {kExamples + "/ring4.xml", kExamples + "/plate_with_hole.txt",
+                                kFiles + "/two_patches_reversed.xml", kFiles + "/gismo/square_with_disk.xml"}) {
+    const MultiPatch a = read_geometry_file(in);
+    const std::string out = (dir / "out.xml").string();
+    write_gismo_xml(out, {&a});
+    const MultiPatch b = read_gismo_xml(out);
+    expect_same_patches(a, b, 0.0, in);
+    expect_same_topology(a, b, in);
+    // Written again: the same text.
+    write_gismo_xml((dir / "again.xml").string(), {&b});
+    EXPECT_EQ(read_text(out), read_text((dir / "again.xml").string())) << in;
+  }
+  // Rational patches are TensorNurbs2, the others TensorBSpline2.
+  const MultiPatch two = read_gismo_xml(kFiles + "/two_patches_reversed.xml");
+  write_gismo_xml((dir / "two.xml").string(), {&two});
+  const std::string text = read_text((dir / "two.xml").string());
+  EXPECT_NE(text.find("<Geometry type=\"TensorNurbs2\" id=\"0\">"), std::string::npos);
+  EXPECT_NE(text.find("<Geometry type=\"TensorBSpline2\" id=\"1\">"), std::string::npos);
+  // Each boundary side once (G+Smo keeps one label per side): the four named groups only.
+  size_t elements = 0;
+  for (size_t k = 0; (k = text.find("<boundary", k)) != std::string::npos; ++k) ++elements;
+  EXPECT_EQ(elements, 4u);
+  EXPECT_EQ(text.find("<boundary>"), std::string::npos);
+  // 17 significant digits where needed: 0.1 + 0.2 comes back exactly.
+  MultiPatch odd = two;
+  odd.patches[1].cp[0][0] = 0.1 + 0.2;
+  write_gismo_xml((dir / "odd.xml").string(), {&odd});
+  EXPECT_EQ(read_gismo_xml((dir / "odd.xml").string()).patches[1].cp[0][0], 0.1 + 0.2);
+  // No temporary file is left beside the output.
+  for (const auto& e : fs::directory_iterator(dir.path))
+    EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
+}
+
+TEST(GeometryFile, WriterKeepsSidesInSeveralGroupsAndNamedSidesOffTheBoundaryList) {
+  const Scratch dir("groups");
+  MultiPatch mp = read_geometry_file(kExamples + "/ring4.xml");
+  mp.boundary = {{0, Side::South}, {0, Side::North}, {1, Side::South}, {1, Side::North}};
+  mp.named = {{"inner", {{0, Side::South}, {1, Side::South}}},
+              {"contact", {{0, Side::North}, {3, Side::North}}},   // 3.north: not in mp.boundary
+              {"load", {{0, Side::North}}}};                       // 0.north: a second group
+  const std::string out = (dir / "groups.xml").string();
+  write_gismo_xml(out, {&mp});
+  const MultiPatch back = read_gismo_xml(out);
+  expect_same_patches(mp, back, 0.0, "groups");
+  ASSERT_EQ(back.named.size(), 3u);
+  for (size_t k = 0; k < 3; ++k) {
+    EXPECT_EQ(back.named[k].first, mp.named[k].first);
+    EXPECT_TRUE(back.named[k].second == mp.named[k].second) << mp.named[k].first;
+  }
+  // The listed boundary first, in its order, then the named side that was not in it.
+  auto expect = mp.boundary;
+  expect.push_back({3, Side::North});
+  EXPECT_TRUE(back.boundary == expect);
+}
+
+TEST(GeometryFile, SeveralMultiPatchesInOneFile) {
+  const Scratch dir("several");
+  const MultiPatch ring = read_geometry_file(kExamples + "/ring4.xml");
+  const MultiPatch plate = read_geometry_file(kExamples + "/plate_with_hole.xml");
+  const std::string out = (dir / "both.xml").string();
+  write_gismo_xml(out, {&ring, &plate});
+  const std::string text = read_text(out);
+  // The first multipatch is read back.
+  const MultiPatch first = read_gismo_xml(out);
+  expect_same_patches(ring, first, 0.0, "first");
+  expect_same_topology(ring, first, "first");
+  // The second names its patches by their Geometry ids (4, 5): drop the first <MultiPatch>
+  // and it is read back.
+  const size_t a = text.find(" <MultiPatch"), b = text.find("</MultiPatch>\n");
+  ASSERT_NE(a, std::string::npos);
+  ASSERT_NE(b, std::string::npos);
+  EXPECT_NE(text.find("<patches type=\"id_range\">4 5</patches>"), std::string::npos);
+  std::ofstream((dir / "second.xml").string()) << text.substr(0, a) + text.substr(b + 14);
+  const MultiPatch second = read_gismo_xml((dir / "second.xml").string());
+  expect_same_patches(plate, second, 0.0, "second");
+  expect_same_topology(plate, second, "second");
+}
+
+TEST(GeometryFile, WriteFailureNamesTheFileAndLeavesNothing) {
+  const MultiPatch ring = read_geometry_file(kExamples + "/ring4.xml");
+  const Scratch dir("fail");
+  const std::string bad = (dir / "no_such_folder" / "ring.xml").string();
+  try {
+    write_gismo_xml(bad, {&ring});
+    ADD_FAILURE() << "wrote into a missing folder";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(fs::is_empty(dir.path));
+  // A patch that is not valid is refused, and an existing file is left as it was.
+  const std::string out = (dir / "keep.xml").string();
+  std::ofstream(out) << "old";
+  MultiPatch broken = ring;
+  broken.patches[2].cp.pop_back();
+  EXPECT_THROW(write_gismo_xml(out, {&ring, &broken}), std::runtime_error);
+  EXPECT_EQ(read_text(out), "old");
+  EXPECT_THROW(write_gismo_xml(out, {nullptr}), std::runtime_error);
+  size_t files = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir.path)) ++files;
+  EXPECT_EQ(files, 1u);
+}
+
+TEST(GeometryFile, GeoPDEsSinglePatchGetsItsFourSidesAsBoundaries) {
+  const Scratch dir("single");
+  const std::string path = (dir / "square.txt").string();
+  std::ofstream(path) << "# nurbs mesh v.2.1\n#\n2 2 1\nPATCH 1\n1 1\n2 2\n0 0 1 1\n0 0 1 1\n0 1 0 1\n0 0 1 1\n1 1 1 1\n";
+  const MultiPatch mp = read_geometry_file(path);
+  ASSERT_EQ(mp.patches.size(), 1u);
+  ASSERT_EQ(mp.named.size(), 4u);
+  EXPECT_EQ(mp.named[2].first, "boundary3");
+  EXPECT_TRUE((mp.named[2].second == std::vector<PatchSide>{{0, Side::South}}));
+  EXPECT_EQ(mp.boundary.size(), 4u);
+  // Upper-case extensions are the same formats.
+  const std::string upper = (dir / "SQUARE.TXT").string();
+  fs::copy_file(path, upper);
+  EXPECT_EQ(read_geometry_file(upper).patches.size(), 1u);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Malformed inputs: every file in tests/geometry_files/bad/ has its exact message here
+// ({dir} stands for that folder), and every message is one line.
+
+TEST(GeometryFile, BadInputsGiveOneLineMessages) {
+  const std::string dir = kFiles + "/bad";
+  const std::map<std::string, std::string> expect = {
+      // clang-format off
+      {"missing.xml", "{dir}/missing.xml: cannot open the file (No such file or directory)"},
+      {"directory.xml", "{dir}/directory.xml: cannot read the file (Is a directory)"},
+      {"unknown_extension.igs", "{dir}/unknown_extension.igs: unknown extension \".igs\": a geometry file is .xml (G+Smo) or .txt (GeoPDEs)"},
+      {"xml_syntax.xml", "{dir}/xml_syntax.xml:20: XML syntax error: document not well-formed: end element tag = 'coef' did not match start element 'coefs' from line 15"},
+      {"root_not_xml.xml", "{dir}/root_not_xml.xml: the root element is <gismo>, a G+Smo file has <xml>"},
+      {"geometry_3d.xml", "{dir}/geometry_3d.xml: <Geometry id=\"0\">: unsupported type=\"TensorNurbs3\" (igacontact reads 2-D tensor patches: TensorBSpline2, TensorNurbs2)"},
+      {"pardim_3.xml", "{dir}/pardim_3.xml: <MultiPatch id=\"2\">: parDim=\"3\": igacontact reads 2-D multipatches (parDim=\"2\")"},
+      {"knots_decreasing.xml", "{dir}/knots_decreasing.xml: <Geometry id=\"0\"> <Basis> <Basis> <Basis index=\"1\"> <KnotVector>: the knots decrease at knot 4 (1 then 0.5)"},
+      {"knots_not_open.xml", "{dir}/knots_not_open.xml: <Geometry id=\"1\"> <Basis> <Basis index=\"0\"> <KnotVector>: the knot vector is not open: degree 2 needs its first 3 and its last 3 knots equal"},
+      {"degree_missing.xml", "{dir}/degree_missing.xml: <Geometry id=\"1\"> <Basis> <Basis index=\"0\"> <KnotVector>: missing the degree attribute"},
+      {"degree_zero.xml", "{dir}/degree_zero.xml: <Geometry id=\"0\"> <Basis> <Basis> <Basis index=\"0\"> <KnotVector>: degree=0: the degree must be at least 1"},
+      {"coefs_count.xml", "{dir}/coefs_count.xml: <Geometry id=\"1\"> <coefs>: has 10 values; the basis has 3 x 2 = 6 functions, times geoDim 2 = 12"},
+      {"weights_count.xml", "{dir}/weights_count.xml: <Geometry id=\"0\"> <Basis> <weights>: has 3 weights; the basis has 2 x 2 = 4 functions"},
+      {"weight_negative.xml", "{dir}/weight_negative.xml: <Geometry id=\"0\"> <Basis> <weights>: weight 1 is -0.5; weights must be > 0"},
+      {"not_a_number.xml", "{dir}/not_a_number.xml: <Geometry id=\"1\"> <coefs>: \"O\" is not a number (value 4)"},
+      {"z_nonzero.xml", "{dir}/z_nonzero.xml: <Geometry id=\"0\"> <coefs>: control point 2 has z = 0.25; igacontact is 2-D, a geoDim 3 patch must have z = 0"},
+      {"interior_knot_repeated.xml", "{dir}/interior_knot_repeated.xml: <Geometry id=\"1\">: knots[0] repeats the interior knot 0.5 3 times; at most 2 keep the patch continuous"},
+      {"patches_id_missing.xml", "{dir}/patches_id_missing.xml: <MultiPatch id=\"2\"> <patches>: no <Geometry> with id=\"2\" in the file"},
+      {"interface_patch.xml", "{dir}/interface_patch.xml: <MultiPatch id=\"2\"> <interfaces>: interface 1 (0 2 5 1 0 1 0 1): patch id 5 is not a patch of this multipatch (its <patches>: ids 0..1)"},
+      {"interface_side.xml", "{dir}/interface_side.xml: <MultiPatch id=\"2\"> <interfaces>: interface 1 (0 2 1 5 0 1 0 1): side 5 is out of range 1..4 (west, east, south, north)"},
+      {"interface_count.xml", "{dir}/interface_count.xml: <MultiPatch id=\"2\"> <interfaces>: has 7 numbers; each 2-D interface takes 8 (patch side patch side, direction map (2), orientation (2))"},
+      {"interface_direction_map.xml", "{dir}/interface_direction_map.xml: <MultiPatch id=\"2\"> <interfaces>: interface 1 (0 2 1 1 1 0 0 1): the direction map (1 0) does not take the direction along patch0.east (1) to the one along patch1.west (1)"},
+      {"side_twice.xml", "{dir}/side_twice.xml: <MultiPatch id=\"2\"> <interfaces>: interface 2 (1 1 0 4 1 0 0 1): patch1.west is already in interface 1 (0 2 1 1 0 1 0 1)"},
+      {"geopdes_version.txt", "{dir}/geopdes_version.txt:1: GeoPDEs format version 0.7 is not supported: igacontact reads v.2.1 (nrbexport's default)"},
+      {"geopdes_no_header.txt", "{dir}/geopdes_no_header.txt:1: no version header before the first data line; a GeoPDEs v2.1 file starts with '# nurbs mesh v.2.1'"},
+      {"geopdes_truncated.txt", "{dir}/geopdes_truncated.txt:17: the file ends before the patch 2 knots in v (truncated?)"},
+      {"geopdes_3d.txt", "{dir}/geopdes_3d.txt:5: ndim = 3: igacontact reads 2-D parametric patches (ndim = 2), not volumes"},
+      {"geopdes_degree.txt", "{dir}/geopdes_degree.txt:15: patch 2: degree 0 in u: the degree must be at least 1"},
+      {"geopdes_count.txt", "{dir}/geopdes_count.txt:11: patch 1 x coordinates (w x): 3 values, expected 4"},
+      {"geopdes_knots.txt", "{dir}/geopdes_knots.txt:9: patch 1 knots in u: the knots decrease at knot 4 (1 then 0.5)"},
+      {"geopdes_weight.txt", "{dir}/geopdes_weight.txt:21: patch 2: weight 3 is 0; weights must be > 0"},
+      {"geopdes_not_number.txt", "{dir}/geopdes_not_number.txt:19: \"two\" is not a number (patch 2 x coordinates (w x))"},
+      {"geopdes_z.txt", "{dir}/geopdes_z.txt:22: patch 2: control point 3 has z = 0.5; igacontact is 2-D, z must be 0"},
+      {"geopdes_interior_knot.txt", "{dir}/geopdes_interior_knot.txt:6: patch 1: knots[0] repeats the interior knot 0.5 2 times; at most 1 keep the patch continuous"},
+      {"geopdes_interface_patch.txt", "{dir}/geopdes_interface_patch.txt:24: interface 1 second side: patch 3 does not exist (patches 1..2)"},
+      {"geopdes_side.txt", "{dir}/geopdes_side.txt:23: interface 1 first side: side 5 is out of range 1..4 (u = 0, u = 1, v = 0, v = 1)"},
+      {"geopdes_orientation.txt", "{dir}/geopdes_orientation.txt:25: interface 1: orientation 0 must be 1 (same direction) or -1 (reversed)"},
+      {"geopdes_extra_interface.txt", "{dir}/geopdes_extra_interface.txt:22: \"INTERFACE 1\": more interface blocks than the header declares (ninterfaces = 0 at line 5)"},
+      {"geopdes_boundary_patch.txt", "{dir}/geopdes_boundary_patch.txt:29: boundary 1 side 2: patch 4 does not exist (patches 1..2)"},
+      // clang-format on
+  };
+  std::set<std::string> seen;
+  for (const auto& e : fs::directory_iterator(dir)) seen.insert(e.path().filename().string());
+  seen.insert("missing.xml");
+  for (const auto& name : seen) EXPECT_TRUE(expect.count(name)) << "no expected message for bad/" << name;
+  for (const auto& [name, message] : expect) {
+    EXPECT_TRUE(seen.count(name)) << "bad/" << name << " is missing";
+    std::string want = message;
+    for (size_t k; (k = want.find("{dir}")) != std::string::npos;) want.replace(k, 5, dir);
+    try {
+      read_geometry_file(dir + "/" + name);
+      ADD_FAILURE() << name << " was accepted";
+    } catch (const InputError& e) {
+      const std::string msg = e.what();
+      EXPECT_EQ(msg.find('\n'), std::string::npos) << "not one line: " << msg;
+      EXPECT_EQ(msg, want) << name;
+    }
+  }
+}

@@ -1,0 +1,245 @@
+// Multi-patch bodies (conforming interfaces, merged control points, patch<k>.<side> names,
+// chains of patch sides), against single-patch answers and closed-form solutions
+// (../shared/reference-solutions.md): the Lame cylinder, split and as a whole ring.
+#include <cmath>
+#include <sstream>
+
+#include "support.hpp"
+
+using namespace iga;
+using namespace iga::test;
+
+namespace {
+
+// --- Lame: thick-walled cylinder, a = 1, b = 2, p = 10, E = 2e5, nu = 0.3, plane strain ---
+constexpr double kA = 1.0, kB = 2.0, kP = 10.0, kE = 2.0e5, kNu = 0.3;
+
+Exact lame_exact() {
+  Exact ex;
+  const double c = kP * kA * kA / (kB * kB - kA * kA);
+  ex.u = [c](double x, double y) {
+    const double r = std::hypot(x, y);
+    const double ur = (1 + kNu) / kE * c * ((1 - 2 * kNu) * r + kB * kB / r);
+    return std::array<double, 2>{ur * x / r, ur * y / r};
+  };
+  ex.sigma = [c](double x, double y) {
+    const double r2 = x * x + y * y, srr = c * (1 - kB * kB / r2), stt = c * (1 + kB * kB / r2);
+    const double cs = x * x / r2, sn = y * y / r2, cssn = x * y / r2;
+    return std::array<double, 3>{srr * cs + stt * sn, srr * sn + stt * cs, (srr - stt) * cssn};
+  };
+  return ex;
+}
+
+// Control points of an exact circular arc of degree 2 from angle t0 to t1 (< 180 degrees) at
+// radius r, as "[x, y, w]" rows (the middle one at the tangents' intersection).
+std::vector<std::array<double, 3>> arc(double r, double t0, double t1) {
+  const double h = 0.5 * (t1 - t0), m = 0.5 * (t0 + t1), c = std::cos(h);
+  return {{r * std::cos(t0), r * std::sin(t0), 1.0}, {r / c * std::cos(m), r / c * std::sin(m), c}, {r * std::cos(t1), r * std::sin(t1), 1.0}};
+}
+
+// An annular sector patch of degree [2, 1] from angle t0 to t1: xi along the arc, eta from the
+// inner radius a to the outer b.
+std::string sector(double t0, double t1) {
+  std::ostringstream os;
+  os.precision(17);
+  os << "{degree: [2, 1], knots: [[0, 0, 0, 1, 1, 1], [0, 0, 1, 1]], control_points: [";
+  bool first = true;
+  for (double r : {kA, kB})
+    for (const auto& p : arc(r, t0, t1)) {
+      os << (first ? "" : ", ") << "[" << p[0] << ", " << p[1] << ", " << p[2] << "]";
+      first = false;
+    }
+  os << "]}";
+  return os.str();
+}
+
+std::string head() {
+  std::ostringstream os;
+  os << "bodies:\n  - name: cyl\n    material: {youngs_modulus: " << kE << ", poisson_ratio: " << kNu << "}\n";
+  return os.str();
+}
+const char* kDirect = "solver: {linear: {method: direct}}\n";
+
+// The quarter annulus as one patch with a C0 line at 45 degrees (knot 0.5 twice), or as two
+// patches meeting there: the same discrete space.
+std::string quarter_one_patch(int e, int n) {
+  std::ostringstream os;
+  os.precision(17);
+  const double q = M_PI / 4;
+  os << head() << "    geometry:\n      nurbs:\n        degree: [2, 1]\n"
+     << "        knots: [[0, 0, 0, 0.5, 0.5, 1, 1, 1], [0, 0, 1, 1]]\n        control_points: [";
+  bool first = true;
+  for (double r : {kA, kB}) {
+    auto a0 = arc(r, 0, q), a1 = arc(r, q, 2 * q);
+    a0.insert(a0.end(), a1.begin() + 1, a1.end());
+    for (const auto& p : a0) {
+      os << (first ? "" : ", ") << "[" << p[0] << ", " << p[1] << ", " << p[2] << "]";
+      first = false;
+    }
+  }
+  os << "]\n    refine: {degree_elevate: [" << e << ", " << e + 1 << "], subdivide: [" << n << ", " << 2 * n << "]}\n"
+     << "    boundary:\n      west: {displacement: {y: 0}}\n      east: {displacement: {x: 0}}\n      south: {pressure: " << kP
+     << "}\n"
+     << kDirect;
+  return os.str();
+}
+
+std::string quarter_two_patches(int e, int n, bool second_reversed = false) {
+  std::ostringstream os;
+  const double q = M_PI / 4;
+  os << head() << "    geometry:\n      patches:\n        - " << sector(0, q) << "\n        - " << sector(q, 2 * q) << "\n"
+     << "    refine: {degree_elevate: [" << e << ", " << e + 1 << "], subdivide: [" << n << ", " << 2 * n << "]}\n"
+     << "    boundary:\n      patch0.west: {displacement: {y: 0}}\n      patch1.east: {displacement: {x: 0}}\n"
+     << "      patch0.south: {pressure: " << kP << "}\n      patch1.south: {pressure: " << kP << "}\n"
+     << kDirect;
+  (void)second_reversed;
+  return os.str();
+}
+
+// The whole ring as four quarter patches, no symmetry conditions: rigid motion is removed
+// by three point constraints at inner corners, which the radial solution satisfies
+// ((1, 0) and (-1, 0) move along x, (0, 1) along y).
+std::string ring_four_patches(int e, int n, const std::string& solver = kDirect) {
+  std::ostringstream os;
+  os << head() << "    geometry:\n      patches:\n";
+  for (int k = 0; k < 4; ++k) os << "        - " << sector(k * M_PI / 2, (k + 1) * M_PI / 2) << "\n";
+  os << "    refine: {degree_elevate: [" << e << ", " << e + 1 << "], subdivide: [" << n << ", " << n << "]}\n"
+     << "    boundary:\n";
+  for (int k = 0; k < 4; ++k) os << "      patch" << k << ".south: {pressure: " << kP << "}\n";
+  os << "      patch0.south_west: {displacement: {y: 0}}\n      patch1.south_west: {displacement: {x: 0}}\n"
+     << "      patch2.south_west: {displacement: {y: 0}}\n"
+     << solver;
+  return os.str();
+}
+
+std::string quarter_single(int e, int n) {
+  std::ostringstream os;
+  os << head() << "    geometry: {quarter_annulus: {center: [0, 0], inner_radius: " << kA << ", outer_radius: " << kB << "}}\n"
+     << "    refine: {degree_elevate: [" << e << ", " << e + 1 << "], subdivide: [" << n << ", " << n << "]}\n"
+     << "    boundary:\n      west: {displacement: {y: 0}}\n      east: {displacement: {x: 0}}\n      south: {pressure: " << kP << "}\n"
+     << kDirect;
+  return os.str();
+}
+
+bool root() { return Tpetra::getDefaultComm()->getRank() == 0; }
+
+}  // namespace
+
+TEST(MultiPatchTopology, InterfacesAreFoundAndControlPointsMerged) {
+  const Problem P = parse_problem(ring_four_patches(0, 2), "ring.yaml");
+  const Body& b = P.bodies[0];
+  ASSERT_EQ(b.patches.size(), 4u);
+  EXPECT_EQ(b.interfaces.size(), 4u);   // a closed ring: 4 radial joints
+  // 4 patches of 5 x 3 control points, sharing 4 radial rows of 3
+  EXPECT_EQ(b.num_cps, 4 * 15 - 4 * 3);
+  for (const Interface& f : b.interfaces) EXPECT_FALSE(f.reversed);   // east of k meets west of k + 1 in the same direction
+  // a merged control point has one position
+  for (size_t p = 0; p < 4; ++p)
+    for (size_t q = 0; q < 4; ++q)
+      for (size_t a = 0; a < b.patches[p].cp.size(); ++a)
+        for (size_t c = 0; c < b.patches[q].cp.size(); ++c)
+          if (b.cp_index[p][a] == b.cp_index[q][c]) {
+            EXPECT_NEAR(b.patches[p].cp[a][0], b.patches[q].cp[c][0], 1e-14);
+            EXPECT_NEAR(b.patches[p].cp[a][1], b.patches[q].cp[c][1], 1e-14);
+          }
+}
+
+TEST(MultiPatchTopology, ChainOfSidesIsOneC0Curve) {
+  const Problem P = parse_problem(ring_four_patches(0, 2, "") +
+                                      "  - name: pad\n    material: {youngs_modulus: 1, poisson_ratio: 0.3}\n"
+                                      "    geometry: {rectangle: {origin: [-1, -4], size: [2, 1]}}\n"
+                                      "    boundary: {south: {displacement: {x: 0, y: 0}}}\n"
+                                      "contact:\n  - {master: {body: pad, side: north}, slave: {body: cyl, side: [patch3.north, patch2.north, patch0.north]}, "
+                                      "method: kts_penalty, penalty: 1.0}\n",
+                                  "ring.yaml");
+  const SurfaceChain ch = surface_chain(P, P.contact[0].slave);
+  // ordered head to tail from the open end: patch2 (180..270), patch3 (270..360), patch0 (0..90)
+  ASSERT_EQ(ch.pieces.size(), 3u);
+  EXPECT_EQ(ch.pieces[0].side.patch, 2);
+  EXPECT_EQ(ch.pieces[1].side.patch, 3);
+  EXPECT_EQ(ch.pieces[2].side.patch, 0);
+  EXPECT_FALSE(ch.closed);
+  // the curve is the outer circle: |x| = 2 everywhere, on [0, 3]
+  EXPECT_EQ(ch.curve.knots.front(), 0.0);
+  EXPECT_EQ(ch.curve.knots.back(), 3.0);
+  for (double t = 0; t <= 3.0; t += 0.0625) {
+    const auto x = ch.curve.eval(t);
+    EXPECT_NEAR(std::hypot(x[0], x[1]), kB, 1e-13) << t;
+  }
+  // outward normal: the ring's outer side
+  const auto x0 = ch.curve.eval(1.5), x1 = ch.curve.eval(1.5 + 1e-6);
+  const double n[2] = {ch.normal_sign * (x1[1] - x0[1]), -ch.normal_sign * (x1[0] - x0[0])};
+  EXPECT_GT(n[0] * x0[0] + n[1] * x0[1], 0.0);
+  // locate: chain parameter -> patch point
+  double u, v;
+  EXPECT_EQ(ch.locate(P.bodies[0].patches, 2.5, u, v), 0);
+  EXPECT_NEAR(u, 0.5, 1e-15);
+  EXPECT_EQ(v, 1.0);
+}
+
+TEST(SplitQuarterAnnulus, TwoPatchesGiveTheSinglePatchAnswer) {
+  // the same space (a C0 line inside one patch, or two patches meeting there): the same
+  // discrete solution, to the direct solver's round-off
+  for (int e : {0, 1}) {
+    const Solved one = solve_text(quarter_one_patch(e, 4));
+    const Solved two = solve_text(quarter_two_patches(e, 4));
+    ASSERT_TRUE(one.res.converged);
+    ASSERT_TRUE(two.res.converged);
+    EXPECT_EQ(one.sys->num_dofs(), two.sys->num_dofs());
+    if (!root()) continue;
+    const double ref = std::hypot(lame_exact().u(1, 0)[0], 0.0);
+    double worst = 0;
+    for (double t : {0.0, 0.1, 0.37, 0.5, 0.5001, 0.83, 1.0})
+      for (double r : {0.0, 0.3, 1.0}) {
+        const BodyField f1(one.P, 0, one.disp[0]);
+        // t in [0, 1] along the quarter: patch 0 holds [0, 0.5], patch 1 [0.5, 1]
+        const int k = t < 0.5 ? 0 : 1;
+        const BodyField f2(two.P, 0, two.disp[0], k);
+        const FieldPoint a = f1.eval(t, r), b = f2.eval(k == 0 ? 2 * t : 2 * t - 1, r);
+        ASSERT_NEAR(a.x, b.x, 1e-13);
+        ASSERT_NEAR(a.y, b.y, 1e-13);
+        worst = std::max({worst, std::abs(a.ux - b.ux), std::abs(a.uy - b.uy)});
+        EXPECT_NEAR(a.sxx, b.sxx, 1e-8 * kP);
+        EXPECT_NEAR(a.syy, b.syy, 1e-8 * kP);
+      }
+    std::printf("  split quarter annulus, p = %d: max |u_one - u_two| / |u| = %.2e\n", 2 + e, worst / ref);
+    EXPECT_LT(worst, 1e-10 * ref);
+    const Errors e1 = l2_errors(one, 0, lame_exact()), e2 = l2_errors(two, 0, lame_exact());
+    EXPECT_NEAR(e1.u_rel, e2.u_rel, 1e-8 * e1.u_rel);
+  }
+}
+
+TEST(RingOfFourPatches, LameWithoutSymmetryConditionsConvergesLikeTheQuarter) {
+  // The discrete ring solution is unique (three point constraints) and, by symmetry, the
+  // quarter's rotated: its errors equal the quarter's, and fall at the optimal rates.
+  for (int e : {0, 1}) {
+    std::vector<Errors> ring, quarter;
+    for (int n : {2, 4, 8}) {
+      const Solved s = solve_text(ring_four_patches(e, n));
+      const Solved q = solve_text(quarter_single(e, n));
+      ASSERT_TRUE(s.res.converged);
+      ASSERT_TRUE(q.res.converged);
+      // the point constraints carry no load (the solution is radial)
+      const auto R = total_reaction(*s.sys, *s.res.residual);
+      const auto reac = reactions_json(*s.sys, *s.res.residual);
+      if (root()) {
+        for (const auto& side : reac["cyl"])
+          for (int c = 0; c < 2; ++c) EXPECT_LT(std::abs(side[c].get<double>()), 1e-8 * kP * kA);
+        ring.push_back(l2_errors(s, 0, lame_exact()));
+        quarter.push_back(l2_errors(q, 0, lame_exact()));
+      }
+      (void)R;
+    }
+    if (!root()) continue;
+    for (size_t k = 0; k < ring.size(); ++k) {
+      std::printf("  ring of 4 patches, p = %d, n = %d: |u - uh|/|u| = %.4e (quarter %.4e), |s - sh|/|s| = %.4e (quarter %.4e)\n",
+                  2 + e, 2 << k, ring[k].u_rel, quarter[k].u_rel, ring[k].s_rel, quarter[k].s_rel);
+      EXPECT_NEAR(ring[k].u_rel, quarter[k].u_rel, 1e-6 * quarter[k].u_rel);
+      EXPECT_NEAR(ring[k].s_rel, quarter[k].s_rel, 1e-6 * quarter[k].s_rel);
+    }
+    const double ru = std::log2(ring[1].u_rel / ring[2].u_rel), rs = std::log2(ring[1].s_rel / ring[2].s_rel);
+    std::printf("  rates p = %d: u %.2f, stress %.2f\n", 2 + e, ru, rs);
+    EXPECT_GT(ru, 2 + e + 1 - 0.3);   // p + 1
+    EXPECT_GT(rs, 2 + e - 0.3);       // p
+  }
+}
