@@ -243,3 +243,147 @@ TEST(RingOfFourPatches, LameWithoutSymmetryConditionsConvergesLikeTheQuarter) {
     EXPECT_GT(rs, 2 + e - 0.3);       // p
   }
 }
+
+// --- A whole wheel of four patches pressed onto a block, against Hertz ---------------------
+namespace {
+
+// Rim radius R = 1, hub radius 0.2, centre (0, 1) (touching y = 0); patch k spans the angles
+// [offset + 90 k, offset + 90 (k + 1)] (degrees). offset 45: the contact point (270) lies in the
+// middle of patch 2; offset 0: on the joint of patches 2 and 3. The hub (each patch's south
+// side) is pushed down by d; the block [-1, 1] x [-1, 0] is held at its base.
+std::string whole_wheel(double offset_deg, const std::string& method, int n) {
+  std::ostringstream os;
+  os.precision(17);
+  os << "analysis: {type: plane_strain, load_steps: 2}\nbodies:\n"
+     << "  - name: block\n    material: {youngs_modulus: 1000.0, poisson_ratio: 0.3}\n"
+     << "    geometry: {rectangle: {origin: [-1.0, -1.0], size: [2.0, 1.0]}}\n"
+     << "    refine: {degree_elevate: 1, insert_knots: [[0.3, 0.4, 0.45, 0.475, 0.5, 0.525, 0.55, 0.6, 0.7], [0.5, 0.75, 0.875, 0.9375]],"
+     << " subdivide: [" << n / 16 << ", " << n / 16 << "]}\n"
+     << "    boundary: {south: {displacement: {x: 0.0, y: 0.0}}}\n"
+     << "  - name: wheel\n    material: {youngs_modulus: 1000.0, poisson_ratio: 0.3}\n    geometry:\n      patches:\n";
+  for (int k = 0; k < 4; ++k) {
+    const double t0 = (offset_deg + 90.0 * k) * M_PI / 180, t1 = t0 + M_PI / 2;
+    os << "        - {degree: [2, 1], knots: [[0, 0, 0, 1, 1, 1], [0, 0, 1, 1]], control_points: [";
+    bool first = true;
+    for (double r : {0.2, 1.0})
+      for (auto p : arc(r, t0, t1)) {
+        os << (first ? "" : ", ") << "[" << p[0] << ", " << p[1] + 1.0 << ", " << p[2] << "]";
+        first = false;
+      }
+    os << "]}\n";
+  }
+  os << "    refine: {degree_elevate: [0, 1], insert_knots: [[], [0.5, 0.75, 0.875, 0.9375, 0.96875]], subdivide: [" << n << ", 2]}\n"
+     << "    boundary:\n";
+  for (int k = 0; k < 4; ++k) os << "      patch" << k << ".south: {displacement: {x: 0.0, y: -0.004}}\n";
+  os << "contact:\n  - master: {body: block, side: north}\n"
+     << "    slave: {body: wheel, side: [patch0.north, patch1.north, patch2.north, patch3.north]}\n"
+     << "    method: " << method << "\n    penalty: 1.0e6\n"
+     << "solver: {linear: {method: direct}}\n";
+  return os.str();
+}
+
+}  // namespace
+
+class WholeWheel : public ::testing::TestWithParam<std::tuple<const char*, double>> {};
+
+TEST_P(WholeWheel, HertzAcrossAndInsideAPatch) {
+  const auto [method, offset] = GetParam();
+  const int n = std::getenv("WHEEL_N") ? std::atoi(std::getenv("WHEEL_N")) : 192;
+  const Solved s = solve_text(whole_wheel(offset, method, n));
+  ASSERT_TRUE(s.res.converged) << s.res.message;
+  const ContactSummary c = s.res.contact[0].summary();
+  const double R = 1.0, E = 1000.0, nu = 0.3, Estar = 1.0 / (2 * (1 - nu * nu) / E);
+  const double Pn = c.normal_force;   // the whole wheel
+  const double a = std::sqrt(4 * Pn * R / (M_PI * Estar)), p0 = 2 * Pn / (M_PI * a);
+  // contact half-width: half the distance between the gap's zero crossings at the two ends
+  // of the active zone (points run along the rim)
+  const auto st = s.res.contact[0].state();
+  std::vector<double> edges;
+  for (size_t i = 0; i + 1 < st.x.size(); ++i)
+    if (st.active[i] != st.active[i + 1]) {
+      const double t = st.gap[i] / (st.gap[i] - st.gap[i + 1]);
+      edges.push_back(st.x[i] + t * (st.x[i + 1] - st.x[i]));
+    }
+  ASSERT_EQ(edges.size(), 2u) << "one contact zone";
+  const double half = 0.5 * std::abs(edges[1] - edges[0]);
+  std::printf("  %s, patches from %g deg: P = %.5g: p0 = %.5g (Hertz %.5g, %+.2f %%), a = %.5g (Hertz %.5g, %+.2f %%), Fx = %.2e\n",
+              method, offset, Pn, c.max_pressure, p0, 100 * (c.max_pressure / p0 - 1), half, a, 100 * (half / a - 1), c.fx);
+  EXPECT_LT(a / R, 0.1);
+  EXPECT_NEAR(c.max_pressure, p0, 0.05 * p0);
+  EXPECT_NEAR(half, a, 0.05 * a);
+  EXPECT_LT(std::abs(c.fx), 1e-6 * Pn);   // symmetric about x = 0
+  EXPECT_NEAR(0.5 * (edges[0] + edges[1]), 0.0, 0.02 * a);
+}
+
+INSTANTIATE_TEST_SUITE_P(MethodsAndJoints, WholeWheel,
+                         ::testing::Combine(::testing::Values("kts_penalty", "mortar_penalty"), ::testing::Values(45.0, 0.0)));
+
+// --- Kirsch: the plate with a hole read from a G+Smo file (two patches) --------------------
+namespace {
+constexpr double kT = 10.0, kRh = 1.0;
+Exact kirsch_exact(double E, double nu) {
+  Exact ex;
+  const double mu = E / (2 * (1 + nu)), kappa = 3 - 4 * nu;
+  ex.sigma = [](double x, double y) {
+    const double r = std::hypot(x, y), t = std::atan2(y, x), a2 = kRh * kRh / (r * r), a4 = a2 * a2;
+    return std::array<double, 3>{kT * (1 - a2 * (1.5 * std::cos(2 * t) + std::cos(4 * t)) + 1.5 * a4 * std::cos(4 * t)),
+                                 kT * (-a2 * (0.5 * std::cos(2 * t) - std::cos(4 * t)) - 1.5 * a4 * std::cos(4 * t)),
+                                 kT * (-a2 * (0.5 * std::sin(2 * t) + std::sin(4 * t)) + 1.5 * a4 * std::sin(4 * t))};
+  };
+  ex.u = [mu, kappa](double x, double y) {
+    const double r = std::hypot(x, y), t = std::atan2(y, x), c = kT * kRh / (8 * mu);
+    return std::array<double, 2>{c * (r / kRh * (kappa + 1) * std::cos(t) + 2 * kRh / r * ((1 + kappa) * std::cos(t) + std::cos(3 * t)) -
+                                      2 * std::pow(kRh / r, 3) * std::cos(3 * t)),
+                                 c * (r / kRh * (kappa - 3) * std::sin(t) + 2 * kRh / r * ((1 - kappa) * std::sin(t) + std::sin(3 * t)) -
+                                      2 * std::pow(kRh / r, 3) * std::sin(3 * t))};
+  };
+  return ex;
+}
+
+// examples/geometry/plate_with_hole.{xml,txt}: [0, 4]^2 minus the disc r < 1; named boundaries
+// hole, bottom (y = 0), right (x = 4, patch 0 east), top (y = 4, patch 1 east), left (x = 0).
+Solved kirsch_from_file(const std::string& file, int e, int n) {
+  std::ostringstream os;
+  os << "bodies:\n  - name: plate\n    material: {youngs_modulus: 1.0e5, poisson_ratio: 0.3}\n"
+     << "    geometry: {file: " << IGACONTACT_SOURCE_DIR << "/examples/geometry/" << file << "}\n"
+     << "    refine: {degree_elevate: " << e << ", subdivide: [" << n << ", " << n << "]}\n"
+     << "    boundary:\n      bottom: {displacement: {y: 0}}\n      left: {displacement: {x: 0}}\n"
+     << "solver: {linear: {method: direct}}\n";
+  const Exact ex = kirsch_exact(1.0e5, 0.3);
+  return solve_text(os.str(), Tpetra::getDefaultComm(), [ex](System& sys) {
+    sys.add_traction(0, Side::East, [ex](double x, double y) { const auto s = ex.sigma(x, y); return std::array<double, 2>{s[0], s[2]}; }, 0);
+    sys.add_traction(0, Side::East, [ex](double x, double y) { const auto s = ex.sigma(x, y); return std::array<double, 2>{s[2], s[1]}; }, 1);
+  });
+}
+}  // namespace
+
+TEST(KirschFromGeometryFile, TwoPatchPlateConvergesAtOptimalRates) {
+  const Exact ex = kirsch_exact(1.0e5, 0.3);
+  for (int e : {0, 1}) {
+    std::vector<Errors> errs;
+    for (int n : {4, 8, 16, 32}) {
+      const Solved s = kirsch_from_file("plate_with_hole.xml", e, n);
+      ASSERT_TRUE(s.res.converged);
+      ASSERT_EQ(s.P.bodies[0].patches.size(), 2u);
+      if (root()) errs.push_back(l2_errors(s, 0, ex, 3));
+      if (n == 8 && e == 0) {
+        // the GeoPDEs file of the same geometry: the same answer
+        const Solved t = kirsch_from_file("plate_with_hole.txt", e, n);
+        if (root()) {
+          const Errors et = l2_errors(t, 0, ex, 3);
+          EXPECT_NEAR(et.u_rel, errs.back().u_rel, 1e-9 * errs.back().u_rel);
+        }
+      }
+    }
+    if (!root()) continue;
+    for (size_t k = 0; k < errs.size(); ++k)
+      std::printf("  Kirsch from G+Smo file, p = %d, n = %2d: |u - uh|/|u| = %.3e  |s - sh|/|s| = %.3e\n", 2 + e, 4 << k,
+                  errs[k].u_rel, errs[k].s_rel);
+    // the stress error is pre-asymptotic on the coarse meshes (rates rising towards p): the
+    // finest pair decides
+    const double ru = std::log2(errs[2].u_rel / errs[3].u_rel), rs = std::log2(errs[2].s_rel / errs[3].s_rel);
+    std::printf("  rates p = %d: u %.2f, stress %.2f\n", 2 + e, ru, rs);
+    EXPECT_GT(ru, 2 + e + 1 - 0.3);
+    EXPECT_GT(rs, 2 + e - 0.3);
+  }
+}
