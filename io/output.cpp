@@ -15,6 +15,7 @@
 #include "io/fields.hpp"
 #include "io/vtk.hpp"
 #include "io/files.hpp"
+#include "model/geometry_file.hpp"
 
 namespace iga {
 
@@ -417,6 +418,14 @@ nlohmann::json ResultWriter::finish(const SolveResult& res) {
                         {"y", fp.y}, {"displacement", {fp.ux, fp.uy}}, {"stress", {fp.sxx, fp.syy, fp.sxy}}});
     }
     summary["probes"] = probes;
+
+    // the refined geometry and the deformed control nets, for G+Smo and the tools that read
+    // its XML: per body, the reference multipatch first (what a reader takes), then the
+    // deformed one
+    for (size_t b = 0; b < P.bodies.size(); ++b) {
+      const MultiPatch ref = body_geometry(P.bodies[b]), def = body_geometry(P.bodies[b], &disp[b]);
+      write("geometry_" + P.bodies[b].name + ".xml", gismo_xml_text({&ref, &def}));
+    }
     summary["max_displacement"] = max_displacement_;
 
     for (size_t k = 0; k < cstate.size(); ++k) {

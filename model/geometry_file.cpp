@@ -828,8 +828,8 @@ MultiPatch read_geometry_file(const std::string& path) {
 
 // =============================================================================================
 
-void write_gismo_xml(const std::string& path, const std::vector<const MultiPatch*>& multipatches) {
-  auto error = [&](const std::string& what) { throw std::runtime_error("cannot write " + path + ": " + what); };
+std::string gismo_xml_text(const std::vector<const MultiPatch*>& multipatches) {
+  auto error = [&](const std::string& what) { throw std::runtime_error("G+Smo XML: " + what); };
   auto escape = [](const std::string& s) {
     std::string o;
     for (char c : s) {
@@ -955,7 +955,17 @@ void write_gismo_xml(const std::string& path, const std::vector<const MultiPatch
     os << " </MultiPatch>\n";
   }
   os << "</xml>\n";
-  const std::string text = os.str();
+  return os.str();
+}
+
+void write_gismo_xml(const std::string& path, const std::vector<const MultiPatch*>& multipatches) {
+  auto error = [&](const std::string& what) { throw std::runtime_error("cannot write " + path + ": " + what); };
+  std::string text;
+  try {
+    text = gismo_xml_text(multipatches);
+  } catch (const std::runtime_error& e) {
+    error(e.what());
+  }
 
   // A temporary file beside the target, renamed over it once complete.
   const size_t slash = path.find_last_of('/');

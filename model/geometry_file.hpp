@@ -20,5 +20,7 @@ MultiPatch read_geopdes(const std::string& path);
 /// per entry with its interfaces and boundary, in that order; read_gismo_xml reads the first
 /// back. Throws std::runtime_error naming the file if it cannot be written.
 void write_gismo_xml(const std::string& path, const std::vector<const MultiPatch*>& multipatches);
+/// The same file's text (std::runtime_error on a multipatch it cannot write).
+std::string gismo_xml_text(const std::vector<const MultiPatch*>& multipatches);
 
 }  // namespace iga

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 #include <stdexcept>
 
@@ -68,6 +69,41 @@ int coincide(const std::vector<Point3>& a, const std::vector<Point3>& b, double 
   return fwd ? 1 : rev ? 2 : 0;
 }
 
+// A side's knots mapped onto [0, 1], reversed if asked.
+std::vector<double> unit_knots(const Patch& P, Side s, bool reversed) {
+  const auto& U = P.knots[(s == Side::West || s == Side::East) ? 1 : 0];
+  std::vector<double> v;
+  const double a = U.front(), b = U.back();
+  for (double u : U) v.push_back((u - a) / (b - a));
+  if (reversed) {
+    std::reverse(v.begin(), v.end());
+    for (double& u : v) u = 1.0 - u;
+  }
+  return v;
+}
+
+std::string knots_text(const std::vector<double>& v) {
+  std::string t = "[";
+  for (size_t k = 0; k < v.size(); ++k) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", v[k]);
+    t += (k ? ", " : "") + std::string(buf);
+  }
+  return t + "]";
+}
+
+// "" when the two sides (coincident control points) carry the same basis: degree and knots.
+std::string same_basis(const Patch& P, Side s, const Patch& Q, Side t, bool reversed, const std::string& names) {
+  const int dp = P.degree[(s == Side::West || s == Side::East) ? 1 : 0], dq = Q.degree[(t == Side::West || t == Side::East) ? 1 : 0];
+  const auto a = unit_knots(P, s, false), b = unit_knots(Q, t, reversed);
+  bool same = dp == dq && a.size() == b.size();
+  for (size_t k = 0; same && k < a.size(); ++k) same = std::abs(a[k] - b[k]) <= 1e-12;
+  if (same) return "";
+  return names + " meet along a curve with different " + (dp != dq ? "degrees (" + std::to_string(dp) + " and " + std::to_string(dq) + ")"
+                                                                     : "knots (" + knots_text(a) + " and " + knots_text(b) + ")") +
+         ": a non-conforming interface; give both sides the same knots and degree";
+}
+
 int base_normal_sign(const Patch& P, Side s) {
   return ((s == Side::East || s == Side::South) ? 1 : -1) * P.orientation();
 }
@@ -93,6 +129,13 @@ std::vector<Interface> find_interfaces(const std::vector<Patch>& patches, double
 
 std::string find_nonconforming(const std::vector<Patch>& patches, const std::vector<Interface>& found, double tol) {
   const int np = static_cast<int>(patches.size());
+  for (const Interface& f : found) {
+    if (f.a.patch < 0 || f.a.patch >= np || f.b.patch < 0 || f.b.patch >= np) continue;
+    const std::string err = same_basis(patches[f.a.patch], f.a.side, patches[f.b.patch], f.b.side,
+                                       coincide(side_points(patches[f.a.patch], f.a.side), side_points(patches[f.b.patch], f.b.side), tol) == 2,
+                                       patch_side_name(f.a) + " and " + patch_side_name(f.b));
+    if (!err.empty()) return err;
+  }
   auto is_interface = [&](PatchSide x, PatchSide y) {
     for (const Interface& f : found)
       if ((f.a == x && f.b == y) || (f.a == y && f.b == x)) return true;

@@ -10,6 +10,7 @@
 #include <functional>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -58,6 +59,25 @@ const char* material_model_name(MaterialModel m) {
 
 std::string Body::side_label(int patch, Side s) const {
   return multipatch() ? patch_side_name({patch, s}) : std::string(side_name(s));
+}
+
+MultiPatch body_geometry(const Body& b, const std::vector<double>* u) {
+  MultiPatch mp;
+  mp.patches = b.patches;
+  mp.interfaces = b.interfaces;
+  mp.named = b.named;
+  for (size_t k = 0; k < b.patches.size(); ++k) {
+    for (int s = 0; s < 4; ++s) {
+      const PatchSide ps{static_cast<int>(k), static_cast<Side>(s)};
+      bool inner = false;
+      for (const Interface& f : b.interfaces) inner = inner || f.a == ps || f.b == ps;
+      if (!inner) mp.boundary.push_back(ps);
+    }
+    if (u)
+      for (size_t a = 0; a < b.patches[k].cp.size(); ++a)
+        for (int c = 0; c < 2; ++c) mp.patches[k].cp[a][c] += (*u)[2 * b.cp_index[k][a] + c];
+  }
+  return mp;
 }
 
 SurfaceChain surface_chain(const Problem& P, const ContactSurface& s) {
@@ -419,10 +439,19 @@ std::vector<std::pair<PatchSide, int>> boundary_places(const Reader& R, const Bo
         for (const PatchSide& ps : list) out.push_back({ps, -1});
         return out;
       }
+  if (!corners && parse_corner(part, c)) {
+    std::string names;
+    for (const auto& [nm, list] : b.named) names += (names.empty() ? "" : ", ") + nm;
+    R.fail(key, at, "a corner is a point, not a contact side (" +
+                        std::string(np > 1 ? "patch<k>.west|east|south|north" : "west, east, south, north") +
+                        (names.empty() ? "" : ", or a named boundary of the geometry file: " + names) + ")");
+  }
   std::string names;
-  for (const auto& [nm, list] : b.named) names += ", " + nm;
-  R.fail(key, at, std::string("unknown side (") + (np > 1 ? "patch<k>.west|east|south|north" : "west, east, south, north") +
-                      (corners ? ", or a corner south_west, south_east, north_west, north_east" : "") + names + ")");
+  for (const auto& [nm, list] : b.named) names += (names.empty() ? "" : ", ") + nm;
+  std::string allowed = np > 1 ? "patch<k>.west|east|south|north" : "west, east, south, north";
+  if (corners) allowed += np > 1 ? ", a corner patch<k>.south_west|south_east|north_west|north_east" : ", or a corner south_west, south_east, north_west, north_east";
+  if (!names.empty()) allowed += ", or a named boundary of the geometry file: " + names;
+  R.fail(key, at, "unknown side (" + allowed + ")");
 }
 
 Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
@@ -458,7 +487,7 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
   if (!n["geometry"]) R.missing(path + ".geometry");
   const YAML::Node g = n["geometry"];
   R.keys(g, path + ".geometry", {"nurbs", "rectangle", "quarter_annulus", "file", "patches"});
-  if (g.size() != 1) R.fail(path + ".geometry", g, "give exactly one of nurbs, rectangle, quarter_annulus, file");
+  if (g.size() != 1) R.fail(path + ".geometry", g, "give exactly one of nurbs, patches, rectangle, quarter_annulus, file");
   std::vector<Interface> declared;
   if (g["nurbs"]) b.patches = {read_nurbs(R, g["nurbs"], path + ".geometry.nurbs")};
   else if (g["patches"]) {
@@ -475,6 +504,7 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
     namespace fs = std::filesystem;
     const fs::path gp = fs::path(name).is_absolute() ? fs::path(name) : fs::path(R.file).parent_path() / name;
     std::error_code ec;
+    if (fs::is_directory(gp, ec)) R.fail(path + ".geometry.file", g["file"], gp.string() + " is a directory, not a geometry file");
     if (!fs::is_regular_file(gp, ec)) R.fail(path + ".geometry.file", g["file"], "cannot open the geometry file " + gp.string());
     MultiPatch mp = read_geometry_file(gp.string());
     if (mp.patches.empty()) R.fail(path + ".geometry.file", g["file"], "the geometry file holds no patch");
@@ -618,12 +648,20 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
   if (n["boundary"]) {
     const YAML::Node bc = n["boundary"];
     if (!bc.IsMap()) R.fail(path + ".boundary", bc, "expected a mapping");
+    std::map<std::string, std::string> given;   // side or corner -> the key that gave its condition
     for (const auto& kv : bc) {
       const std::string name = kv.first.as<std::string>(), key = path + ".boundary." + name;
       const auto where = boundary_places(R, b, name, key, kv.second);
       for (const auto& [ps, corner] : where) {
         SideCondition& sc = corner < 0 ? b.sides[ps.patch][static_cast<int>(ps.side)] : b.corners[ps.patch][corner];
-        if (!sc.value.empty()) R.fail(key, kv.second, "this side is given a condition twice (by its name and another)");
+        if (!sc.value.empty()) {
+          const std::string what = corner < 0 ? b.side_label(ps.patch, ps.side)
+                                              : (b.multipatch() ? "patch" + std::to_string(ps.patch) + "." : std::string()) +
+                                                    corner_name(static_cast<Corner>(corner));
+          R.fail(key, kv.second, what + (what == name ? "" : ", a side of " + name + ",") + " already has a condition (" + given[what] + ")");
+        }
+        given[corner < 0 ? b.side_label(ps.patch, ps.side)
+                         : (b.multipatch() ? "patch" + std::to_string(ps.patch) + "." : std::string()) + corner_name(static_cast<Corner>(corner))] = key;
         read_side(R, kv.second, key, sc);
         if (corner >= 0 && sc.load != LoadKind::None)
           R.fail(key, kv.second, "a corner takes a displacement only (a point load is not supported)");
@@ -663,7 +701,12 @@ ContactSurface read_surface(const Reader& R, const Problem& P, const YAML::Node&
     names.push_back({R.string(sd, path + ".side"), sd});
   }
   for (const auto& [name, node] : names) {
-    for (const auto& pl : boundary_places(R, b, name, path + ".side", node, false)) s.sides.push_back(pl.first);
+    for (const auto& pl : boundary_places(R, b, name, path + ".side", node, false)) {
+      for (const Interface& f : b.interfaces)
+        if (f.a == pl.first || f.b == pl.first)
+          R.fail(path + ".side", node, patch_side_name(pl.first) + " is an interface between patches, inside the body: no contact there");
+      s.sides.push_back(pl.first);
+    }
     s.label += (s.label.empty() ? "" : "+") + name;
   }
   try {

@@ -144,6 +144,10 @@ constexpr size_t kMaxInsertedKnots = 1000;            // per direction; subdivid
 constexpr int kMaxLoadSteps = 10000;
 constexpr int kMaxContactQuadrature = 12;             // contact quadrature points per slave span
 
+/// A body's geometry with its topology (interfaces, the outer sides, named boundaries), as a
+/// geometry file holds it; with u (2 per merged control point): the deformed control nets.
+MultiPatch body_geometry(const Body& b, const std::vector<double>* u = nullptr);
+
 /// The curve of a contact surface (a side, or a chain of patch sides joined end to end).
 SurfaceChain surface_chain(const Problem& P, const ContactSurface& s);
 

@@ -22,6 +22,7 @@ run blocks 1 "$ex/two_blocks_left.yaml"
 run wheel_last 1 "$ex/wheel.yaml" --set output.steps=last
 run sliding 2 "$ex/sliding_block.yaml"
 run cook 2 "$ex/cooks_membrane.yaml"   # finite deformation, no contact pair
+run whole_wheel 2 "$ex/whole_wheel.yaml"   # multi-patch bodies (one grid per patch) from a G+Smo file
 /usr/bin/python3 - "$tmp" <<'PY' || fail=1
 import json, sys
 d = sys.argv[1]
