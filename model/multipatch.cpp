@@ -110,20 +110,31 @@ int base_normal_sign(const Patch& P, Side s) {
 
 }  // namespace
 
-std::vector<Interface> find_interfaces(const std::vector<Patch>& patches, double tol) {
-  std::vector<Interface> out;
+namespace {
+// Calls f(x, y, a, b) for every pair of distinct sides x < y (the same patch's too) that are
+// not collapsed to a point, with their control points a, b; stops when f returns true.
+template <class F>
+void for_each_side_pair(const std::vector<Patch>& patches, double tol, F f) {
   const int np = static_cast<int>(patches.size());
   for (int p = 0; p < np; ++p)
     for (int s = 0; s < 4; ++s) {
       const auto a = side_points(patches[p], static_cast<Side>(s));
       if (collapsed(a, tol)) continue;
       for (int q = p; q < np; ++q)
-        for (int t = (q == p ? s + 1 : 0); t < 4; ++t) {
-          const auto b = side_points(patches[q], static_cast<Side>(t));
-          const int m = coincide(a, b, tol);
-          if (m) out.push_back({{p, static_cast<Side>(s)}, {q, static_cast<Side>(t)}, m == 2});
-        }
+        for (int t = (q == p ? s + 1 : 0); t < 4; ++t)
+          if (f(PatchSide{p, static_cast<Side>(s)}, PatchSide{q, static_cast<Side>(t)}, a, side_points(patches[q], static_cast<Side>(t))))
+            return;
     }
+}
+}  // namespace
+
+std::vector<Interface> find_interfaces(const std::vector<Patch>& patches, double tol) {
+  std::vector<Interface> out;
+  for_each_side_pair(patches, tol, [&](PatchSide x, PatchSide y, const std::vector<Point3>& a, const std::vector<Point3>& b) {
+    const int m = coincide(a, b, tol);
+    if (m) out.push_back({x, y, m == 2});
+    return false;
+  });
   return out;
 }
 
@@ -141,30 +152,24 @@ std::string find_nonconforming(const std::vector<Patch>& patches, const std::vec
       if ((f.a == x && f.b == y) || (f.a == y && f.b == x)) return true;
     return false;
   };
-  for (int p = 0; p < np; ++p)
-    for (int s = 0; s < 4; ++s) {
-      const auto a = side_points(patches[p], static_cast<Side>(s));
-      if (collapsed(a, tol)) continue;
-      for (int q = p; q < np; ++q)
-        for (int t = (q == p ? s + 1 : 0); t < 4; ++t) {
-          const PatchSide x{p, static_cast<Side>(s)}, y{q, static_cast<Side>(t)};
-          if (is_interface(x, y)) continue;
-          const auto b = side_points(patches[q], static_cast<Side>(t));
-          const bool ends = (dist(a.front(), b.front()) <= tol && dist(a.back(), b.back()) <= tol) ||
-                            (dist(a.front(), b.back()) <= tol && dist(a.back(), b.front()) <= tol);
-          if (!ends) continue;
-          // the same end points: the same curve with other control points, or a different
-          // curve between the same two corners (a lens); compare mid-parameter points
-          const Curve ca = patches[p].side_curve(x.side), cb = patches[q].side_curve(y.side);
-          const auto ma = ca.eval(0.5 * (ca.knots.front() + ca.knots.back()));
-          const auto mb = cb.eval(0.5 * (cb.knots.front() + cb.knots.back()));
-          if (std::hypot(ma[0] - mb[0], ma[1] - mb[1]) > 1e3 * tol) continue;
-          return patch_side_name(x) + " and " + patch_side_name(y) + " meet along a curve with different control points (" +
-                 std::to_string(a.size()) + " and " + std::to_string(b.size()) +
-                 "): a non-conforming interface; give both sides the same knots and degree";
-        }
-    }
-  return "";
+  std::string msg;
+  for_each_side_pair(patches, tol, [&](PatchSide x, PatchSide y, const std::vector<Point3>& a, const std::vector<Point3>& b) {
+    if (is_interface(x, y)) return false;
+    const bool ends = (dist(a.front(), b.front()) <= tol && dist(a.back(), b.back()) <= tol) ||
+                      (dist(a.front(), b.back()) <= tol && dist(a.back(), b.front()) <= tol);
+    if (!ends) return false;
+    // the same end points: the same curve with other control points, or a different curve
+    // between the same two corners (a lens); compare mid-parameter points
+    const Curve ca = patches[x.patch].side_curve(x.side), cb = patches[y.patch].side_curve(y.side);
+    const auto ma = ca.eval(0.5 * (ca.knots.front() + ca.knots.back()));
+    const auto mb = cb.eval(0.5 * (cb.knots.front() + cb.knots.back()));
+    if (std::hypot(ma[0] - mb[0], ma[1] - mb[1]) > 1e3 * tol) return false;
+    msg = patch_side_name(x) + " and " + patch_side_name(y) + " meet along a curve with different control points (" +
+          std::to_string(a.size()) + " and " + std::to_string(b.size()) +
+          "): a non-conforming interface; give both sides the same knots and degree";
+    return true;
+  });
+  return msg;
 }
 
 std::string check_interface(const std::vector<Patch>& patches, const Interface& f, double tol) {

@@ -79,6 +79,45 @@ struct Exact {
   std::function<std::array<double, 3>(double, double)> sigma;    // sxx, syy, sxy
 };
 
+/// Lame: thick-walled cylinder under internal pressure p, inner radius a, outer b, plane
+/// strain (../shared/reference-solutions.md).
+inline Exact lame_cylinder(double a, double b, double p, double E, double nu) {
+  Exact ex;
+  const double c = p * a * a / (b * b - a * a);
+  ex.u = [c, b, E, nu](double x, double y) {
+    const double r = std::hypot(x, y);
+    const double ur = (1 + nu) / E * c * ((1 - 2 * nu) * r + b * b / r);
+    return std::array<double, 2>{ur * x / r, ur * y / r};
+  };
+  ex.sigma = [c, b](double x, double y) {
+    const double r2 = x * x + y * y, srr = c * (1 - b * b / r2), stt = c * (1 + b * b / r2);
+    const double cs = x * x / r2, sn = y * y / r2, cssn = x * y / r2;
+    return std::array<double, 3>{srr * cs + stt * sn, srr * sn + stt * cs, (srr - stt) * cssn};
+  };
+  return ex;
+}
+
+/// Kirsch: infinite plate with a hole of radius R under remote tension T along x, plane strain
+/// (../shared/reference-solutions.md).
+inline Exact kirsch_plate(double R, double T, double E, double nu) {
+  Exact ex;
+  const double mu = E / (2 * (1 + nu)), kappa = 3 - 4 * nu;
+  ex.sigma = [R, T](double x, double y) {
+    const double r = std::hypot(x, y), t = std::atan2(y, x), a2 = R * R / (r * r), a4 = a2 * a2;
+    return std::array<double, 3>{T * (1 - a2 * (1.5 * std::cos(2 * t) + std::cos(4 * t)) + 1.5 * a4 * std::cos(4 * t)),
+                                 T * (-a2 * (0.5 * std::cos(2 * t) - std::cos(4 * t)) - 1.5 * a4 * std::cos(4 * t)),
+                                 T * (-a2 * (0.5 * std::sin(2 * t) + std::sin(4 * t)) + 1.5 * a4 * std::sin(4 * t))};
+  };
+  ex.u = [R, T, mu, kappa](double x, double y) {
+    const double r = std::hypot(x, y), t = std::atan2(y, x), c = T * R / (8 * mu);
+    return std::array<double, 2>{c * (r / R * (kappa + 1) * std::cos(t) + 2 * R / r * ((1 + kappa) * std::cos(t) + std::cos(3 * t)) -
+                                      2 * std::pow(R / r, 3) * std::cos(3 * t)),
+                                 c * (r / R * (kappa - 3) * std::sin(t) + 2 * R / r * ((1 - kappa) * std::sin(t) + std::sin(3 * t)) -
+                                      2 * std::pow(R / r, 3) * std::sin(3 * t))};
+  };
+  return ex;
+}
+
 struct Errors {
   double u_l2 = 0, u_rel = 0, s_l2 = 0, s_rel = 0;
 };

@@ -14,21 +14,7 @@ namespace {
 // --- Lame: thick-walled cylinder, a = 1, b = 2, p = 10, E = 2e5, nu = 0.3, plane strain ---
 constexpr double kA = 1.0, kB = 2.0, kP = 10.0, kE = 2.0e5, kNu = 0.3;
 
-Exact lame_exact() {
-  Exact ex;
-  const double c = kP * kA * kA / (kB * kB - kA * kA);
-  ex.u = [c](double x, double y) {
-    const double r = std::hypot(x, y);
-    const double ur = (1 + kNu) / kE * c * ((1 - 2 * kNu) * r + kB * kB / r);
-    return std::array<double, 2>{ur * x / r, ur * y / r};
-  };
-  ex.sigma = [c](double x, double y) {
-    const double r2 = x * x + y * y, srr = c * (1 - kB * kB / r2), stt = c * (1 + kB * kB / r2);
-    const double cs = x * x / r2, sn = y * y / r2, cssn = x * y / r2;
-    return std::array<double, 3>{srr * cs + stt * sn, srr * sn + stt * cs, (srr - stt) * cssn};
-  };
-  return ex;
-}
+Exact lame_exact() { return lame_cylinder(kA, kB, kP, kE, kNu); }
 
 std::string lame_yaml(int elevate_xi, int elevate_eta, int n) {
   std::ostringstream os;
@@ -164,26 +150,7 @@ TEST(Equilibrium, ReactionsBalanceAppliedLoads) {
 // --- Kirsch: infinite plate with a circular hole, a = 1, L = 4, T = 10 (Hughes et al. 2005) ---
 namespace {
 constexpr double kT = 10.0, kR = 1.0;
-Exact kirsch_exact(double E, double nu) {
-  Exact ex;
-  const double mu = E / (2 * (1 + nu)), kappa = 3 - 4 * nu;
-  ex.sigma = [](double x, double y) {
-    const double r = std::hypot(x, y), t = std::atan2(y, x), a2 = kR * kR / (r * r), a4 = a2 * a2;
-    return std::array<double, 3>{
-        kT * (1 - a2 * (1.5 * std::cos(2 * t) + std::cos(4 * t)) + 1.5 * a4 * std::cos(4 * t)),
-        kT * (-a2 * (0.5 * std::cos(2 * t) - std::cos(4 * t)) - 1.5 * a4 * std::cos(4 * t)),
-        kT * (-a2 * (0.5 * std::sin(2 * t) + std::sin(4 * t)) + 1.5 * a4 * std::sin(4 * t))};
-  };
-  ex.u = [mu, kappa](double x, double y) {
-    const double r = std::hypot(x, y), t = std::atan2(y, x), c = kT * kR / (8 * mu);
-    return std::array<double, 2>{
-        c * (r / kR * (kappa + 1) * std::cos(t) + 2 * kR / r * ((1 + kappa) * std::cos(t) + std::cos(3 * t)) -
-             2 * std::pow(kR / r, 3) * std::cos(3 * t)),
-        c * (r / kR * (kappa - 3) * std::sin(t) + 2 * kR / r * ((1 - kappa) * std::sin(t) + std::sin(3 * t)) -
-             2 * std::pow(kR / r, 3) * std::sin(3 * t))};
-  };
-  return ex;
-}
+Exact kirsch_exact(double E, double nu) { return kirsch_plate(kR, kT, E, nu); }
 
 // The quarter plate of Hughes, Cottrell & Bazilevs (2005), x in [-4, 0], y in [0, 4].
 std::string kirsch_yaml(int n, int elevate) {

@@ -14,21 +14,7 @@ namespace {
 // --- Lame: thick-walled cylinder, a = 1, b = 2, p = 10, E = 2e5, nu = 0.3, plane strain ---
 constexpr double kA = 1.0, kB = 2.0, kP = 10.0, kE = 2.0e5, kNu = 0.3;
 
-Exact lame_exact() {
-  Exact ex;
-  const double c = kP * kA * kA / (kB * kB - kA * kA);
-  ex.u = [c](double x, double y) {
-    const double r = std::hypot(x, y);
-    const double ur = (1 + kNu) / kE * c * ((1 - 2 * kNu) * r + kB * kB / r);
-    return std::array<double, 2>{ur * x / r, ur * y / r};
-  };
-  ex.sigma = [c](double x, double y) {
-    const double r2 = x * x + y * y, srr = c * (1 - kB * kB / r2), stt = c * (1 + kB * kB / r2);
-    const double cs = x * x / r2, sn = y * y / r2, cssn = x * y / r2;
-    return std::array<double, 3>{srr * cs + stt * sn, srr * sn + stt * cs, (srr - stt) * cssn};
-  };
-  return ex;
-}
+Exact lame_exact() { return lame_cylinder(kA, kB, kP, kE, kNu); }
 
 // Control points of an exact circular arc of degree 2 from angle t0 to t1 (< 180 degrees) at
 // radius r, as "[x, y, w]" rows (the middle one at the tangents' intersection).
@@ -321,24 +307,7 @@ INSTANTIATE_TEST_SUITE_P(MethodsAndJoints, WholeWheel,
 // --- Kirsch: the plate with a hole read from a G+Smo file (two patches) --------------------
 namespace {
 constexpr double kT = 10.0, kRh = 1.0;
-Exact kirsch_exact(double E, double nu) {
-  Exact ex;
-  const double mu = E / (2 * (1 + nu)), kappa = 3 - 4 * nu;
-  ex.sigma = [](double x, double y) {
-    const double r = std::hypot(x, y), t = std::atan2(y, x), a2 = kRh * kRh / (r * r), a4 = a2 * a2;
-    return std::array<double, 3>{kT * (1 - a2 * (1.5 * std::cos(2 * t) + std::cos(4 * t)) + 1.5 * a4 * std::cos(4 * t)),
-                                 kT * (-a2 * (0.5 * std::cos(2 * t) - std::cos(4 * t)) - 1.5 * a4 * std::cos(4 * t)),
-                                 kT * (-a2 * (0.5 * std::sin(2 * t) + std::sin(4 * t)) + 1.5 * a4 * std::sin(4 * t))};
-  };
-  ex.u = [mu, kappa](double x, double y) {
-    const double r = std::hypot(x, y), t = std::atan2(y, x), c = kT * kRh / (8 * mu);
-    return std::array<double, 2>{c * (r / kRh * (kappa + 1) * std::cos(t) + 2 * kRh / r * ((1 + kappa) * std::cos(t) + std::cos(3 * t)) -
-                                      2 * std::pow(kRh / r, 3) * std::cos(3 * t)),
-                                 c * (r / kRh * (kappa - 3) * std::sin(t) + 2 * kRh / r * ((1 - kappa) * std::sin(t) + std::sin(3 * t)) -
-                                      2 * std::pow(kRh / r, 3) * std::sin(3 * t))};
-  };
-  return ex;
-}
+Exact kirsch_exact(double E, double nu) { return kirsch_plate(kRh, kT, E, nu); }
 
 // examples/geometry/plate_with_hole.{xml,txt}: [0, 4]^2 minus the disc r < 1; named boundaries
 // hole, bottom (y = 0), right (x = 4, patch 0 east), top (y = 4, patch 1 east), left (x = 0).
