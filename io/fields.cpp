@@ -12,26 +12,13 @@ double FieldPoint::von_mises() const {
                    3.0 * sxy * sxy);
 }
 
-namespace {
-// The patch's control point displacements from the body's merged ones.
-std::vector<double> patch_values(const Body& b, int patch, const std::vector<double>& u) {
-  const auto& idx = b.cp_index[patch];
-  std::vector<double> v(2 * idx.size());
-  for (size_t a = 0; a < idx.size(); ++a) {
-    v[2 * a] = u[2 * idx[a]];
-    v[2 * a + 1] = u[2 * idx[a] + 1];
-  }
-  return v;
-}
-}  // namespace
-
 BodyField::BodyField(const Problem& P, int body, const std::vector<double>& u, int patch)
     : patch_(&P.bodies[body].patches[patch]),
       pd_(host_patch_data(P.bodies[body].patches[patch])),
       mat_(body_material(P, body, 1.0)),
       plane_strain_(P.analysis == Analysis::PlaneStrain),
       nu_(P.bodies[body].nu),
-      u_(patch_values(P.bodies[body], patch, u)) {}
+      u_(P.bodies[body].patch_values(patch, u)) {}
 
 FieldPoint BodyField::eval(double u, double v, int s0, int s1) const {
   if (s0 < 0) s0 = find_span(pd_.n[0], pd_.p[0], u, pd_.U0.data());

@@ -82,9 +82,7 @@ nlohmann::json reactions_json(const System& sys, const Vector& residual) {
     for (int s = 0; s < 8; ++s) {
       const auto& sc = s < 4 ? body.sides[bd.patch][s] : body.corners[bd.patch][s - 4];
       if (!(sc.fixed[0] || sc.fixed[1])) continue;
-      const std::string name = s < 4 ? body.side_label(bd.patch, static_cast<Side>(s))
-                                     : (body.multipatch() ? "patch" + std::to_string(bd.patch) + "." : std::string()) +
-                                           corner_name(static_cast<Corner>(s - 4));
+      const std::string name = s < 4 ? body.side_label(bd.patch, static_cast<Side>(s)) : body.corner_label(bd.patch, static_cast<Corner>(s - 4));
       sides[name] = {global[k * 16 + 2 * s], global[k * 16 + 2 * s + 1]};
     }
     if (sides.is_null()) j.erase(body.name);
@@ -232,10 +230,10 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
       const int m0 = pt.ncp(0), m1 = pt.ncp(1);
       const hsize_t m = static_cast<hsize_t>(m0) * m1;
       std::vector<double> cxyz, cd3;
+      const std::vector<double> ucp = P.bodies[b].patch_values(blk.patch, disp[b]);
       for (hsize_t a = 0; a < m; ++a) {
-        const int g = P.bodies[b].cp_index[blk.patch][a];
         cxyz.insert(cxyz.end(), {pt.cp[a][0], pt.cp[a][1], 0.0});
-        cd3.insert(cd3.end(), {disp[b][2 * g], disp[b][2 * g + 1], 0.0});
+        cd3.insert(cd3.end(), {ucp[2 * a], ucp[2 * a + 1], 0.0});
       }
       const std::vector<int> cquads = grid_quads(m0, m1);
       const hsize_t mq = cquads.size() / 4;
@@ -289,7 +287,7 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
       const auto& cs = cstate[k];
       const ContactPair& pair = contact[k].pair();
       const Body& sb = P.bodies[pair.slave.body];
-      const SurfaceChain chain = surface_chain(P, pair.slave);
+      const SurfaceChain& chain = contact[k].slave_chain();
       std::vector<BodyField> sfields;
       for (size_t q = 0; q < sb.patches.size(); ++q) sfields.emplace_back(P, pair.slave.body, disp[pair.slave.body], static_cast<int>(q));
       const hsize_t n = cs.x.size();

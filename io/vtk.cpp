@@ -78,64 +78,64 @@ BezierMesh bezier_mesh(const Problem& P, const std::vector<std::vector<double>>&
     throw std::invalid_argument("bezier_mesh: one displacement vector per body expected");
   BezierMesh m;
   for (size_t b = 0; b < P.bodies.size(); ++b) {
-   if (cp_displacement[b].size() != 2 * static_cast<size_t>(P.bodies[b].num_cps))
-     throw std::invalid_argument("bezier_mesh: body " + P.bodies[b].name + ": 2 displacements per control point expected");
-   m.body_names.push_back(P.bodies[b].name);
-   for (size_t k = 0; k < P.bodies[b].patches.size(); ++k) {
-    const Patch& pt = P.bodies[b].patches[k];
-    const BezierPatch B(pt);
-    const BodyField field(P, static_cast<int>(b), cp_displacement[b], static_cast<int>(k));
-    std::vector<double> ucp(2 * pt.cp.size());
-    for (size_t a = 0; a < pt.cp.size(); ++a)
-      for (int c = 0; c < 2; ++c) ucp[2 * a + c] = cp_displacement[b][2 * P.bodies[b].cp_index[k][a] + c];
-    const int p0 = B.degree()[0], p1 = B.degree()[1], n0 = p0 + 1, n = B.points_per_element();
-    const auto t = fit_points(p0, p1);
-    std::vector<Point3> pts(n);
-    std::vector<double> u(2 * n), w(n), vals(5 * n), coef(5 * n);
-    for (int e = 0; e < B.num_elements(); ++e) {
-      B.element_points(e, pts.data());
-      B.element_field(e, ucp.data(), 2, u.data());
-      const auto r0 = B.range(e, 0), r1 = B.range(e, 1);
-      const int s0 = B.span(e, 0), s1 = B.span(e, 1);
-      for (int j = 0; j < n; ++j) {
-        w[j] = pts[j][2];
-        const FieldPoint f = field.eval(r0[0] + t[j][0] * (r0[1] - r0[0]), r1[0] + t[j][1] * (r1[1] - r1[0]), s0, s1);
-        const double v[5] = {f.sxx, f.syy, f.szz, f.sxy, f.von_mises()};
-        std::copy(v, v + 5, &vals[5 * j]);
-      }
-      fit_rational_bezier(p0, p1, w.data(), 5, vals.data(), coef.data());
-      // scatter into VTK order
-      const size_t base = m.weights.size();
-      m.points.resize(3 * (base + n));
-      m.weights.resize(base + n);
-      m.displacement.resize(3 * (base + n));
-      m.stress.resize(6 * (base + n));
-      m.von_mises.resize(base + n);
-      for (int k = 0; k < n; ++k) {
-        const size_t q = base + vtk_quad_point_index(k % n0, k / n0, p0, p1);
-        m.points[3 * q] = pts[k][0];
-        m.points[3 * q + 1] = pts[k][1];
-        m.points[3 * q + 2] = 0.0;
-        m.weights[q] = pts[k][2];
-        m.displacement[3 * q] = u[2 * k];
-        m.displacement[3 * q + 1] = u[2 * k + 1];
-        m.displacement[3 * q + 2] = 0.0;
-        const double* c = &coef[5 * k];
-        const double s[6] = {c[0], c[1], c[2], c[3], 0.0, 0.0};
-        std::copy(s, s + 6, &m.stress[6 * q]);
-        m.von_mises[q] = c[4];
-      }
-      m.offsets.push_back(static_cast<std::int64_t>(base + n));
-      m.degrees.insert(m.degrees.end(), {p0, p1, 0});
-      m.body.push_back(static_cast<int>(b));
-      m.patch.push_back(static_cast<int>(k));
-      m.element.push_back(e);
-      m.element_ij.insert(m.element_ij.end(), {e % B.num_elements(0), e / B.num_elements(0)});
-      m.knot_span.insert(m.knot_span.end(), {s0, s1});
-      m.range.insert(m.range.end(), {r0[0], r0[1], r1[0], r1[1]});
-    }
-   }
+    if (cp_displacement[b].size() != 2 * static_cast<size_t>(P.bodies[b].num_cps))
+      throw std::invalid_argument("bezier_mesh: body " + P.bodies[b].name + ": 2 displacements per control point expected");
+    m.body_names.push_back(P.bodies[b].name);
   }
+  // cells patch after patch of each body
+  for (size_t b = 0; b < P.bodies.size(); ++b)
+    for (size_t k = 0; k < P.bodies[b].patches.size(); ++k) {
+      const Patch& pt = P.bodies[b].patches[k];
+      const BezierPatch B(pt);
+      const BodyField field(P, static_cast<int>(b), cp_displacement[b], static_cast<int>(k));
+      const std::vector<double> ucp = P.bodies[b].patch_values(static_cast<int>(k), cp_displacement[b]);
+      const int p0 = B.degree()[0], p1 = B.degree()[1], n0 = p0 + 1, n = B.points_per_element();
+      const auto t = fit_points(p0, p1);
+      std::vector<Point3> pts(n);
+      std::vector<double> u(2 * n), w(n), vals(5 * n), coef(5 * n);
+      for (int e = 0; e < B.num_elements(); ++e) {
+        B.element_points(e, pts.data());
+        B.element_field(e, ucp.data(), 2, u.data());
+        const auto r0 = B.range(e, 0), r1 = B.range(e, 1);
+        const int s0 = B.span(e, 0), s1 = B.span(e, 1);
+        for (int j = 0; j < n; ++j) {
+          w[j] = pts[j][2];
+          const FieldPoint f = field.eval(r0[0] + t[j][0] * (r0[1] - r0[0]), r1[0] + t[j][1] * (r1[1] - r1[0]), s0, s1);
+          const double v[5] = {f.sxx, f.syy, f.szz, f.sxy, f.von_mises()};
+          std::copy(v, v + 5, &vals[5 * j]);
+        }
+        fit_rational_bezier(p0, p1, w.data(), 5, vals.data(), coef.data());
+        // scatter into VTK order
+        const size_t base = m.weights.size();
+        m.points.resize(3 * (base + n));
+        m.weights.resize(base + n);
+        m.displacement.resize(3 * (base + n));
+        m.stress.resize(6 * (base + n));
+        m.von_mises.resize(base + n);
+        for (int k = 0; k < n; ++k) {
+          const size_t q = base + vtk_quad_point_index(k % n0, k / n0, p0, p1);
+          m.points[3 * q] = pts[k][0];
+          m.points[3 * q + 1] = pts[k][1];
+          m.points[3 * q + 2] = 0.0;
+          m.weights[q] = pts[k][2];
+          m.displacement[3 * q] = u[2 * k];
+          m.displacement[3 * q + 1] = u[2 * k + 1];
+          m.displacement[3 * q + 2] = 0.0;
+          const double* c = &coef[5 * k];
+          const double s[6] = {c[0], c[1], c[2], c[3], 0.0, 0.0};
+          std::copy(s, s + 6, &m.stress[6 * q]);
+          m.von_mises[q] = c[4];
+        }
+        m.offsets.push_back(static_cast<std::int64_t>(base + n));
+        m.degrees.insert(m.degrees.end(), {p0, p1, 0});
+        m.body.push_back(static_cast<int>(b));
+        m.patch.push_back(static_cast<int>(k));
+        m.element.push_back(e);
+        m.element_ij.insert(m.element_ij.end(), {e % B.num_elements(0), e / B.num_elements(0)});
+        m.knot_span.insert(m.knot_span.end(), {s0, s1});
+        m.range.insert(m.range.end(), {r0[0], r0[1], r1[0], r1[1]});
+      }
+    }
   return m;
 }
 

@@ -181,11 +181,8 @@ std::string check_interface(const std::vector<Patch>& patches, const Interface& 
   if (a.size() != b.size())
     return "interface " + names + " is not conforming: " + std::to_string(a.size()) + " and " + std::to_string(b.size()) +
            " control points along it (refine both patches alike along the interface)";
-  const int m = coincide(a, b, tol);
-  if (m == 0 || (m == 1) == f.reversed) {
-    if (m != 0) return "";   // coincident in the other direction: the orientation flag is wrong, the geometry decides
-    return "interface " + names + " is not conforming: the control points along it do not coincide";
-  }
+  // coincident in either direction (a wrong orientation flag is harmless: the geometry decides)
+  if (coincide(a, b, tol) == 0) return "interface " + names + " is not conforming: the control points along it do not coincide";
   return "";
 }
 

@@ -61,6 +61,26 @@ std::string Body::side_label(int patch, Side s) const {
   return multipatch() ? patch_side_name({patch, s}) : std::string(side_name(s));
 }
 
+bool Body::is_interface(const PatchSide& s) const {
+  for (const Interface& f : interfaces)
+    if (f.a == s || f.b == s) return true;
+  return false;
+}
+
+std::string Body::corner_label(int patch, Corner c) const {
+  return (multipatch() ? "patch" + std::to_string(patch) + "." : std::string()) + corner_name(c);
+}
+
+std::vector<double> Body::patch_values(int patch, const std::vector<double>& u) const {
+  const auto& idx = cp_index[patch];
+  std::vector<double> v(2 * idx.size());
+  for (size_t a = 0; a < idx.size(); ++a) {
+    v[2 * a] = u[2 * idx[a]];
+    v[2 * a + 1] = u[2 * idx[a] + 1];
+  }
+  return v;
+}
+
 MultiPatch body_geometry(const Body& b, const std::vector<double>* u) {
   MultiPatch mp;
   mp.patches = b.patches;
@@ -69,13 +89,13 @@ MultiPatch body_geometry(const Body& b, const std::vector<double>* u) {
   for (size_t k = 0; k < b.patches.size(); ++k) {
     for (int s = 0; s < 4; ++s) {
       const PatchSide ps{static_cast<int>(k), static_cast<Side>(s)};
-      bool inner = false;
-      for (const Interface& f : b.interfaces) inner = inner || f.a == ps || f.b == ps;
-      if (!inner) mp.boundary.push_back(ps);
+      if (!b.is_interface(ps)) mp.boundary.push_back(ps);
     }
-    if (u)
+    if (u) {
+      const std::vector<double> uk = b.patch_values(static_cast<int>(k), *u);
       for (size_t a = 0; a < b.patches[k].cp.size(); ++a)
-        for (int c = 0; c < 2; ++c) mp.patches[k].cp[a][c] += (*u)[2 * b.cp_index[k][a] + c];
+        for (int c = 0; c < 2; ++c) mp.patches[k].cp[a][c] += uk[2 * a + c];
+    }
   }
   return mp;
 }
@@ -654,21 +674,15 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
       const auto where = boundary_places(R, b, name, key, kv.second);
       for (const auto& [ps, corner] : where) {
         SideCondition& sc = corner < 0 ? b.sides[ps.patch][static_cast<int>(ps.side)] : b.corners[ps.patch][corner];
-        if (!sc.value.empty()) {
-          const std::string what = corner < 0 ? b.side_label(ps.patch, ps.side)
-                                              : (b.multipatch() ? "patch" + std::to_string(ps.patch) + "." : std::string()) +
-                                                    corner_name(static_cast<Corner>(corner));
+        const std::string what = corner < 0 ? b.side_label(ps.patch, ps.side) : b.corner_label(ps.patch, static_cast<Corner>(corner));
+        if (!sc.value.empty())
           R.fail(key, kv.second, what + (what == name ? "" : ", a side of " + name + ",") + " already has a condition (" + given[what] + ")");
-        }
-        given[corner < 0 ? b.side_label(ps.patch, ps.side)
-                         : (b.multipatch() ? "patch" + std::to_string(ps.patch) + "." : std::string()) + corner_name(static_cast<Corner>(corner))] = key;
+        given[what] = key;
         read_side(R, kv.second, key, sc);
         if (corner >= 0 && sc.load != LoadKind::None)
           R.fail(key, kv.second, "a corner takes a displacement only (a point load is not supported)");
-        if (corner < 0 && sc.load != LoadKind::None)
-          for (const Interface& f : b.interfaces)
-            if (f.a == ps || f.b == ps)
-              R.fail(key, kv.second, patch_side_name(ps) + " is an interface between patches, inside the body: no load there");
+        if (corner < 0 && sc.load != LoadKind::None && b.is_interface(ps))
+          R.fail(key, kv.second, patch_side_name(ps) + " is an interface between patches, inside the body: no load there");
       }
     }
   }
@@ -702,9 +716,8 @@ ContactSurface read_surface(const Reader& R, const Problem& P, const YAML::Node&
   }
   for (const auto& [name, node] : names) {
     for (const auto& pl : boundary_places(R, b, name, path + ".side", node, false)) {
-      for (const Interface& f : b.interfaces)
-        if (f.a == pl.first || f.b == pl.first)
-          R.fail(path + ".side", node, patch_side_name(pl.first) + " is an interface between patches, inside the body: no contact there");
+      if (b.is_interface(pl.first))
+        R.fail(path + ".side", node, patch_side_name(pl.first) + " is an interface between patches, inside the body: no contact there");
       s.sides.push_back(pl.first);
     }
     s.label += (s.label.empty() ? "" : "+") + name;

@@ -61,6 +61,12 @@ struct Body {
   bool multipatch() const { return patches.size() > 1; }
   /// "north" on a single-patch body, "patch1.north" on a multi-patch one.
   std::string side_label(int patch, Side s) const;
+  /// The side is one side of an interface (inside the body).
+  bool is_interface(const PatchSide& s) const;
+  /// "south_west" on a single-patch body, "patch1.south_west" on a multi-patch one.
+  std::string corner_label(int patch, Corner c) const;
+  /// A patch's control point displacements (2 per control point) from the body's merged ones.
+  std::vector<double> patch_values(int patch, const std::vector<double>& u) const;
 };
 
 /// A contact surface: one side, or a chain of patch sides of a multi-patch body.

@@ -21,8 +21,7 @@ Kokkos::View<T*, MemSpace> dview(const std::string& name, const std::vector<T>& 
   return d;
 }
 
-CurveData make_curve(const System& sys, const ContactSurface& s, std::vector<GO>& gids) {
-  const SurfaceChain ch = surface_chain(sys.problem(), s);
+CurveData make_curve(const System& sys, const ContactSurface& s, const SurfaceChain& ch, std::vector<GO>& gids) {
   const Curve& c = ch.curve;
   CurveData d;
   d.p = c.degree;
@@ -114,10 +113,11 @@ ContactPairData::ContactPairData(const System& sys, int index) : pair_(sys.probl
   thickness = sys.problem().thickness;
   rank_ = sys.comm()->getRank();
   nranks_ = sys.comm()->getSize();
-  slave = make_curve(sys, pair_.slave, slave_gid);
-  master = make_curve(sys, pair_.master, master_gid);
+  slave_chain_ = surface_chain(sys.problem(), pair_.slave);
+  slave = make_curve(sys, pair_.slave, slave_chain_, slave_gid);
+  master = make_curve(sys, pair_.master, surface_chain(sys.problem(), pair_.master), master_gid);
   mortar_ = pair_.method == ContactMethod::MortarPenalty || pair_.method == ContactMethod::MortarAlm;
-  const Curve c = surface_chain(sys.problem(), pair_.slave).curve;
+  const Curve& c = slave_chain_.curve;
   h_min_ = 1e300;
   for (int s : c.element_spans()) {
     const double a = c.knots[s], b = c.knots[s + 1];

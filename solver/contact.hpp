@@ -39,6 +39,8 @@ class ContactPairData {
  public:
   ContactPairData(const System& sys, int index);
   const ContactPair& pair() const { return pair_; }
+  /// The slave surface as one curve: its parameter is the xi of the slave points.
+  const SurfaceChain& slave_chain() const { return slave_chain_; }
   int num_points() const { return static_cast<int>(sp_.xi.extent(0)); }
   /// Current displacements of the two curves from the owned solution, then search + projection.
   void update(const Vector& u);
@@ -86,6 +88,7 @@ class ContactPairData {
 
  private:
   ContactPair pair_;
+  SurfaceChain slave_chain_;
   int index_ = 0;
   bool mortar_ = false;
   GaussRule gauss_;

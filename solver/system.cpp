@@ -574,35 +574,35 @@ RCP<Vector> System::assemble_loads(double lambda, int stage) const {
   if (!user_body_forces_.empty()) {
     auto h = f_ov.getLocalViewHost(Tpetra::Access::ReadWrite);
     for (const auto& ub : user_body_forces_)
-     for (const PatchBlock& bd : blocks_) {
-      if (bd.body != ub.body) continue;
-      const Patch& pt = P_.bodies[bd.body].patches[bd.patch];
-      const HostPatchData pd = host_patch_data(pt);
-      const auto sp0 = pt.element_spans(0), sp1 = pt.element_spans(1);
-      const GaussRule g0 = gauss_rule(pd.p[0] + 2), g1 = gauss_rule(pd.p[1] + 2);
-      dispatch_degree(std::max(pd.p[0], pd.p[1]), [&](auto PP) {
-        constexpr int P = decltype(PP)::value;
-        double R[(P + 1) * (P + 1)], dR[(P + 1) * (P + 1)][2], x[2];
-        for (int e = bd.e_begin; e < bd.e_end; ++e) {
-          const int s0 = sp0[e % pd.ne[0]], s1 = sp1[e / pd.ne[0]];
-          const double ua = pt.knots[0][s0], ub0 = pt.knots[0][s0 + 1], va = pt.knots[1][s1], vb = pt.knots[1][s1 + 1];
-          for (int qj = 0; qj < g1.n; ++qj)
-            for (int qi = 0; qi < g0.n; ++qi) {
-              const double u = ua + 0.5 * (ub0 - ua) * (g0.x[qi] + 1), v = va + 0.5 * (vb - va) * (g1.x[qj] + 1);
-              const double det = nurbs_grad<P>(pd, s0, s1, u, v, R, dR, x);
-              const auto b = ub.b(x[0], x[1]);
-              const double w = lambda * std::abs(det) * g0.w[qi] * g1.w[qj] * 0.25 * (ub0 - ua) * (vb - va) * P_.thickness;
-              for (int j = 0; j <= pd.p[1]; ++j)
-                for (int i = 0; i <= pd.p[0]; ++i) {
-                  const int l = bd.lid[s0 - pd.p[0] + i + (s1 - pd.p[1] + j) * pd.n[0]];
-                  const double Rw = R[i + j * (pd.p[0] + 1)] * w;
-                  h(2 * l, 0) += Rw * b[0];
-                  h(2 * l + 1, 0) += Rw * b[1];
-                }
-            }
-        }
-      });
-    }
+      for (const PatchBlock& bd : blocks_) {
+        if (bd.body != ub.body) continue;
+        const Patch& pt = P_.bodies[bd.body].patches[bd.patch];
+        const HostPatchData pd = host_patch_data(pt);
+        const auto sp0 = pt.element_spans(0), sp1 = pt.element_spans(1);
+        const GaussRule g0 = gauss_rule(pd.p[0] + 2), g1 = gauss_rule(pd.p[1] + 2);
+        dispatch_degree(std::max(pd.p[0], pd.p[1]), [&](auto PP) {
+          constexpr int P = decltype(PP)::value;
+          double R[(P + 1) * (P + 1)], dR[(P + 1) * (P + 1)][2], x[2];
+          for (int e = bd.e_begin; e < bd.e_end; ++e) {
+            const int s0 = sp0[e % pd.ne[0]], s1 = sp1[e / pd.ne[0]];
+            const double ua = pt.knots[0][s0], ub0 = pt.knots[0][s0 + 1], va = pt.knots[1][s1], vb = pt.knots[1][s1 + 1];
+            for (int qj = 0; qj < g1.n; ++qj)
+              for (int qi = 0; qi < g0.n; ++qi) {
+                const double u = ua + 0.5 * (ub0 - ua) * (g0.x[qi] + 1), v = va + 0.5 * (vb - va) * (g1.x[qj] + 1);
+                const double det = nurbs_grad<P>(pd, s0, s1, u, v, R, dR, x);
+                const auto b = ub.b(x[0], x[1]);
+                const double w = lambda * std::abs(det) * g0.w[qi] * g1.w[qj] * 0.25 * (ub0 - ua) * (vb - va) * P_.thickness;
+                for (int j = 0; j <= pd.p[1]; ++j)
+                  for (int i = 0; i <= pd.p[0]; ++i) {
+                    const int l = bd.lid[s0 - pd.p[0] + i + (s1 - pd.p[1] + j) * pd.n[0]];
+                    const double Rw = R[i + j * (pd.p[0] + 1)] * w;
+                    h(2 * l, 0) += Rw * b[0];
+                    h(2 * l + 1, 0) += Rw * b[1];
+                  }
+              }
+          }
+        });
+      }
   }
   return export_vector(f_ov);
 }
