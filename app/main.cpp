@@ -1,6 +1,7 @@
 // igacontact: isogeometric analysis of elastostatic contact between NURBS bodies.
 //   igacontact run FILE [--output DIR] [--set KEY=VALUE ...] [--quiet]   (short: igacontact FILE ...)
 //   igacontact check FILE [--set KEY=VALUE ...]
+//   igacontact export FILE [--output DIR] [--set KEY=VALUE ...]
 //   igacontact --help | --version
 // Exit codes: 0 converged, 1 internal error, 2 bad input, 3 the nonlinear solve did not converge,
 // 4 the output could not be written (summary.json is then absent).
@@ -26,6 +27,7 @@
 
 #include "io/files.hpp"
 #include "io/output.hpp"
+#include "model/geometry_file.hpp"
 #include "model/problem.hpp"
 #include "solver/newton.hpp"
 
@@ -35,6 +37,7 @@ const char* kUsage =
     "usage: igacontact run FILE [--output DIR] [--set KEY=VALUE ...] [--quiet]\n"
     "       igacontact FILE [...]            (short for run)\n"
     "       igacontact check FILE [--set KEY=VALUE ...]\n"
+    "       igacontact export FILE [--output DIR] [--set KEY=VALUE ...]\n"
     "       igacontact --help | --version | --kokkos-help\n"
     "\n"
     "Solves the elastostatic contact problem of a YAML problem file (docs/problem-file.md) and\n"
@@ -42,6 +45,8 @@ const char* kUsage =
     "sampled fields, control nets, contact points, every load step), result.pvd (the exact\n"
     "geometry as rational Bezier cells), result.h5, summary.json and contact_<n>.csv. --set overrides a problem-file key by its dotted path,\n"
     "e.g. --set contact.0.penalty=1e7 --set bodies.0.refine.subdivide=[16,8].\n"
+    "export writes each body's refined geometry, as the run would use it, without solving:\n"
+    "<body>.xml (G+Smo XML) and <body>.txt (GeoPDEs v2.1) in DIR (default out/<file stem>/geometry).\n"
     "Kokkos' own options (threads, devices): --kokkos-help.\n"
     "Exit codes: 0 converged, 2 bad input, 3 not converged (last converged load step kept),\n"
     "4 output could not be written.\n";
@@ -59,7 +64,8 @@ struct UsageError : std::runtime_error {
 Args parse_args(int argc, char** argv) {
   Args a;
   int i = 1;
-  if (i < argc && (std::string(argv[i]) == "run" || std::string(argv[i]) == "check")) a.command = argv[i++];
+  if (i < argc && (std::string(argv[i]) == "run" || std::string(argv[i]) == "check" || std::string(argv[i]) == "export"))
+    a.command = argv[i++];
   for (; i < argc; ++i) {
     const std::string s = argv[i];
     auto value = [&](const char* opt) {
@@ -125,6 +131,46 @@ void describe(const iga::Problem& P, int ranks, std::ostream& os) {
   os << "\n";
 }
 
+// igacontact export: the refined geometry of every body (what a run would solve on), in the
+// two formats IGA tools read, without setting up or solving anything. Rank 0 writes; each file
+// is written whole or not at all (io/files.hpp).
+int export_geometry(const iga::Problem& P, const Args& args, const iga::Comm& comm) {
+  std::string dir = args.output, dir_key = "--output";
+  if (dir.empty()) {
+    dir = "out/" + std::filesystem::path(args.file).stem().string() + "/geometry";
+    dir_key = "output directory (default)";
+  }
+  try {
+    iga::on_root(comm, [&] {
+      const std::string why = iga::check_output_directory(dir);
+      if (!why.empty()) throw iga::OutputError(why);
+    });
+  } catch (const iga::OutputError& e) {
+    if (comm.getRank() == 0) std::cerr << args.file << ": " << dir_key << " = " << dir << ": " << e.what() << "\n";
+    return 2;
+  }
+  std::vector<std::string> written;
+  iga::on_root(comm, [&] {
+    for (const iga::Body& b : P.bodies) {
+      const iga::MultiPatch mp = iga::body_geometry(b);
+      const std::filesystem::path base = std::filesystem::path(dir) / b.name;
+      iga::write_file_atomic(base.string() + ".xml", iga::gismo_xml_text({&mp}));
+      iga::write_file_atomic(base.string() + ".txt", iga::geopdes_text(mp));
+      size_t ne = 0;
+      for (const auto& pt : b.patches) ne += pt.num_elements();
+      std::ostringstream line;
+      line << "  " << b.name << ": " << b.patches.size() << " patch(es), " << b.interfaces.size() << " interface(s), " << ne
+           << " elements, " << b.num_cps << " control points -> " << base.string() << ".{xml,txt}";
+      written.push_back(line.str());
+    }
+  });
+  if (comm.getRank() == 0 && !args.quiet) {
+    std::cout << "export " << args.file << ": refined geometry (G+Smo XML, GeoPDEs v2.1)\n";
+    for (const auto& l : written) std::cout << l << "\n";
+  }
+  return 0;
+}
+
 int run(int argc, char** argv) {
   auto comm = Tpetra::getDefaultComm();
   const bool root = comm->getRank() == 0;
@@ -150,6 +196,7 @@ int run(int argc, char** argv) {
     }
     return 0;
   }
+  if (args.command == "export") return export_geometry(P, args, *comm);
   std::string dir = args.output;
   std::string dir_key = "--output";
   if (dir.empty()) { dir = P.output.directory; dir_key = "output.directory"; }

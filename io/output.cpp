@@ -87,6 +87,26 @@ nlohmann::json reactions_json(const System& sys, const Vector& residual) {
     }
     if (sides.is_null()) j.erase(body.name);
   }
+  // A named boundary of the geometry file whose sides are all held: its total as well, under
+  // its name (a control point shared by two sides is counted once: each constrained dof is
+  // reported under one side)
+  for (size_t b = 0; b < P.bodies.size(); ++b) {
+    const Body& body = P.bodies[b];
+    if (!j.contains(body.name)) continue;
+    nlohmann::json& sides = j[body.name];
+    for (const auto& [name, list] : body.named) {
+      if (sides.contains(name)) continue;
+      std::array<double, 2> sum{0.0, 0.0};
+      bool all = !list.empty();
+      for (const PatchSide& ps : list) {
+        const std::string label = body.side_label(ps.patch, ps.side);
+        if (!sides.contains(label)) { all = false; break; }
+        sum[0] += sides[label][0].get<double>();
+        sum[1] += sides[label][1].get<double>();
+      }
+      if (all) sides[name] = {sum[0], sum[1]};
+    }
+  }
   return j;
 }
 

@@ -12,9 +12,6 @@
 #include <Teuchos_StringInputSource.hpp>
 #include <Teuchos_XMLObject.hpp>
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
@@ -958,53 +955,66 @@ std::string gismo_xml_text(const std::vector<const MultiPatch*>& multipatches) {
   return os.str();
 }
 
-void write_gismo_xml(const std::string& path, const std::vector<const MultiPatch*>& multipatches) {
-  auto error = [&](const std::string& what) { throw std::runtime_error("cannot write " + path + ": " + what); };
-  std::string text;
-  try {
-    text = gismo_xml_text(multipatches);
-  } catch (const std::runtime_error& e) {
-    error(e.what());
-  }
-
-  // A temporary file beside the target, renamed over it once complete.
-  const size_t slash = path.find_last_of('/');
-  const std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
-  std::string tmp = path + ".tmpXXXXXX";
-  std::vector<char> name(tmp.begin(), tmp.end());
-  name.push_back('\0');
-  const int fd = mkstemp(name.data());
-  if (fd < 0) error("cannot create a temporary file in " + dir + " (" + std::strerror(errno) + ")");
-  tmp = name.data();
-  auto give_up = [&](const std::string& what) {
-    const std::string why = std::strerror(errno);
-    ::close(fd);
-    ::unlink(tmp.c_str());
-    error(what + " (" + why + ")");
+std::string geopdes_text(const MultiPatch& mp) {
+  auto error = [&](const std::string& what) { throw std::runtime_error("GeoPDEs text: " + what); };
+  if (mp.patches.empty()) error("the multipatch has no patches");
+  const int np = static_cast<int>(mp.patches.size());
+  auto check = [&](const PatchSide& s, const std::string& what) {
+    if (s.patch < 0 || s.patch >= np || static_cast<int>(s.side) < 0 || static_cast<int>(s.side) > 3)
+      error(what + " names patch " + std::to_string(s.patch) + " side " + std::to_string(static_cast<int>(s.side)) +
+            ", not one of the " + std::to_string(np) + " patches' sides");
   };
-  const char* p = text.data();
-  size_t left = text.size();
-  while (left > 0) {
-    const ssize_t n = ::write(fd, p, left);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      give_up("write failed");
+  auto ps = [](const PatchSide& s) { return std::to_string(s.patch + 1) + " " + std::to_string(number_of_side(s.side)); };
+  // Boundary blocks: each named group with the sides not already written (GeoPDEs gives a side
+  // one boundary), then the remaining outer sides as one unnamed block.
+  std::vector<std::pair<std::string, std::vector<PatchSide>>> blocks;
+  std::vector<PatchSide> done;
+  for (const auto& [name, sides] : mp.named) {
+    if (trim(name).empty() || name.find_first_of("\n\r") != std::string::npos) error("a named boundary has no usable name");
+    std::vector<PatchSide> left;
+    for (const PatchSide& s : sides) {
+      check(s, "boundary \"" + name + "\"");
+      if (std::find(done.begin(), done.end(), s) == done.end()) { left.push_back(s); done.push_back(s); }
     }
-    p += n;
-    left -= static_cast<size_t>(n);
+    if (!left.empty()) blocks.push_back({name, left});
   }
-  if (::fchmod(fd, 0644) != 0) give_up("cannot set the file mode");
-  if (::fsync(fd) != 0) give_up("fsync failed");
-  if (::close(fd) != 0) {
-    const std::string why = std::strerror(errno);
-    ::unlink(tmp.c_str());
-    error("close failed (" + why + ")");
+  std::vector<PatchSide> rest;
+  for (const PatchSide& s : mp.boundary) {
+    check(s, "the boundary");
+    if (std::find(done.begin(), done.end(), s) == done.end()) { rest.push_back(s); done.push_back(s); }
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const std::string why = std::strerror(errno);
-    ::unlink(tmp.c_str());
-    error("cannot rename the temporary file to it (" + why + ")");
+  if (!rest.empty()) blocks.push_back({"BOUNDARY " + std::to_string(blocks.size() + 1), rest});
+
+  std::ostringstream os;
+  os << "# nurbs mesh v.2.1\n"
+     << "# Written by igacontact: GeoPDEs multipatch text; coordinate rows are homogeneous (w x, w y)\n"
+     << "2 2 " << np << " " << mp.interfaces.size() << " 0\n";
+  for (int k = 0; k < np; ++k) {
+    const Patch& P = mp.patches[k];
+    const std::string bad = P.validate();
+    if (!bad.empty()) error("patch " + std::to_string(k) + ": " + bad);
+    os << "PATCH " << k + 1 << "\n" << P.degree[0] << " " << P.degree[1] << "\n"
+       << P.knots[0].size() - P.degree[0] - 1 << " " << P.knots[1].size() - P.degree[1] - 1 << "\n";
+    for (int d = 0; d < 2; ++d) {
+      for (size_t j = 0; j < P.knots[d].size(); ++j) os << (j ? " " : "") << fmt(P.knots[d][j]);
+      os << "\n";
+    }
+    for (int c = 0; c < 3; ++c) {   // w x, w y, then w
+      for (size_t a = 0; a < P.cp.size(); ++a) os << (a ? " " : "") << fmt(c < 2 ? P.cp[a][c] * P.cp[a][2] : P.cp[a][2]);
+      os << "\n";
+    }
   }
+  for (size_t i = 0; i < mp.interfaces.size(); ++i) {
+    const Interface& f = mp.interfaces[i];
+    check(f.a, "an interface");
+    check(f.b, "an interface");
+    os << "INTERFACE " << i + 1 << "\n" << ps(f.a) << "\n" << ps(f.b) << "\n" << (f.reversed ? -1 : 1) << "\n";
+  }
+  for (const auto& [name, sides] : blocks) {
+    os << name << "\n" << sides.size() << "\n";
+    for (const PatchSide& s : sides) os << ps(s) << "\n";
+  }
+  return os.str();
 }
 
 }  // namespace iga

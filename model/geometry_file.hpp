@@ -1,6 +1,6 @@
 #pragma once
 // Geometry files IGA users already have: the G+Smo XML format (read and written) and the
-// GeoPDEs multipatch text format v2.1 (read). See docs/geometry-files.md.
+// GeoPDEs multipatch text format v2.1 (read and written). See docs/geometry-files.md.
 #include <string>
 #include <vector>
 
@@ -15,12 +15,16 @@ MultiPatch read_geometry_file(const std::string& path);
 MultiPatch read_gismo_xml(const std::string& path);
 MultiPatch read_geopdes(const std::string& path);
 
-/// Writes multipatches into one G+Smo XML file: their patches as consecutive <Geometry>
+/// Multipatches as one G+Smo XML file's text: their patches as consecutive <Geometry>
 /// elements (TensorNurbs2, or TensorBSpline2 where every weight is 1) and one <MultiPatch>
 /// per entry with its interfaces and boundary, in that order; read_gismo_xml reads the first
-/// back. Throws std::runtime_error naming the file if it cannot be written.
-void write_gismo_xml(const std::string& path, const std::vector<const MultiPatch*>& multipatches);
-/// The same file's text (std::runtime_error on a multipatch it cannot write).
+/// back. Throws std::runtime_error on a multipatch it cannot write. (Files are written by
+/// io/files.hpp's write_file_atomic: `igacontact export` and every run's geometry_<body>.xml.)
 std::string gismo_xml_text(const std::vector<const MultiPatch*>& multipatches);
+/// One multipatch as GeoPDEs v2.1 text (homogeneous coordinate rows, 1-based patches, sides
+/// 1..4; interfaces with orientation 1 or -1; each boundary side once, under its first named
+/// group, the rest as one block); read_geopdes reads it back (std::runtime_error if it cannot
+/// be written).
+std::string geopdes_text(const MultiPatch& mp);
 
 }  // namespace iga

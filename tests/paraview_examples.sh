@@ -23,6 +23,7 @@ run wheel_last 1 "$ex/wheel.yaml" --set output.steps=last
 run sliding 2 "$ex/sliding_block.yaml"
 run cook 2 "$ex/cooks_membrane.yaml"   # finite deformation, no contact pair
 run whole_wheel 2 "$ex/whole_wheel.yaml"   # multi-patch bodies (one grid per patch) from a G+Smo file
+run punch 2 "$ex/plate_with_hole_punch.yaml"   # two geometry files, named boundaries as conditions and contact side
 /usr/bin/python3 - "$tmp" <<'PY' || fail=1
 import json, sys
 d = sys.argv[1]
@@ -33,6 +34,21 @@ assert len(a["history"]) == len(a["newton_iterations"]), "one history entry per 
 last = json.load(open(f"{d}/wheel_last/summary.json"))
 assert sorted(f for f in last["files"] if f.endswith(".vtu")) == ["result_%04d.vtu" % len(a["newton_iterations"])], last["files"]
 print("1 vs 2 ranks: max_displacement agrees to %.1e" % rel)
+# the whole wheel: the hub's reaction under its named boundary "inner" is the sum over its
+# four patch sides and balances the block's base (equilibrium, on 2 ranks)
+w = json.load(open(f"{d}/whole_wheel/summary.json"))["reactions"]
+inner = w["wheel"]["inner"]
+parts = [w["wheel"]["patch%d.south" % k] for k in range(4)]
+for c in range(2):
+    assert abs(inner[c] - sum(p[c] for p in parts)) <= 1e-12 * abs(inner[1]), (inner, parts)
+    assert abs(inner[c] + w["block"]["south"][c]) <= 1e-8 * abs(inner[1]), (inner, w["block"]["south"])
+print("whole wheel: hub reaction", inner, "balances the base")
+# plate with a hole and a punch: the punch's top (named boundary "top"), the contact force and
+# the plate's symmetry line y = 0 (named "bottom") carry the same vertical force
+p = json.load(open(f"{d}/punch/summary.json"))
+top, bottom, fc = p["reactions"]["punch"]["top"][1], p["reactions"]["plate"]["bottom"][1], p["contact"][0]["force"][1]
+assert abs(top + bottom) <= 1e-8 * bottom and abs(fc - bottom) <= 1e-6 * bottom, (top, bottom, fc)
+print("plate and punch: base reaction %.6f = punch force %.6f = contact force %.6f" % (bottom, -top, fc))
 PY
 [ $fail = 0 ] && echo "ParaView checks of the examples passed"
 exit $fail

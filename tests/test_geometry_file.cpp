@@ -10,6 +10,7 @@
 #include <set>
 #include <sstream>
 
+#include "io/files.hpp"
 #include "model/geometry_file.hpp"
 
 using namespace iga;
@@ -26,6 +27,11 @@ std::string read_text(const std::string& path) {
   std::stringstream ss;
   ss << in.rdbuf();
   return ss.str();
+}
+
+// A G+Smo file as igacontact writes one (a run's geometry_<body>.xml, `igacontact export`).
+void write_gismo_xml(const std::string& path, const std::vector<const MultiPatch*>& multipatches) {
+  write_file_atomic(path, gismo_xml_text(multipatches));
 }
 
 // A fresh folder for files the test writes, removed afterwards.
@@ -308,6 +314,56 @@ TEST(GeometryFile, WriteThenReadGivesIdenticalPatchesAndTopology) {
   // No temporary file is left beside the output.
   for (const auto& e : fs::directory_iterator(dir.path))
     EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
+}
+
+TEST(GeometryFile, GeoPdesWriteThenReadGivesIdenticalPatchesAndTopology) {
+  const Scratch dir("geopdes");
+  for (const std::string& in : {kExamples + "/ring4.xml", kExamples + "/plate_with_hole.xml",
+                                kFiles + "/two_patches_reversed.xml", kFiles + "/gismo/square_with_disk.xml"}) {
+    const MultiPatch a = read_geometry_file(in);
+    const std::string out = (dir / "out.txt").string();
+    write_file_atomic(out, geopdes_text(a));
+    const MultiPatch b = read_geopdes(out);
+    // Homogeneous rows (w x, w y) divided back by w: equal to a rounding of x.
+    expect_same_patches(a, b, 1e-15, in);
+    // Interfaces as they were; the same boundary sides (GeoPDEs lists them by group); each
+    // named group with its sides, and the unnamed rest as one more group "boundary<n>".
+    ASSERT_EQ(a.interfaces.size(), b.interfaces.size()) << in;
+    for (size_t k = 0; k < a.interfaces.size(); ++k) {
+      EXPECT_TRUE(a.interfaces[k].a == b.interfaces[k].a && a.interfaces[k].b == b.interfaces[k].b) << in;
+      EXPECT_EQ(a.interfaces[k].reversed, b.interfaces[k].reversed) << in;
+    }
+    auto key = [](const PatchSide& x) { return 4 * x.patch + static_cast<int>(x.side); };
+    std::set<int> sa, sb, named;
+    for (const PatchSide& x : a.boundary) sa.insert(key(x));
+    for (const PatchSide& x : b.boundary) sb.insert(key(x));
+    EXPECT_EQ(sa, sb) << in;
+    for (size_t k = 0; k < a.named.size(); ++k) {
+      ASSERT_LT(k, b.named.size()) << in;
+      EXPECT_EQ(b.named[k].first, a.named[k].first) << in;
+      EXPECT_TRUE(b.named[k].second == a.named[k].second) << in << " " << a.named[k].first;
+      for (const PatchSide& x : a.named[k].second) named.insert(key(x));
+    }
+    EXPECT_EQ(b.named.size(), a.named.size() + (named.size() < sa.size() ? 1 : 0)) << in;
+    // Written again from what was read and read back: the same patches exactly.
+    write_file_atomic((dir / "again.txt").string(), geopdes_text(b));
+    expect_same_patches(b, read_geopdes((dir / "again.txt").string()), 1e-15, in);
+  }
+  // The example files' GeoPDEs text equals the one make_geometry.py wrote, up to its header.
+  const MultiPatch ring = read_geometry_file(kExamples + "/ring4.txt");
+  EXPECT_EQ(read_geopdes(kExamples + "/ring4.txt").patches.size(), 4u);
+  const MultiPatch back = [&] {
+    write_file_atomic((dir / "ring.txt").string(), geopdes_text(ring));
+    return read_geopdes((dir / "ring.txt").string());
+  }();
+  expect_same_patches(ring, back, 1e-15, "ring4.txt");
+  // Refused: an invalid patch, a side out of range.
+  MultiPatch broken = ring;
+  broken.patches[2].cp.pop_back();
+  EXPECT_THROW(geopdes_text(broken), std::runtime_error);
+  MultiPatch odd = ring;
+  odd.interfaces.push_back({{7, Side::West}, {0, Side::East}, false});
+  EXPECT_THROW(geopdes_text(odd), std::runtime_error);
 }
 
 TEST(GeometryFile, WriterKeepsSidesInSeveralGroupsAndNamedSidesOffTheBoundaryList) {

@@ -16,6 +16,8 @@ Control points are listed with the first parametric index (xi) running fastest. 
   wheel4_joint   the same wheel with patches from 0, 90, 180, 270 degrees: (0, 0) is the
                  corner where patch 2 ends and patch 3 begins
   plate_with_hole  [0, 4]^2 minus the quarter disc r < 1, two patches split along the diagonal
+  punch          half of a flat punch with rounded edges (radius 0.5), one patch: face, top,
+                 axis and side named
 
 Each annulus patch: degree [2, 1], xi counter-clockwise along the arc, eta from the inner to
 the outer circle (south side inner, north side outer; named boundaries "inner", "outer").
@@ -86,6 +88,21 @@ def plate_with_hole(R=1.0, L=4.0):
     named = [("hole", [(0, 1), (1, 1)]), ("bottom", [(0, 3)]), ("right", [(0, 2)]),
              ("top", [(1, 2)]), ("left", [(1, 4)])]
     return patches, interfaces, named
+
+
+def rounded_punch(b=1.5, r=0.5, y0=4.0, h=1.0):
+    """Half of a flat punch with rounded edges, one degree [2, 1] patch: the face (south side)
+    runs flat from (0, y0) to (b - r, y0) and then round the exact quarter circle of radius r
+    up to (b, y0 + r); the top (north side) is the straight line y = y0 + h. xi along the face,
+    a double knot where the flat part meets the arc (the face stays tangent-continuous), knot
+    placed so that the parameter runs at nearly even speed; eta from the face to the top."""
+    a = (b - r) / (b - r + math.pi * r / 2)
+    face = [(0.0, y0, 1.0), ((b - r) / 2, y0, 1.0), (b - r, y0, 1.0), (b, y0, S), (b, y0 + r, 1.0)]
+    top = [(0.0, y0 + h), ((b - r) / 2, y0 + h), (b - r, y0 + h), (b - r / 2, y0 + h), (b, y0 + h)]
+    cp = [f for f in face] + [(t[0], t[1], f[2]) for t, f in zip(top, face)]
+    P = Patch([2, 1], [[0.0, 0.0, 0.0, a, a, 1.0, 1.0, 1.0], [0.0, 0.0, 1.0, 1.0]], cp)
+    named = [("face", [(0, 3)]), ("top", [(0, 4)]), ("axis", [(0, 1)]), ("side", [(0, 2)])]
+    return [P], [], named
 
 
 def num(v):
@@ -183,6 +200,8 @@ def main():
                          annulus4((0.0, 10.0), 5.0, 10.0, [0, 90, 180, 270])),
         "plate_with_hole": ("Plate with a hole: [0, 4]^2 minus the quarter disc r < 1, two patches "
                             "split along the diagonal", plate_with_hole()),
+        "punch": ("Half of a flat punch of half width 1.5 with edges rounded to radius 0.5, face on y = 4, "
+                  "top on y = 5", rounded_punch()),
     }
     for name, (title, (patches, interfaces, named)) in cases.items():
         write_xml(os.path.join(folder, name + ".xml"), title, patches, interfaces, named)
