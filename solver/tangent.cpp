@@ -57,6 +57,15 @@ void TangentBuilder::rebuild(const RCP<Matrix>& K_c) {
   };
   size_t nnz = A.nnz();
   for (const auto& rc : extra) nnz += in_A(rc.first, rc.second) ? 0 : 1;
+  // Nothing new on any rank (no contact, or contact inside K_el's pattern): K_T shares K_el's
+  // graph and takes its values by one copy (no graph build, no fillComplete of a new graph).
+  int grows = nnz > A.nnz() ? 1 : 0, any_grows = 0;
+  Teuchos::reduceAll(*K_->getComm(), Teuchos::REDUCE_MAX, 1, &grows, &any_grows);
+  if (!any_grows) {
+    KT_ = rcp(new Matrix(K_->getCrsGraph()));
+    map_ = Kokkos::View<size_t*, MemSpace>();
+    return;
+  }
   // row-wise merge; map(k) = position in K_T of K_el's entry k
   using local_graph = Graph::local_graph_device_type;
   typename local_graph::row_map_type::non_const_type ptr(Kokkos::view_alloc(Kokkos::WithoutInitializing, "tangent_rowptr"), n + 1);
@@ -129,6 +138,10 @@ bool TangentBuilder::sum_into(const Matrix& K_c) {
 void TangentBuilder::fill_values() {
   auto a = K_->getLocalMatrixDevice().values;
   auto b = KT_->getLocalMatrixDevice().values;
+  if (map_.extent(0) == 0) {   // K_T on K_el's graph: the same entries
+    Kokkos::deep_copy(b, a);
+    return;
+  }
   auto map = map_;
   Kokkos::deep_copy(b, 0.0);
   Kokkos::parallel_for("iga::TangentCopy", Kokkos::RangePolicy<ExecSpace>(0, a.extent(0)),
