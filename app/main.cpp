@@ -1,4 +1,6 @@
-// igacontact: isogeometric analysis of elastostatic contact between NURBS bodies.
+// igacontact-solver: isogeometric analysis of elastostatic contact between NURBS bodies. Users
+// run it as `igacontact` (app/launcher.cpp), which answers --help and --version itself and
+// replaces itself by this program for everything else; run directly it does the same.
 //   igacontact run FILE [--output DIR] [--set KEY=VALUE ...] [--quiet]   (short: igacontact FILE ...)
 //   igacontact check FILE [--set KEY=VALUE ...]
 //   igacontact export FILE [--output DIR] [--set KEY=VALUE ...]
@@ -25,6 +27,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "app/startup.hpp"
 #include "io/files.hpp"
 #include "io/output.hpp"
 #include "model/geometry_file.hpp"
@@ -33,23 +36,7 @@
 
 namespace {
 
-const char* kUsage =
-    "usage: igacontact run FILE [--output DIR] [--set KEY=VALUE ...] [--quiet]\n"
-    "       igacontact FILE [...]            (short for run)\n"
-    "       igacontact check FILE [--set KEY=VALUE ...]\n"
-    "       igacontact export FILE [--output DIR] [--set KEY=VALUE ...]\n"
-    "       igacontact --help | --version | --kokkos-help\n"
-    "\n"
-    "Solves the elastostatic contact problem of a YAML problem file (docs/problem-file.md) and\n"
-    "writes into the output directory (default out/<file stem>): result.xdmf (open it in ParaView:\n"
-    "sampled fields, control nets, contact points, every load step), result.pvd (the exact\n"
-    "geometry as rational Bezier cells), result.h5, summary.json and contact_<n>.csv. --set overrides a problem-file key by its dotted path,\n"
-    "e.g. --set contact.0.penalty=1e7 --set bodies.0.refine.subdivide=[16,8].\n"
-    "export writes each body's refined geometry, as the run would use it, without solving:\n"
-    "<body>.xml (G+Smo XML) and <body>.txt (GeoPDEs v2.1) in DIR (default out/<file stem>/geometry).\n"
-    "Kokkos' own options (threads, devices): --kokkos-help.\n"
-    "Exit codes: 0 converged, 2 bad input, 3 not converged (last converged load step kept),\n"
-    "4 output could not be written.\n";
+using iga::app::kUsage;
 
 struct Args {
   std::string command = "run", file, output;
@@ -171,9 +158,16 @@ int export_geometry(const iga::Problem& P, const Args& args, const iga::Comm& co
   return 0;
 }
 
+// When the process started: the launcher's time (IGACONTACT_START_NS, app/launcher.cpp), or
+// main's entry when the solver is run directly.
+std::int64_t g_start_ns = 0;
+
 int run(int argc, char** argv) {
   auto comm = Tpetra::getDefaultComm();
   const bool root = comm->getRank() == 0;
+  // start-up: exec, loading the shared libraries, MPI and Kokkos (the slowest rank's)
+  double startup = 1e-9 * static_cast<double>(iga::app::now_ns() - g_start_ns), startup_max = 0;
+  Teuchos::reduceAll(*comm, Teuchos::REDUCE_MAX, 1, &startup, &startup_max);
   Args args;
   try {
     args = parse_args(argc, argv);
@@ -258,6 +252,7 @@ int run(int argc, char** argv) {
   for (const auto& kv : stats)
     if (!kv.first.empty() && std::isdigit(static_cast<unsigned char>(kv.first[0])))  // our numbered stages
       timings[kv.first] = kv.second[imax].first;
+  timings["0) Start-up: exec, libraries, MPI"] = startup_max;
   summary["timings"] = timings;
   // peak resident memory, the largest rank's and the sum over ranks (bytes per dof below)
   struct rusage ru;
@@ -293,37 +288,18 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-// Transparent huge pages for the large arrays (matrix values and indices, Krylov vectors,
-// MueLu's levels). Where the kernel grants them only on request (transparent_hugepage/enabled
-// is "madvise", Debian's default), glibc's malloc asks for them when started with the
-// tunable glibc.malloc.hugetlb=1 (glibc >= 2.35; older ones ignore it): the program sets it
-// and re-executes itself, before MPI starts. First-touch page faults of 4 KiB pages were
-// half of the assembly and tangent stages at 6.6e5 dofs on our 2-core VM
-// (docs/performance.md). IGACONTACT_HUGEPAGES=0 turns this off.
-void request_huge_pages(char** argv) {
-  const char* off = std::getenv("IGACONTACT_HUGEPAGES");
-  if (off && std::strcmp(off, "0") == 0) return;
-  const char* tun = std::getenv("GLIBC_TUNABLES");
-  if (tun && std::strstr(tun, "glibc.malloc.hugetlb")) return;   // set already (or by us)
-  std::ifstream thp("/sys/kernel/mm/transparent_hugepage/enabled");
-  std::string mode;
-  std::getline(thp, mode);
-  if (mode.find("[madvise]") == std::string::npos) return;   // "always": no need; "never": no use
-  std::string value = tun && *tun ? std::string(tun) + ":" : std::string();
-  value += "glibc.malloc.hugetlb=1";
-  if (setenv("GLIBC_TUNABLES", value.c_str(), 1) != 0) return;
-  execv("/proc/self/exe", argv);   // returns only on failure: run on without
-}
-
 int main(int argc, char** argv) {
+  // started by the launcher (app/launcher.cpp): its start time; run directly: now
+  const char* start = std::getenv(iga::app::kStartVariable);
+  g_start_ns = start && *start ? std::atoll(start) : iga::app::now_ns();
+  if (!(start && *start)) setenv(iga::app::kStartVariable, std::to_string(g_start_ns).c_str(), 1);
   // --help and --version answer before anything starts (no MPI, no Kokkos, whose own
   // option banner would come first; Kokkos' options stay reachable with --kokkos-help).
-  for (int i = 1; i < argc; ++i) {
-    const std::string s = argv[i];
-    if (s == "--help" || s == "-h") { std::cout << kUsage; return 0; }
-    if (s == "--version") { std::cout << "igacontact " << IGACONTACT_VERSION << "\n"; return 0; }
-  }
-  request_huge_pages(argv);
+  // The launcher answers them without even loading this binary.
+  if (iga::app::answer_help_or_version(argc, argv, IGACONTACT_VERSION)) return 0;
+  // run directly (not through the launcher, which sets it): the huge-page tunable is read at
+  // process start, so set it and re-execute (returns only on failure: run on without)
+  if (iga::app::set_huge_pages_tunable()) execv("/proc/self/exe", argv);
   // A file-size limit (ulimit -f) makes write(2) fail with EFBIG, reported like a full disk,
   // instead of killing the process with SIGXFSZ.
   std::signal(SIGXFSZ, SIG_IGN);
