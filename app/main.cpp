@@ -215,6 +215,16 @@ int run(int argc, char** argv) {
     Teuchos::TimeMonitor t(*Teuchos::TimeMonitor::getNewTimer("1) Set-up: maps and patches"));
     sys = Teuchos::rcp(new iga::System(P, comm));
   }
+  // the element rule (solver.quadrature): what each patch got, against Gauss
+  long long qp = 0, qp_gauss = 0;
+  for (const iga::PatchBlock& bd : sys->blocks()) {
+    const long long g = 1LL * bd.pd.ne[0] * (bd.pd.p[0] + 1) * bd.pd.ne[1] * (bd.pd.p[1] + 1);
+    qp += bd.quadrature_points;
+    qp_gauss += g;
+    if (root && !args.quiet && P.quadrature == iga::Quadrature::Spline)
+      std::cout << "  quadrature " << P.bodies[bd.body].name << (P.bodies[bd.body].multipatch() ? ".patch" + std::to_string(bd.patch) : "")
+                << ": " << bd.quadrature << ", " << bd.quadrature_points << " points (Gauss: " << g << ")\n";
+  }
   // Fault injection for the test of what one failing rank does to the others
   // (tests/cli_reliability.sh): IGACONTACT_TEST_FAULT=<rank> throws there after set-up.
   if (const char* f = std::getenv("IGACONTACT_TEST_FAULT"))
@@ -253,6 +263,8 @@ int run(int argc, char** argv) {
     if (!kv.first.empty() && std::isdigit(static_cast<unsigned char>(kv.first[0])))  // our numbered stages
       timings[kv.first] = kv.second[imax].first;
   timings["0) Start-up: exec, libraries, MPI"] = startup_max;
+  summary["quadrature"] = {{"rule", P.quadrature == iga::Quadrature::Spline ? "spline" : "gauss"},
+                           {"points", qp}, {"gauss_points", qp_gauss}};
   summary["timings"] = timings;
   // peak resident memory, the largest rank's and the sum over ranks (bytes per dof below)
   struct rusage ru;

@@ -1,7 +1,7 @@
 // Kernel microbenchmarks (Google Benchmark). Each reports a rate next to its time, from the
 // flop and byte counts stated here and in the kernels' headers:
 //   BM_Basis<P>             points/s, GB/s            kernels/basis.hpp
-//   BM_ElementStiffness<P>  quadrature points/s, GFLOP/s   kernels/elasticity.hpp
+//   BM_ElementStiffness<P>/spline:r  quadrature points/s, elements/s, GFLOP/s (r = 0 Gauss, 1 the spline rule)
 //   BM_FiniteStrain<P>/m   the same for the finite-strain residual + tangent at a deformed state
 //                           (m = 1 Saint Venant-Kirchhoff, 2 neo-Hookean; element_internal)
 //   BM_Scatter<P>           nonzeros/s (element matrices summed into the Tpetra local matrix)
@@ -25,8 +25,9 @@ using namespace iga;
 namespace {
 
 // A square block of n x n elements of degree P (distorted geometry is irrelevant for cost).
-Problem block_problem(int P, int n) {
+Problem block_problem(int P, int n, const std::string& quadrature = "gauss") {
   std::ostringstream os;
+  os << "solver: {quadrature: " << quadrature << "}\n";
   os << "bodies:\n  - name: b\n    material: {youngs_modulus: 1.0, poisson_ratio: 0.3}\n"
      << "    geometry: {rectangle: {origin: [0, 0], size: [1, 1]}}\n"
      << "    refine: {degree_elevate: " << P - 1 << ", subdivide: [" << n << ", " << n << "]}\n"
@@ -50,9 +51,11 @@ void BM_Basis(benchmark::State& st) {
   st.counters["GB/s"] = benchmark::Counter(pts * EvaluateBasis<P>::bytes_per_point() * 1e-9, benchmark::Counter::kIsRate);
 }
 
+// range(0): 0 Gauss, p + 1 points per element and direction; 1 the spline rule
+// (solver.quadrature: spline), about (p + 2) / 2. elements/s compares the two.
 template <int P>
 void BM_ElementStiffness(benchmark::State& st) {
-  const Problem prob = block_problem(P, elements_for(P));
+  const Problem prob = block_problem(P, elements_for(P), st.range(0) ? "spline" : "gauss");
   System sys(prob, Tpetra::getDefaultComm());
   const PatchData pd = sys.blocks()[0].pd;
   const Material mat = sys.material(0);
@@ -70,11 +73,12 @@ void BM_ElementStiffness(benchmark::State& st) {
     Kokkos::fence();
   }
   constexpr double nen = (P + 1) * (P + 1);
-  const double qp = static_cast<double>(ne) * (P + 1) * (P + 1) * st.iterations();
+  const double qp = static_cast<double>(sys.blocks()[0].quadrature_points) * st.iterations();
   // basis + Jacobian ~ 25 nen + 9 P + 30 (kernels/elasticity.hpp), stiffness 13 flops per 2x2
   // block for nen (nen + 1) / 2 blocks
   const double flops = 25 * nen + 9 * P + 30 + 6.5 * nen * (nen + 1);
   st.counters["qp/s"] = benchmark::Counter(qp, benchmark::Counter::kIsRate);
+  st.counters["elements/s"] = benchmark::Counter(static_cast<double>(ne) * st.iterations(), benchmark::Counter::kIsRate);
   st.counters["GFLOP/s"] = benchmark::Counter(qp * flops * 1e-9, benchmark::Counter::kIsRate);
 }
 
@@ -219,10 +223,11 @@ BENCHMARK_TEMPLATE(BM_Basis, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_TEMPLATE(BM_Basis, 2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_TEMPLATE(BM_Basis, 3)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_TEMPLATE(BM_Basis, 4)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_TEMPLATE(BM_ElementStiffness, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_TEMPLATE(BM_ElementStiffness, 2)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_TEMPLATE(BM_ElementStiffness, 3)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_TEMPLATE(BM_ElementStiffness, 4)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_ElementStiffness, 1)->ArgName("spline")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_ElementStiffness, 2)->ArgName("spline")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_ElementStiffness, 3)->ArgName("spline")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_ElementStiffness, 4)->ArgName("spline")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_ElementStiffness, 5)->ArgName("spline")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_TEMPLATE(BM_FiniteStrain, 1)->ArgName("model")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_TEMPLATE(BM_FiniteStrain, 2)->ArgName("model")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_TEMPLATE(BM_FiniteStrain, 3)->ArgName("model")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();

@@ -14,7 +14,9 @@
 // Data layout (PatchData): knots U0[n0 + p0 + 1], U1[n1 + p1 + 1]; cp[n0 n1][3] = (x, y, w);
 // elements numbered e = e0 + ne0 e1 with spans span0[e0], span1[e1]. Displacements u[2 L + c]
 // in the overlap numbering L = lid(a); the force is summed atomically into f[2 L + c].
-// Per element: nen = (p0+1)(p1+1) functions, nq = (p0+1)(p1+1) Gauss points (tensor rule).
+// Per element: nen = (p0+1)(p1+1) functions, nq = n0 n1 points of a tensor rule: Gauss,
+// (p0+1)(p1+1), or the patch's spline rule (solver.quadrature: spline, model/quadrature.hpp),
+// about (p0+2)(p1+2)/4 on smooth patches; PatchData qx/qw/qoff hold it, element_rule_1d reads it.
 //
 // Cost per quadrature point, stated for the benchmarks (P = p0 = p1, nen = (P+1)^2):
 //   basis     : 1-D B-spline derivatives once per element and direction at the P + 1 Gauss
@@ -44,15 +46,17 @@ KOKKOS_INLINE_FUNCTION bool element_internal(const PatchData& pd, const Material
                                              double Ke[2 * (P + 1) * (P + 1)][2 * (P + 1) * (P + 1)]) {
   constexpr int MaxNen = (P + 1) * (P + 1);
   const int nen = pd.nen();
-  const int s0 = pd.span0(e % pd.ne[0]), s1 = pd.span1(e / pd.ne[0]);
-  const double ua = pd.U0(s0), ub = pd.U0(s0 + 1), va = pd.U1(s1), vb = pd.U1(s1 + 1);
-  const double hu = 0.5 * (ub - ua), hv = 0.5 * (vb - va);
-  // per element: 1-D B-spline values and derivatives at the Gauss abscissae of each direction
-  // (tensor product: (p0 + 1) + (p1 + 1) 1-D evaluations instead of 2 per quadrature point)
-  // and the homogeneous control points
+  const int e0 = e % pd.ne[0], e1 = e / pd.ne[0];
+  const int s0 = pd.span0(e0), s1 = pd.span1(e1);
+  // the element's rule: a tensor product of 1-D rules (Gauss, or the patch's spline rule)
+  double x0[kMaxGauss], w0[kMaxGauss], x1[kMaxGauss], w1[kMaxGauss];
+  const int n0 = element_rule_1d(pd, 0, e0, s0, g0, x0, w0), n1 = element_rule_1d(pd, 1, e1, s1, g1, x1, w1);
+  // per element: 1-D B-spline values and derivatives at the abscissae of each direction
+  // (tensor product: n0 + n1 1-D evaluations instead of 2 per quadrature point) and the
+  // homogeneous control points
   double Nq[kMaxGauss][3][kMaxBasis1D], Mq[kMaxGauss][3][kMaxBasis1D], cw[MaxNen][3];
-  for (int q = 0; q < g0.n; ++q) bspline_ders(s0, ua + hu * (g0.x[q] + 1.0), pd.p[0], pd.U0.data(), 1, Nq[q]);
-  for (int q = 0; q < g1.n; ++q) bspline_ders(s1, va + hv * (g1.x[q] + 1.0), pd.p[1], pd.U1.data(), 1, Mq[q]);
+  for (int q = 0; q < n0; ++q) bspline_ders(s0, x0[q], pd.p[0], pd.U0.data(), 1, Nq[q]);
+  for (int q = 0; q < n1; ++q) bspline_ders(s1, x1[q], pd.p[1], pd.U1.data(), 1, Mq[q]);
   element_homogeneous_cp<P>(pd, s0, s1, cw);
   if (Force)
     for (int i = 0; i < 2 * nen; ++i) fe[i] = 0.0;
@@ -63,10 +67,10 @@ KOKKOS_INLINE_FUNCTION bool element_internal(const PatchData& pd, const Material
   const bool grad = ue != nullptr && (Force || !mat.constant_tangent());
   bool ok = true;
   double R[MaxNen], dR[MaxNen][2], x[2];
-  for (int qj = 0; qj < g1.n; ++qj)
-    for (int qi = 0; qi < g0.n; ++qi) {
+  for (int qj = 0; qj < n1; ++qj)
+    for (int qi = 0; qi < n0; ++qi) {
       const double det = nurbs_grad_1d<P>(pd.p[0], pd.p[1], Nq[qi], Mq[qj], cw, R, dR, x);
-      const double wq = kmath::fabs(det) * g0.w[qi] * g1.w[qj] * hu * hv;
+      const double wq = kmath::fabs(det) * w0[qi] * w1[qj];
       double H[2][2] = {{0, 0}, {0, 0}};
       if (grad)
         for (int a = 0; a < nen; ++a)

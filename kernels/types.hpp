@@ -24,6 +24,12 @@ struct PatchDataT {
   Kokkos::View<const double* [3], Mem> cp;       // reference x, y and weight
   Kokkos::View<const int*, Mem> span0, span1;    // non-empty knot spans
   Kokkos::View<const int*, Mem> lid;             // cp index -> overlap cp LID (-1: not here)
+  // The element rule of each direction (solver.quadrature: spline, model/quadrature.hpp):
+  // element row k of direction d has the nodes qx_d[qoff_d[k] .. qoff_d[k + 1]) in the
+  // parameter and weights qw_d (the span's length included). Empty: the Gauss rule the
+  // kernel is given, p + 1 points per element.
+  Kokkos::View<const double*, Mem> qx0, qw0, qx1, qw1;
+  Kokkos::View<const int*, Mem> qoff0, qoff1;
   KOKKOS_INLINE_FUNCTION int nen() const { return (p[0] + 1) * (p[1] + 1); }
 };
 using PatchData = PatchDataT<MemSpace>;
@@ -36,6 +42,32 @@ struct GaussRule {
   double x[kMaxGauss] = {}, w[kMaxGauss] = {};
 };
 GaussRule gauss_rule(int n);
+
+/// The 1-D rule of element row k (span s) in direction d: the patch's own rule where it has
+/// one (PatchData qx/qw/qoff), else Gauss rule g mapped onto the span. Nodes x in the
+/// parameter, weights w including the span's length; returns their number.
+template <class PD>
+KOKKOS_INLINE_FUNCTION int element_rule_1d(const PD& pd, int d, int k, int s, const GaussRule& g,
+                                           double x[kMaxGauss], double w[kMaxGauss]) {
+  const auto& off = d == 0 ? pd.qoff0 : pd.qoff1;
+  if (off.extent(0) > 0) {
+    const auto& qx = d == 0 ? pd.qx0 : pd.qx1;
+    const auto& qw = d == 0 ? pd.qw0 : pd.qw1;
+    const int o = off(k), n = off(k + 1) - o;
+    for (int q = 0; q < n; ++q) {
+      x[q] = qx(o + q);
+      w[q] = qw(o + q);
+    }
+    return n;
+  }
+  const double* U = d == 0 ? pd.U0.data() : pd.U1.data();
+  const double a = U[s], h = 0.5 * (U[s + 1] - U[s]);
+  for (int q = 0; q < g.n; ++q) {
+    x[q] = a + h * (g.x[q] + 1.0);
+    w[q] = h * g.w[q];
+  }
+  return g.n;
+}
 
 /// The material of a body as the kernels see it (kernels/material.hpp evaluates it).
 /// model kLinear: small strain, sigma = D eps with D the plane elasticity matrix (Voigt,

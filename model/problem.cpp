@@ -989,7 +989,13 @@ Problem build(Reader& R, const YAML::Node& root) {
 
   if (root["solver"]) {
     const YAML::Node s = root["solver"];
-    R.keys(s, "solver", {"newton", "linear"});
+    R.keys(s, "solver", {"newton", "linear", "quadrature"});
+    if (s["quadrature"]) {
+      const std::string q = R.string(s["quadrature"], "solver.quadrature");
+      if (q == "gauss") P.quadrature = Quadrature::Gauss;
+      else if (q == "spline") P.quadrature = Quadrature::Spline;
+      else R.fail("solver.quadrature", s["quadrature"], "expected gauss or spline");
+    }
     if (s["newton"]) {
       const YAML::Node n = s["newton"];
       R.keys(n, "solver.newton", {"max_iterations", "tolerance", "line_search", "max_cuts"});

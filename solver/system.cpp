@@ -1,5 +1,7 @@
 #include "solver/system.hpp"
 
+#include "model/quadrature.hpp"
+
 #include <Teuchos_TimeMonitor.hpp>
 #include <Tpetra_Details_makeColMap.hpp>
 
@@ -50,6 +52,31 @@ PatchData make_patch_data(const Patch& P) {
   return pd;
 }
 
+// The element rule of the patch (solver.quadrature): Gauss leaves PatchData's rule empty
+// (the kernels map the Gauss rule onto each span); spline puts each direction's generalised
+// Gaussian rule there, or keeps Gauss in a direction where it cannot be built.
+void set_quadrature(PatchBlock& bd, const Patch& pt, Quadrature q) {
+  int nodes[2];
+  std::string what[2];
+  for (int d = 0; d < 2; ++d) {
+    nodes[d] = static_cast<int>(pt.element_spans(d).size()) * (pt.degree[d] + 1);
+    what[d] = "gauss";
+    if (q != Quadrature::Spline) continue;
+    const SplineRule r = spline_gauss_rule(pt.knots[d], pt.degree[d]);
+    if (!r.failure.empty()) {
+      what[d] = "gauss (the spline rule: " + r.failure + ")";
+      continue;
+    }
+    what[d] = "spline";
+    nodes[d] = static_cast<int>(r.x.size());
+    (d == 0 ? bd.pd.qx0 : bd.pd.qx1) = to_device(d == 0 ? "qx0" : "qx1", r.x);
+    (d == 0 ? bd.pd.qw0 : bd.pd.qw1) = to_device(d == 0 ? "qw0" : "qw1", r.w);
+    (d == 0 ? bd.pd.qoff0 : bd.pd.qoff1) = to_device(d == 0 ? "qoff0" : "qoff1", r.off);
+  }
+  bd.quadrature_points = nodes[0] * nodes[1];
+  bd.quadrature = what[0] == what[1] ? what[0] : what[0] + " x " + what[1];
+}
+
 }  // namespace
 
 Material body_material(const Problem& P, int b, double thickness) {
@@ -72,6 +99,7 @@ System::System(const Problem& problem, RCP<const Comm> comm) : P_(problem), comm
       const Patch& pt = body.patches[k];
       PatchBlock bd;
       bd.pd = make_patch_data(pt);
+      set_quadrature(bd, pt, P_.quadrature);
       bd.body = static_cast<int>(b);
       bd.patch = static_cast<int>(k);
       bd.orientation = pt.orientation();

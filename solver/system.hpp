@@ -29,6 +29,8 @@ struct PatchBlock {
   int orientation = 1;
   Material mat;
   std::vector<int> lid;   // host copy of pd.lid
+  int quadrature_points = 0;   // of the whole patch (both directions' nodes multiplied)
+  std::string quadrature;      // "gauss", "spline", or "gauss (spline rule failed: ...)" per direction
 };
 
 /// A patch's data as the kernels see it, viewing the patch's host arrays (host evaluation:

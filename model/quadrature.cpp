@@ -1,0 +1,275 @@
+// Generalised Gaussian quadrature for spline spaces (model/quadrature.hpp).
+#include "model/quadrature.hpp"
+
+#include <Teuchos_LAPACK.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "kernels/types.hpp"
+
+namespace iga {
+
+void host_bspline(const std::vector<double>& T, int d, int s, double u, double* N, double* d1) {
+  // Cox-de Boor (The NURBS Book A2.2), keeping the degree d - 1 values for the derivative
+  double left[16], right[16], prev[16];
+  N[0] = 1.0;
+  for (int j = 1; j <= d; ++j) {
+    left[j] = u - T[s + 1 - j];
+    right[j] = T[s + j] - u;
+    if (j == d)
+      for (int r = 0; r < d; ++r) prev[r] = N[r];
+    double saved = 0.0;
+    for (int r = 0; r < j; ++r) {
+      const double den = right[r + 1] + left[j - r];
+      const double temp = den != 0.0 ? N[r] / den : 0.0;
+      N[r] = saved + right[r + 1] * temp;
+      saved = left[j - r] * temp;
+    }
+    N[j] = saved;
+  }
+  if (!d1) return;
+  if (d == 0) { d1[0] = 0.0; return; }
+  // N'_{i,d} = d (N_{i,d-1} / (t_{i+d} - t_i) - N_{i+1,d-1} / (t_{i+d+1} - t_{i+1})), i = s - d + r;
+  // prev[k] = N_{s-d+1+k, d-1}, k = 0..d-1
+  for (int r = 0; r <= d; ++r) {
+    const int i = s - d + r;
+    double v = 0.0;
+    if (r >= 1) {
+      const double den = T[i + d] - T[i];
+      if (den != 0.0) v += prev[r - 1] / den;
+    }
+    if (r <= d - 1) {
+      const double den = T[i + d + 1] - T[i + 1];
+      if (den != 0.0) v -= prev[r] / den;
+    }
+    d1[r] = d * v;
+  }
+}
+
+namespace {
+
+// Non-empty spans of U (degree p): [U[s], U[s + 1]) with s = p .. n - 1.
+std::vector<int> element_spans(const std::vector<double>& U, int p) {
+  std::vector<int> s;
+  for (int k = p; k + 1 < static_cast<int>(U.size()) - p; ++k)
+    if (U[k + 1] > U[k]) s.push_back(k);
+  return s;
+}
+
+// Groups sorted nodes by element; false if an element gets more than kMaxNodesPerElement.
+bool group(const std::vector<double>& U, int p, const std::vector<double>& x, const std::vector<double>& w,
+           SplineRule& r) {
+  const std::vector<int> spans = element_spans(U, p);
+  r.x.clear();
+  r.w.clear();
+  r.off.assign(1, 0);
+  size_t j = 0;
+  for (size_t k = 0; k < spans.size(); ++k) {
+    const double hi = U[spans[k] + 1];
+    const bool last = k + 1 == spans.size();
+    int count = 0;
+    while (j < x.size() && (last || x[j] < hi)) {
+      r.x.push_back(x[j]);
+      r.w.push_back(w[j]);
+      ++j;
+      ++count;
+    }
+    if (count > kMaxNodesPerElement) return false;
+    r.off.push_back(static_cast<int>(r.x.size()));
+  }
+  return true;
+}
+
+}  // namespace
+
+SplineRule element_gauss_rule(const std::vector<double>& U, int p, int n) {
+  const GaussRule g = gauss_rule(n);
+  SplineRule r;
+  r.off.assign(1, 0);
+  for (int s : element_spans(U, p)) {
+    const double a = U[s], h = 0.5 * (U[s + 1] - U[s]);
+    for (int q = 0; q < g.n; ++q) {
+      r.x.push_back(a + h * (g.x[q] + 1.0));
+      r.w.push_back(h * g.w[q]);
+    }
+    r.off.push_back(static_cast<int>(r.x.size()));
+  }
+  return r;
+}
+
+namespace {
+
+// The rule of one piece of the knot vector without C^-1 lines in the target space (no interior
+// knot of multiplicity p): nodes x, weights w; returns "" or why it failed.
+std::string segment_rule(const std::vector<double>& U, int p, std::vector<double>& xs, std::vector<double>& ws,
+                         int& iterations, double& error) {
+  auto fail = [&](const std::string& why) { return why; };
+  const int d = 2 * p;
+  // the target space: degree 2p, each interior knot of multiplicity m repeated p + m + 1 times
+  std::vector<double> T(d + 1, U[p]);
+  const double a = U[p], b = U[U.size() - p - 1];
+  for (size_t k = p + 1; k < U.size() - p - 1;) {
+    size_t m = 1;
+    while (k + m < U.size() - p - 1 && U[k + m] == U[k]) ++m;
+    const int rep = std::min(d + 1, p + static_cast<int>(m) + 1);
+    T.insert(T.end(), rep, U[k]);
+    k += m;
+  }
+  T.insert(T.end(), d + 1, b);
+  const int N = static_cast<int>(T.size()) - d - 1;
+  std::vector<double> I(N);   // integrals of the target B-splines
+  for (int i = 0; i < N; ++i) I[i] = (T[i + d + 1] - T[i]) / (d + 1);
+  // Greville abscissae, and the initial rule: nodes between consecutive pairs, weights the
+  // pairs' integrals; with N odd the first node is fixed at a and takes the first function
+  std::vector<double> g(N);
+  for (int i = 0; i < N; ++i) {
+    double s = 0;
+    for (int k = 1; k <= d; ++k) s += T[i + k];
+    g[i] = s / d;
+  }
+  const bool fixed = N % 2 == 1;
+  const int n = (N + 1) / 2;
+  std::vector<double> x(n), w(n);
+  int i0 = 0;
+  if (fixed) { x[0] = a; w[0] = I[0]; i0 = 1; }
+  for (int j = fixed ? 1 : 0; j < n; ++j, i0 += 2) {
+    x[j] = 0.5 * (g[i0] + g[i0 + 1]);
+    w[j] = I[i0] + I[i0 + 1];
+  }
+  // unknowns: (w_0 fixed-node), then (x_j, w_j) per free node
+  auto span_of = [&](double u) {
+    int s = static_cast<int>(std::upper_bound(T.begin(), T.end(), u) - T.begin()) - 1;
+    return std::min(std::max(s, d), N - 1);
+  };
+  auto residual = [&](const std::vector<double>& xx, const std::vector<double>& ww, std::vector<double>& F) {
+    F.assign(N, 0.0);
+    for (int i = 0; i < N; ++i) F[i] = -I[i];
+    double Nv[16];
+    for (int j = 0; j < n; ++j) {
+      const int s = span_of(xx[j]);
+      host_bspline(T, d, s, xx[j], Nv, nullptr);
+      for (int r = 0; r <= d; ++r) F[s - d + r] += ww[j] * Nv[r];
+    }
+    double e = 0;
+    for (int i = 0; i < N; ++i) e = std::max(e, std::abs(F[i]) / I[i]);
+    return e;
+  };
+  auto admissible = [&](const std::vector<double>& xx, const std::vector<double>& ww) {
+    for (int j = 0; j < n; ++j) {
+      if (!(ww[j] > 0) || !(xx[j] >= a) || !(xx[j] <= b)) return false;
+      if (j > 0 && !(xx[j] > xx[j - 1])) return false;
+    }
+    return true;
+  };
+  std::vector<double> F;
+  double err = residual(x, w, F);
+  Teuchos::LAPACK<int, double> lapack;
+  const double tol = 1e-14;
+  int it = 0;
+  for (; it < 60 && err > tol; ++it) {
+    // Jacobian columns: c(j) = 2 j - fixed for x_j (free nodes), and w_j at c + 1 (the fixed
+    // node's weight at column 0)
+    std::vector<int> rows_lo(N, N), rows_hi(N, -1);
+    std::vector<std::vector<std::pair<int, double>>> cols(N);
+    double Nv[16], Dv[16];
+    for (int j = 0; j < n; ++j) {
+      const int s = span_of(x[j]);
+      host_bspline(T, d, s, x[j], Nv, Dv);
+      const bool free_x = !(fixed && j == 0);
+      const int cw = fixed ? 2 * j : 2 * j + 1, cx = cw - 1;
+      for (int r = 0; r <= d; ++r) {
+        const int i = s - d + r;
+        cols[cw].push_back({i, Nv[r]});
+        if (free_x) cols[cx].push_back({i, w[j] * Dv[r]});
+      }
+    }
+    int kl = 0, ku = 0;
+    for (int c = 0; c < N; ++c)
+      for (const auto& e : cols[c]) {
+        kl = std::max(kl, e.first - c);
+        ku = std::max(ku, c - e.first);
+      }
+    const int ldab = 2 * kl + ku + 1;
+    std::vector<double> AB(static_cast<size_t>(ldab) * N, 0.0);
+    for (int c = 0; c < N; ++c)
+      for (const auto& e : cols[c]) AB[static_cast<size_t>(c) * ldab + kl + ku + e.first - c] += e.second;
+    std::vector<int> piv(N);
+    std::vector<double> delta(N);
+    for (int i = 0; i < N; ++i) delta[i] = -F[i];
+    int info = 0;
+    lapack.GBTRF(N, N, kl, ku, AB.data(), ldab, piv.data(), &info);
+    if (info != 0) return fail("singular Jacobian of the moment equations (Newton iteration " + std::to_string(it) + ")");
+    lapack.GBTRS('N', N, kl, ku, 1, AB.data(), ldab, piv.data(), delta.data(), N, &info);
+    // damped step: the largest of 1, 1/2, ... that keeps the rule admissible and lowers the error
+    double alpha = 1.0;
+    std::vector<double> xt(n), wt(n), Ft;
+    bool taken = false;
+    for (int k = 0; k < 30; ++k, alpha *= 0.5) {
+      for (int j = 0; j < n; ++j) {
+        const int cw = fixed ? 2 * j : 2 * j + 1, cx = cw - 1;
+        xt[j] = (fixed && j == 0) ? x[j] : x[j] + alpha * delta[cx];
+        wt[j] = w[j] + alpha * delta[cw];
+      }
+      if (!admissible(xt, wt)) continue;
+      const double et = residual(xt, wt, Ft);
+      if (et < err) {
+        x = xt;
+        w = wt;
+        F = Ft;
+        err = et;
+        taken = true;
+        break;
+      }
+    }
+    if (!taken) break;
+  }
+  iterations = std::max(iterations, it);
+  error = std::max(error, err);
+  if (!(err <= 1e-12)) {
+    std::ostringstream os;
+    os << "Newton's method for the nodes did not converge on [" << a << ", " << b << "] (moment error " << err
+       << " after " << it << " iterations)";
+    return fail(os.str());
+  }
+  if (!admissible(x, w)) return fail("the rule has a non-positive weight or nodes out of order");
+  xs.insert(xs.end(), x.begin(), x.end());
+  ws.insert(ws.end(), w.begin(), w.end());
+  return "";
+}
+
+}  // namespace
+
+SplineRule spline_gauss_rule(const std::vector<double>& U, int p) {
+  SplineRule rule;
+  // C0 lines (an interior knot of multiplicity >= p) make the target space discontinuous
+  // there: the pieces between them get rules of their own
+  std::vector<double> x, w;
+  const size_t end = U.size() - p - 1;   // index of the last knot's first copy
+  double left = U[0];        // the piece's left end
+  size_t first = p + 1;      // index of its first interior knot
+  for (size_t k = p + 1; k <= end;) {
+    size_t m = 1;
+    while (k + m < U.size() && U[k + m] == U[k]) ++m;
+    if (k == end || static_cast<int>(m) >= p) {
+      std::vector<double> piece(p + 1, left);
+      for (size_t i = first; i < k; ++i) piece.push_back(U[i]);
+      piece.insert(piece.end(), p + 1, U[k]);
+      const std::string why = segment_rule(piece, p, x, w, rule.newton_iterations, rule.moment_error);
+      if (!why.empty()) {
+        rule.failure = why;
+        return rule;
+      }
+      if (k == end) break;
+      left = U[k];
+      first = k + m;
+    }
+    k += m;
+  }
+  if (!group(U, p, x, w, rule))
+    rule.failure = "more than " + std::to_string(kMaxNodesPerElement) + " nodes in one element";
+  return rule;
+}
+
+}  // namespace iga
