@@ -8,7 +8,10 @@
 // matrix, at local row orow(a) with columns ocol(.), when a is owned here; otherwise to G,
 // the few shared rows, at row grow(a) with columns pd.lid(.). (An owned control point couples
 // with every control point of its elements, so ocol is defined wherever it is used.)
-// Cost: (2 n)^2 atomic additions for an element of n control points.
+// Cost: (2 n)^2 atomic additions for an element of n control points, each at a position found
+// from the last one (the next column of the same control point) or, where that misses, by
+// bisection in a row with ascending columns (sorted_A / sorted_G; the System checks its
+// graphs once), else by a linear search from the row's start.
 #include "kernels/types.hpp"
 
 namespace iga {
@@ -18,6 +21,7 @@ struct ElementScatter {
   LocalMatrix A = {};
   LocalMatrix G = {};
   Kokkos::View<const int*, MemSpace> orow = {}, ocol = {}, grow = {};
+  bool sorted_A = false, sorted_G = false;   // the matrices' rows hold ascending column indices
 
   /// Adds Ke (2 n x 2 n, row r at Ke + r * ld) of the control points cps[0..n) (patch
   /// numbering) with overlap numbering lid.
@@ -35,9 +39,9 @@ struct ElementScatter {
     }
     for (int r = 0; r < 2 * n; ++r) {
       const int cp = cps[r / 2];
-      if (!split) A.sumIntoValues(cols[r], cols, 2 * n, Ke + r * ld, false, true);
-      else if (orow(cp) >= 0) A.sumIntoValues(2 * orow(cp) + r % 2, cols, 2 * n, Ke + r * ld, false, true);
-      else G.sumIntoValues(2 * grow(cp) + r % 2, gcols, 2 * n, Ke + r * ld, false, true);
+      if (!split) A.sumIntoValues(cols[r], cols, 2 * n, Ke + r * ld, sorted_A, true);
+      else if (orow(cp) >= 0) A.sumIntoValues(2 * orow(cp) + r % 2, cols, 2 * n, Ke + r * ld, sorted_A, true);
+      else G.sumIntoValues(2 * grow(cp) + r % 2, gcols, 2 * n, Ke + r * ld, sorted_G, true);
     }
   }
 };

@@ -446,11 +446,25 @@ void System::assemble_internal(const Vector* u, Vector* f_int, RCP<Matrix>* K, c
   Local lk, lg;
   if (K) lk = (*K)->getLocalMatrixDevice();
   if (G) lg = G->getLocalMatrixDevice();
+  // rows whose local column indices ascend let sumIntoValues search them by bisection
+  // (else linearly from the row's start wherever the last position is no hint): checked once
+  const auto ascending = [](const Local& m) {
+    auto ptr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), m.graph.row_map);
+    auto ind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), m.graph.entries);
+    for (size_t r = 0; r + 1 < ptr.extent(0); ++r)
+      for (size_t k = ptr(r) + 1; k < ptr(r + 1); ++k)
+        if (ind(k - 1) >= ind(k)) return 0;
+    return 1;
+  };
+  if (K && graph_sorted_ < 0) graph_sorted_ = ascending(lk);
+  if (G && ghost_sorted_ < 0) ghost_sorted_ = ascending(lg);
   const auto scatter = [&](size_t b) {
     ElementScatter<Local> sc;
     sc.A = lk;
+    sc.sorted_A = graph_sorted_ == 1;
     if (!one) {
       sc.G = lg;
+      sc.sorted_G = ghost_sorted_ == 1;
       sc.orow = split_->orow[b];
       sc.ocol = split_->ocol[b];
       sc.grow = split_->grow[b];

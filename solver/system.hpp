@@ -161,6 +161,7 @@ class System {
   };
   mutable std::unique_ptr<OwnedGhost> split_;
   mutable RCP<const Graph> graph_;          // the stiffness graph (owned rows), built once
+  mutable int graph_sorted_ = -1, ghost_sorted_ = -1;   // their rows' column indices ascend (1), or not (0)
   mutable RCP<const Import> ov_import_;     // owned -> overlap (displacements)
   mutable RCP<const Export> ov_export_;     // overlap -> owned (forces, ADD)
   mutable RCP<Vector> u_ov_, f_ov_;         // several ranks: overlap displacements and forces
