@@ -217,14 +217,17 @@ int run(int argc, char** argv) {
   }
   // the element rule (solver.quadrature): what each patch got, against Gauss
   long long qp = 0, qp_gauss = 0;
+  const bool spline = P.quadrature == iga::Quadrature::Spline;
   for (const iga::PatchBlock& bd : sys->blocks()) {
     const long long g = 1LL * bd.pd.ne[0] * (bd.pd.p[0] + 1) * bd.pd.ne[1] * (bd.pd.p[1] + 1);
     qp += bd.quadrature_points;
     qp_gauss += g;
-    if (root && !args.quiet && P.quadrature == iga::Quadrature::Spline)
+    if (root && !args.quiet && spline && bd.quadrature != "spline")   // a direction kept Gauss: say why
       std::cout << "  quadrature " << P.bodies[bd.body].name << (P.bodies[bd.body].multipatch() ? ".patch" + std::to_string(bd.patch) : "")
-                << ": " << bd.quadrature << ", " << bd.quadrature_points << " points (Gauss: " << g << ")\n";
+                << ": " << bd.quadrature << "\n";
   }
+  if (root && !args.quiet)
+    std::cout << "  quadrature: " << (spline ? "spline" : "gauss") << ", " << qp << " points" << (spline ? " (Gauss: " + std::to_string(qp_gauss) + ")" : "") << "\n";
   // Fault injection for the test of what one failing rank does to the others
   // (tests/cli_reliability.sh): IGACONTACT_TEST_FAULT=<rank> throws there after set-up.
   if (const char* f = std::getenv("IGACONTACT_TEST_FAULT"))

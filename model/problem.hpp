@@ -27,11 +27,12 @@ enum class LoadKind { None, Pressure, LinearPressure, Traction };
 enum class ContactMethod { KtsPenalty, KtsAlm, MortarPenalty, MortarAlm };
 enum class LinearMethod { CG, GMRES, Direct };
 enum class Preconditioner { MueLu, ILUT, Relaxation, None };
-/// solver.quadrature: the element rule of the stiffness and internal force. Gauss: p + 1
-/// Gauss-Legendre points per element and direction (the reference). Spline: per patch
-/// direction the generalised Gaussian rule of the spline space (model/quadrature.hpp), about
-/// (p + 2) / 2 points per element; exact where Gauss is exact for B-spline patches with an
-/// affine map, and falls back to Gauss (said in the run header) where it cannot be built.
+/// solver.quadrature: the element rule of the stiffness and internal force. Spline (the
+/// default): per patch direction the generalised Gaussian rule of the spline space
+/// (model/quadrature.hpp), about (p + 2) / 2 points per element; exact where Gauss is exact for
+/// B-spline patches with an affine map, and falls back to Gauss (said in the run header) where
+/// it cannot be built. Gauss: p + 1 Gauss-Legendre points per element and direction (the
+/// reference).
 enum class Quadrature { Gauss, Spline };
 
 const char* contact_method_name(ContactMethod m);
@@ -141,7 +142,7 @@ struct Problem {
   std::vector<ContactPair> contact;
   NewtonOptions newton;
   LinearOptions linear;
-  Quadrature quadrature = Quadrature::Gauss;
+  Quadrature quadrature = Quadrature::Spline;
   OutputOptions output;
 
   int find_body(const std::string& name) const;

@@ -101,46 +101,49 @@ SplineRule element_gauss_rule(const std::vector<double>& U, int p, int n) {
 
 namespace {
 
-// The rule of one piece of the knot vector without C^-1 lines in the target space (no interior
-// knot of multiplicity p): nodes x, weights w; returns "" or why it failed.
-std::string segment_rule(const std::vector<double>& U, int p, std::vector<double>& xs, std::vector<double>& ws,
-                         int& iterations, double& error) {
-  auto fail = [&](const std::string& why) { return why; };
-  const int d = 2 * p;
-  // the target space: degree 2p, each interior knot of multiplicity m repeated p + m + 1 times
-  std::vector<double> T(d + 1, U[p]);
-  const double a = U[p], b = U[U.size() - p - 1];
-  for (size_t k = p + 1; k < U.size() - p - 1;) {
-    size_t m = 1;
-    while (k + m < U.size() - p - 1 && U[k + m] == U[k]) ++m;
-    const int rep = std::min(d + 1, p + static_cast<int>(m) + 1);
-    T.insert(T.end(), rep, U[k]);
-    k += m;
-  }
-  T.insert(T.end(), d + 1, b);
+// The Gaussian rule of the spline space of degree d on knot vector T (open on [a, b]): Newton's
+// method on the moment equations from the initial rule below. drop >= 0 (an odd dimension):
+// one node stays fixed at the Greville point of function `drop`, which it takes in the initial
+// rule. Returns "" (x, w set) or why it failed.
+std::string gaussian_rule(const std::vector<double>& T, int d, int drop, std::vector<double>& x, std::vector<double>& w,
+                          int& iterations, double& error) {
+  const double a = T.front(), b = T.back();
   const int N = static_cast<int>(T.size()) - d - 1;
-  std::vector<double> I(N);   // integrals of the target B-splines
-  for (int i = 0; i < N; ++i) I[i] = (T[i + d + 1] - T[i]) / (d + 1);
-  // Greville abscissae, and the initial rule: nodes between consecutive pairs, weights the
-  // pairs' integrals; with N odd the first node is fixed at a and takes the first function
-  std::vector<double> g(N);
+  std::vector<double> I(N), g(N);   // integrals and Greville abscissae of the B-splines
   for (int i = 0; i < N; ++i) {
+    I[i] = (T[i + d + 1] - T[i]) / (d + 1);
     double s = 0;
     for (int k = 1; k <= d; ++k) s += T[i + k];
     g[i] = s / d;
   }
-  const bool fixed = N % 2 == 1;
+  // initial rule: nodes between consecutive Greville points, weights the pairs' integrals
   const int n = (N + 1) / 2;
-  std::vector<double> x(n), w(n);
-  int i0 = 0;
-  if (fixed) { x[0] = a; w[0] = I[0]; i0 = 1; }
-  for (int j = fixed ? 1 : 0; j < n; ++j, i0 += 2) {
-    x[j] = 0.5 * (g[i0] + g[i0 + 1]);
-    w[j] = I[i0] + I[i0 + 1];
+  x.clear();
+  w.clear();
+  std::vector<int> fixed_node(n, 0);
+  {
+    std::vector<int> idx;
+    for (int i = 0; i < N; ++i)
+      if (i != drop) idx.push_back(i);
+    for (size_t k = 0; k + 1 < idx.size(); k += 2) {
+      x.push_back(0.5 * (g[idx[k]] + g[idx[k + 1]]));
+      w.push_back(I[idx[k]] + I[idx[k + 1]]);
+    }
+    if (drop >= 0) {
+      const size_t at = std::upper_bound(x.begin(), x.end(), g[drop]) - x.begin();
+      x.insert(x.begin() + at, g[drop]);
+      w.insert(w.begin() + at, I[drop]);
+      fixed_node[at] = 1;
+    }
   }
-  // unknowns: (w_0 fixed-node), then (x_j, w_j) per free node
+  // unknowns: (x_j, w_j) per node, w_j alone for the fixed node
+  std::vector<int> cx(n, -1), cw(n, -1);
+  for (int j = 0, col = 0; j < n; ++j) {
+    if (!fixed_node[j]) cx[j] = col++;
+    cw[j] = col++;
+  }
   auto span_of = [&](double u) {
-    int s = static_cast<int>(std::upper_bound(T.begin(), T.end(), u) - T.begin()) - 1;
+    const int s = static_cast<int>(std::upper_bound(T.begin(), T.end(), u) - T.begin()) - 1;
     return std::min(std::max(s, d), N - 1);
   };
   auto residual = [&](const std::vector<double>& xx, const std::vector<double>& ww, std::vector<double>& F) {
@@ -166,23 +169,17 @@ std::string segment_rule(const std::vector<double>& U, int p, std::vector<double
   std::vector<double> F;
   double err = residual(x, w, F);
   Teuchos::LAPACK<int, double> lapack;
-  const double tol = 1e-14;
   int it = 0;
-  for (; it < 60 && err > tol; ++it) {
-    // Jacobian columns: c(j) = 2 j - fixed for x_j (free nodes), and w_j at c + 1 (the fixed
-    // node's weight at column 0)
-    std::vector<int> rows_lo(N, N), rows_hi(N, -1);
+  for (; it < 60 && err > 1e-14; ++it) {
+    // banded Jacobian: columns cx[j] (x_j) and cw[j] (w_j); LAPACK band storage
     std::vector<std::vector<std::pair<int, double>>> cols(N);
     double Nv[16], Dv[16];
     for (int j = 0; j < n; ++j) {
       const int s = span_of(x[j]);
       host_bspline(T, d, s, x[j], Nv, Dv);
-      const bool free_x = !(fixed && j == 0);
-      const int cw = fixed ? 2 * j : 2 * j + 1, cx = cw - 1;
       for (int r = 0; r <= d; ++r) {
-        const int i = s - d + r;
-        cols[cw].push_back({i, Nv[r]});
-        if (free_x) cols[cx].push_back({i, w[j] * Dv[r]});
+        cols[cw[j]].push_back({s - d + r, Nv[r]});
+        if (cx[j] >= 0) cols[cx[j]].push_back({s - d + r, w[j] * Dv[r]});
       }
     }
     int kl = 0, ku = 0;
@@ -200,17 +197,16 @@ std::string segment_rule(const std::vector<double>& U, int p, std::vector<double
     for (int i = 0; i < N; ++i) delta[i] = -F[i];
     int info = 0;
     lapack.GBTRF(N, N, kl, ku, AB.data(), ldab, piv.data(), &info);
-    if (info != 0) return fail("singular Jacobian of the moment equations (Newton iteration " + std::to_string(it) + ")");
+    if (info != 0) return "singular Jacobian of the moment equations (Newton iteration " + std::to_string(it) + ")";
     lapack.GBTRS('N', N, kl, ku, 1, AB.data(), ldab, piv.data(), delta.data(), N, &info);
     // damped step: the largest of 1, 1/2, ... that keeps the rule admissible and lowers the error
     double alpha = 1.0;
     std::vector<double> xt(n), wt(n), Ft;
     bool taken = false;
-    for (int k = 0; k < 30; ++k, alpha *= 0.5) {
+    for (int k = 0; k < 30 && !taken; ++k, alpha *= 0.5) {
       for (int j = 0; j < n; ++j) {
-        const int cw = fixed ? 2 * j : 2 * j + 1, cx = cw - 1;
-        xt[j] = (fixed && j == 0) ? x[j] : x[j] + alpha * delta[cx];
-        wt[j] = w[j] + alpha * delta[cw];
+        xt[j] = cx[j] >= 0 ? x[j] + alpha * delta[cx[j]] : x[j];
+        wt[j] = w[j] + alpha * delta[cw[j]];
       }
       if (!admissible(xt, wt)) continue;
       const double et = residual(xt, wt, Ft);
@@ -220,20 +216,60 @@ std::string segment_rule(const std::vector<double>& U, int p, std::vector<double
         F = Ft;
         err = et;
         taken = true;
-        break;
       }
     }
     if (!taken) break;
   }
   iterations = std::max(iterations, it);
-  error = std::max(error, err);
   if (!(err <= 1e-12)) {
     std::ostringstream os;
     os << "Newton's method for the nodes did not converge on [" << a << ", " << b << "] (moment error " << err
        << " after " << it << " iterations)";
-    return fail(os.str());
+    return os.str();
   }
-  if (!admissible(x, w)) return fail("the rule has a non-positive weight or nodes out of order");
+  error = std::max(error, err);
+  return admissible(x, w) ? "" : "the rule has a non-positive weight or nodes out of order";
+}
+
+// The rule of one piece of the knot vector without C^-1 lines in the target space (no interior
+// knot of multiplicity p): appends its nodes and weights; returns "" or why it failed.
+std::string segment_rule(const std::vector<double>& U, int p, std::vector<double>& xs, std::vector<double>& ws,
+                         int& iterations, double& error) {
+  const int d = 2 * p;
+  // the target space: degree 2p, each interior knot of multiplicity m repeated p + m + 1 times
+  const double a = U[p], b = U[U.size() - p - 1];
+  std::vector<double> T(d + 1, a);
+  for (size_t k = p + 1; k < U.size() - p - 1;) {
+    size_t m = 1;
+    while (k + m < U.size() - p - 1 && U[k + m] == U[k]) ++m;
+    T.insert(T.end(), std::min(d + 1, p + static_cast<int>(m) + 1), U[k]);
+    k += m;
+  }
+  T.insert(T.end(), d + 1, b);
+  const int N = static_cast<int>(T.size()) - d - 1;
+  std::vector<double> x, w;
+  std::string why;
+  if (N % 2 == 0) {
+    why = gaussian_rule(T, d, -1, x, w, iterations, error);
+  } else {
+    // An odd dimension has no Gaussian rule of N / 2 nodes. To keep a symmetric knot vector's
+    // rule symmetric (a rule anchored at one end would make a patch and its mirror image
+    // differ by the quadrature error), first the space enlarged by one more copy of the knot
+    // at the middle c of [a, b] (or a new knot there), then a node fixed at c (the middle
+    // function's Greville point), and last a node fixed at a.
+    const double c = 0.5 * (a + b);
+    const auto near = std::min_element(T.begin(), T.end(), [&](double u, double v) { return std::abs(u - c) < std::abs(v - c); });
+    const double v = std::abs(*near - c) <= 1e-14 * (b - a) ? *near : c;   // the knot's own value, bit for bit
+    why = "no rule";
+    if (std::count(T.begin(), T.end(), v) < d) {
+      std::vector<double> T1 = T;
+      T1.insert(std::upper_bound(T1.begin(), T1.end(), v), v);
+      why = gaussian_rule(T1, d, -1, x, w, iterations, error);
+    }
+    if (!why.empty()) why = gaussian_rule(T, d, N / 2, x, w, iterations, error);
+    if (!why.empty()) why = gaussian_rule(T, d, 0, x, w, iterations, error);
+  }
+  if (!why.empty()) return why;
   xs.insert(xs.end(), x.begin(), x.end());
   ws.insert(ws.end(), w.begin(), w.end());
   return "";

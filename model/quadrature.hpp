@@ -11,14 +11,16 @@
 // m = p: no continuity), of dimension N. A Gaussian rule for S (Micchelli and Pinkus 1977;
 // Hughes, Reali and Sangalli 2010, "Efficient quadrature for NURBS-based isogeometric
 // analysis"; Barton and Calo 2016, "Optimal quadrature rules for odd-degree spline spaces")
-// has ceil(N / 2) nodes: for maximal smoothness (m = 1) about (p + 2) / 2 per element against
+// has N / 2 nodes: for maximal smoothness (m = 1) about (p + 2) / 2 per element against
 // p + 1 Gauss points, so (p + 2)^2 / 4 instead of (p + 1)^2 points per element in 2-D
 // (p = 2: 4 for 9, p = 4: 9 for 25).
 //
 // How it is computed: Newton's method on the N moment equations sum_j w_j B_i(x_j) = int B_i
 // for the nodes and weights (banded Jacobian, LAPACK dgbsv through Teuchos), from nodes
 // between pairs of consecutive Greville abscissae of S and weights summing the paired
-// functions' integrals; where N is odd the first node is fixed at the left end. The result
+// functions' integrals. Where N is odd, S is enlarged by one function: one more copy of the
+// knot at the middle of [a, b] (or a new knot there), so that a symmetric knot vector keeps a
+// symmetric rule (a patch and its mirror image then get mirrored rules). The result
 // is checked: every moment to 1e-12 relative, weights > 0, nodes strictly increasing inside
 // [a, b], at most kMaxNodesPerElement in an element. A rule that fails the check is not
 // used (the caller keeps Gauss and says why).

@@ -75,7 +75,7 @@ class KernelDegree : public ::testing::TestWithParam<int> {};
 TEST_P(KernelDegree, ElementStiffnessMatchesHostReference) {
   const int p = GetParam();
   const Patch P = distorted_patch(p);
-  const Problem prob = parse_problem(patch_yaml(P), "kernel.yaml");
+  const Problem prob = parse_problem(patch_yaml(P), "kernel.yaml", {"solver.quadrature=gauss"});   // the host reference is Gauss
   System sys(prob, Tpetra::getDefaultComm());
   const PatchBlock& bd = sys.blocks()[0];
   const int ne = P.num_elements(), nd = 2 * (p + 1) * (p + 1);
@@ -122,7 +122,7 @@ TEST_P(KernelDegree, AssembledTpetraMatrixMatchesSumOfReferenceElements) {
   // seed 12: with seed 11 the random net folds at p = 5 (x < 0 within 1e-5 of the west side,
   // det J < 0 there), which the loader's geometry check now refuses
   const Patch P = distorted_patch(p, 12);
-  const Problem prob = parse_problem(patch_yaml(P), "kernel.yaml");
+  const Problem prob = parse_problem(patch_yaml(P), "kernel.yaml", {"solver.quadrature=gauss"});   // the host reference is Gauss
   System sys(prob, Tpetra::getDefaultComm());
   RCP<Matrix> K = sys.assemble_stiffness();
   // y = K v with v_g = sin(g): compare with the reference sum on every owned row
