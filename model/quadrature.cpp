@@ -106,7 +106,7 @@ namespace {
 // one node stays fixed at the Greville point of function `drop`, which it takes in the initial
 // rule. Returns "" (x, w set) or why it failed.
 std::string gaussian_rule(const std::vector<double>& T, int d, int drop, std::vector<double>& x, std::vector<double>& w,
-                          int& iterations, double& error) {
+                          int& iterations, double& error, bool start_from_xw = false) {
   const double a = T.front(), b = T.back();
   const int N = static_cast<int>(T.size()) - d - 1;
   std::vector<double> I(N), g(N);   // integrals and Greville abscissae of the B-splines
@@ -117,11 +117,13 @@ std::string gaussian_rule(const std::vector<double>& T, int d, int drop, std::ve
     g[i] = s / d;
   }
   // initial rule: nodes between consecutive Greville points, weights the pairs' integrals
+  // (or the x, w given, start_from_xw: a continuation step, drop < 0)
   const int n = (N + 1) / 2;
-  x.clear();
-  w.clear();
   std::vector<int> fixed_node(n, 0);
-  {
+  if (start_from_xw && (drop >= 0 || static_cast<int>(x.size()) != n)) return "continuation: wrong initial rule";
+  if (!start_from_xw) {
+    x.clear();
+    w.clear();
     std::vector<int> idx;
     for (int i = 0; i < N; ++i)
       if (i != drop) idx.push_back(i);
@@ -231,6 +233,61 @@ std::string gaussian_rule(const std::vector<double>& T, int d, int drop, std::ve
   return admissible(x, w) ? "" : "the rule has a non-positive weight or nodes out of order";
 }
 
+// The Gaussian rule of T by continuation (when Newton from the Greville start fails, as on
+// strongly graded knots at high degree): from the knot vector with the same multiplicities
+// and evenly spaced values, whose rule Newton finds, to T in steps, each solved from the last
+// rule mapped span by span (node positions relative to their spans, weights scaled by the
+// spans' lengths); a step that fails is halved, down to 1/4096.
+std::string continued_rule(const std::vector<double>& T, int d, std::vector<double>& x, std::vector<double>& w,
+                           int& iterations, double& error) {
+  std::vector<double> D;   // distinct knot values
+  for (double t : T)
+    if (D.empty() || t > D.back()) D.push_back(t);
+  const size_t m = D.size();
+  std::vector<double> Du(m);
+  for (size_t k = 0; k < m; ++k) Du[k] = D.front() + (D.back() - D.front()) * static_cast<double>(k) / (m - 1);
+  auto knots_at = [&](double s, std::vector<double>& Ts, std::vector<double>& Ds) {
+    Ds.resize(m);
+    for (size_t k = 0; k < m; ++k) Ds[k] = (1 - s) * Du[k] + s * D[k];
+    Ds.front() = D.front();
+    Ds.back() = D.back();
+    Ts.clear();
+    for (double t : T) Ts.push_back(Ds[std::lower_bound(D.begin(), D.end(), t) - D.begin()]);
+  };
+  auto map_rule = [&](const std::vector<double>& from, const std::vector<double>& to) {
+    for (size_t j = 0; j < x.size(); ++j) {
+      size_t k = std::upper_bound(from.begin(), from.end(), x[j]) - from.begin();
+      k = std::min(std::max<size_t>(k, 1), m - 1) - 1;
+      const double r = (to[k + 1] - to[k]) / (from[k + 1] - from[k]);
+      x[j] = to[k] + (x[j] - from[k]) * r;
+      w[j] *= r;
+    }
+  };
+  std::vector<double> Ts, Ds, Dprev;
+  knots_at(0.0, Ts, Dprev);
+  std::string why = gaussian_rule(Ts, d, -1, x, w, iterations, error);
+  if (!why.empty()) return "continuation: no rule on evenly spaced knots (" + why + ")";
+  double s = 0.0, step = 0.25;
+  while (s < 1.0) {
+    const double s1 = std::min(1.0, s + step);
+    const std::vector<double> xs = x, ws = w;
+    knots_at(s1, Ts, Ds);
+    map_rule(Dprev, Ds);
+    why = gaussian_rule(Ts, d, -1, x, w, iterations, error, true);
+    if (why.empty()) {
+      s = s1;
+      Dprev = Ds;
+      step = std::min(0.5, 2 * step);
+    } else {
+      x = xs;
+      w = ws;
+      step *= 0.5;
+      if (step < 1.0 / 4096) return "continuation to the knots stalled at " + std::to_string(s) + " (" + why + ")";
+    }
+  }
+  return "";
+}
+
 // The rule of one piece of the knot vector without C^-1 lines in the target space (no interior
 // knot of multiplicity p): appends its nodes and weights; returns "" or why it failed.
 std::string segment_rule(const std::vector<double>& U, int p, std::vector<double>& xs, std::vector<double>& ws,
@@ -251,6 +308,7 @@ std::string segment_rule(const std::vector<double>& U, int p, std::vector<double
   std::string why;
   if (N % 2 == 0) {
     why = gaussian_rule(T, d, -1, x, w, iterations, error);
+    if (!why.empty()) why = continued_rule(T, d, x, w, iterations, error);
   } else {
     // An odd dimension has no Gaussian rule of N / 2 nodes. To keep a symmetric knot vector's
     // rule symmetric (a rule anchored at one end would make a patch and its mirror image
@@ -265,6 +323,7 @@ std::string segment_rule(const std::vector<double>& U, int p, std::vector<double
       std::vector<double> T1 = T;
       T1.insert(std::upper_bound(T1.begin(), T1.end(), v), v);
       why = gaussian_rule(T1, d, -1, x, w, iterations, error);
+      if (!why.empty()) why = continued_rule(T1, d, x, w, iterations, error);
     }
     if (!why.empty()) why = gaussian_rule(T, d, N / 2, x, w, iterations, error);
     if (!why.empty()) why = gaussian_rule(T, d, 0, x, w, iterations, error);

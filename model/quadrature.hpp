@@ -20,7 +20,9 @@
 // between pairs of consecutive Greville abscissae of S and weights summing the paired
 // functions' integrals. Where N is odd, S is enlarged by one function: one more copy of the
 // knot at the middle of [a, b] (or a new knot there), so that a symmetric knot vector keeps a
-// symmetric rule (a patch and its mirror image then get mirrored rules). The result
+// symmetric rule (a patch and its mirror image then get mirrored rules). Where Newton from
+// that start fails (strongly graded knots), the rule is continued from the knot vector with
+// the same multiplicities and evenly spaced values to the given one. The result
 // is checked: every moment to 1e-12 relative, weights > 0, nodes strictly increasing inside
 // [a, b], at most kMaxNodesPerElement in an element. A rule that fails the check is not
 // used (the caller keeps Gauss and says why).
