@@ -73,6 +73,28 @@ Args parse_args(int argc, char** argv) {
   return a;
 }
 
+size_t num_elements(const iga::Body& b) {
+  size_t ne = 0;
+  for (const auto& pt : b.patches) ne += pt.num_elements();
+  return ne;
+}
+
+// The output directory must be usable before anything is written or solved (created if
+// needed, writable, checked on rank 0): else one line naming the key that chose it, false.
+bool usable_output_directory(const iga::Comm& comm, const std::string& file, const std::string& dir,
+                             const std::string& key) {
+  try {
+    iga::on_root(comm, [&] {
+      const std::string why = iga::check_output_directory(dir);
+      if (!why.empty()) throw iga::OutputError(why);
+    });
+  } catch (const iga::OutputError& e) {
+    if (comm.getRank() == 0) std::cerr << file << ": " << key << " = " << dir << ": " << e.what() << "\n";
+    return false;
+  }
+  return true;
+}
+
 void describe(const iga::Problem& P, int ranks, std::ostream& os) {
   long long dofs = 0;
   os << "problem " << P.file << ": " << (P.analysis == iga::Analysis::PlaneStrain ? "plane strain" : "plane stress")
@@ -92,9 +114,7 @@ void describe(const iga::Problem& P, int ranks, std::ostream& os) {
          << " dofs, E = " << b.E << ", nu = " << b.nu << "\n";
       continue;
     }
-    size_t ne = 0;
-    for (const auto& pt : b.patches) ne += pt.num_elements();
-    os << "  body " << b.name << ": " << b.patches.size() << " patches, " << b.interfaces.size() << " interfaces, " << ne
+    os << "  body " << b.name << ": " << b.patches.size() << " patches, " << b.interfaces.size() << " interfaces, " << num_elements(b)
        << " elements, " << 2 * b.num_cps << " dofs, E = " << b.E << ", nu = " << b.nu << "\n";
     for (size_t k = 0; k < b.patches.size(); ++k) {
       const auto& pt = b.patches[k];
@@ -127,15 +147,7 @@ int export_geometry(const iga::Problem& P, const Args& args, const iga::Comm& co
     dir = "out/" + std::filesystem::path(args.file).stem().string() + "/geometry";
     dir_key = "output directory (default)";
   }
-  try {
-    iga::on_root(comm, [&] {
-      const std::string why = iga::check_output_directory(dir);
-      if (!why.empty()) throw iga::OutputError(why);
-    });
-  } catch (const iga::OutputError& e) {
-    if (comm.getRank() == 0) std::cerr << args.file << ": " << dir_key << " = " << dir << ": " << e.what() << "\n";
-    return 2;
-  }
+  if (!usable_output_directory(comm, args.file, dir, dir_key)) return 2;
   std::vector<std::string> written;
   iga::on_root(comm, [&] {
     for (const iga::Body& b : P.bodies) {
@@ -143,10 +155,8 @@ int export_geometry(const iga::Problem& P, const Args& args, const iga::Comm& co
       const std::filesystem::path base = std::filesystem::path(dir) / b.name;
       iga::write_file_atomic(base.string() + ".xml", iga::gismo_xml_text({&mp}));
       iga::write_file_atomic(base.string() + ".txt", iga::geopdes_text(mp));
-      size_t ne = 0;
-      for (const auto& pt : b.patches) ne += pt.num_elements();
       std::ostringstream line;
-      line << "  " << b.name << ": " << b.patches.size() << " patch(es), " << b.interfaces.size() << " interface(s), " << ne
+      line << "  " << b.name << ": " << b.patches.size() << " patch(es), " << b.interfaces.size() << " interface(s), " << num_elements(b)
            << " elements, " << b.num_cps << " control points -> " << base.string() << ".{xml,txt}";
       written.push_back(line.str());
     }
@@ -196,15 +206,7 @@ int run(int argc, char** argv) {
   if (dir.empty()) { dir = P.output.directory; dir_key = "output.directory"; }
   if (dir.empty()) { dir = "out/" + std::filesystem::path(args.file).stem().string(); dir_key = "output directory (default)"; }
   // The output directory must be usable before anything is solved: bad input, exit 2.
-  try {
-    iga::on_root(*comm, [&] {
-      const std::string why = iga::check_output_directory(dir);
-      if (!why.empty()) throw iga::OutputError(why);
-    });
-  } catch (const iga::OutputError& e) {
-    if (root) std::cerr << args.file << ": " << dir_key << " = " << dir << ": " << e.what() << "\n";
-    return 2;
-  }
+  if (!usable_output_directory(*comm, args.file, dir, dir_key)) return 2;
   // One run's files only: what a previous run left is removed as this one starts writing.
   const std::string run_id = iga::broadcast_string(*comm, root ? iga::new_run_id() : std::string());
   iga::on_root(*comm, [&] { iga::remove_previous_outputs(dir); });
@@ -266,7 +268,7 @@ int run(int argc, char** argv) {
     if (!kv.first.empty() && std::isdigit(static_cast<unsigned char>(kv.first[0])))  // our numbered stages
       timings[kv.first] = kv.second[imax].first;
   timings["0) Start-up: exec, libraries, MPI"] = startup_max;
-  summary["quadrature"] = {{"rule", P.quadrature == iga::Quadrature::Spline ? "spline" : "gauss"},
+  summary["quadrature"] = {{"rule", spline ? "spline" : "gauss"},
                            {"points", qp}, {"gauss_points", qp_gauss}};
   summary["timings"] = timings;
   // peak resident memory, the largest rank's and the sum over ranks (bytes per dof below)

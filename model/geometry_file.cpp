@@ -12,7 +12,6 @@
 #include <Teuchos_StringInputSource.hpp>
 #include <Teuchos_XMLObject.hpp>
 
-
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -87,6 +86,19 @@ std::string fmt(double v) {
     if (std::strtod(buf, nullptr) == v) break;
   }
   return buf;
+}
+
+// The writers' pieces: numbers on one line, and whether a side names one of np patches.
+std::string number_row(const std::vector<double>& v) {
+  std::string r;
+  for (size_t j = 0; j < v.size(); ++j) r += (j ? " " : "") + fmt(v[j]);
+  return r;
+}
+
+std::string side_out_of_range(const PatchSide& s, int np) {
+  if (s.patch >= 0 && s.patch < np && static_cast<int>(s.side) >= 0 && static_cast<int>(s.side) <= 3) return "";
+  return "names patch " + std::to_string(s.patch) + " side " + std::to_string(static_cast<int>(s.side)) +
+         ", not one of the " + std::to_string(np) + " patches' sides";
 }
 
 std::string read_file_text(const std::string& path) {
@@ -513,33 +525,32 @@ bool numeric_line(const std::string& s) {
   return !t.empty() && to_double(t[0], d);
 }
 
-std::vector<double> line_numbers(const TextLines& in, const std::string& s, int line, const std::string& what,
-                                 size_t count) {
-  std::vector<double> v;
+// The numbers of a line, each read by `read` (to_double or to_int; `kind` names it in the
+// message), count of them when count > 0.
+template <class T>
+std::vector<T> line_values(const TextLines& in, const std::string& s, int line, const std::string& what, size_t count,
+                           bool (*read)(const std::string&, T&), const char* kind) {
+  std::vector<T> v;
   for (const std::string& t : split(s)) {
-    double d;
-    if (!to_double(t, d)) fail(in.at(line), quote(t) + " is not a number (" + what + ")");
-    v.push_back(d);
+    T x;
+    if (!read(t, x)) fail(in.at(line), quote(t) + " is not " + kind + " (" + what + ")");
+    v.push_back(x);
   }
   if (count && v.size() != count)
     fail(in.at(line), what + ": " + std::to_string(v.size()) + " values, expected " + std::to_string(count));
   return v;
+}
+
+std::vector<double> line_numbers(const TextLines& in, const std::string& s, int line, const std::string& what,
+                                 size_t count) {
+  return line_values<double>(in, s, line, what, count, to_double, "a number");
 }
 
 std::vector<long> line_ints(const TextLines& in, const std::string& s, int line, const std::string& what,
                             size_t count) {
-  std::vector<long> v;
-  for (const std::string& t : split(s)) {
-    long k;
-    if (!to_int(t, k)) fail(in.at(line), quote(t) + " is not an integer (" + what + ")");
-    v.push_back(k);
-  }
-  if (count && v.size() != count)
-    fail(in.at(line), what + ": " + std::to_string(v.size()) + " values, expected " + std::to_string(count));
-  return v;
+  return line_values<long>(in, s, line, what, count, to_int, "an integer");
 }
 
-// "BOUNDARY 3" (GeoPDEs' default name) -> "boundary<k>"; any other name with blanks as '_'.
 std::string boundary_name(const std::string& line, int k) {
   const auto t = split(line);
   long dummy;
@@ -862,8 +873,7 @@ std::string gismo_xml_text(const std::vector<const MultiPatch*>& multipatches) {
       for (int d = 0; d < 2; ++d) {
         os << in << " <Basis type=\"BSplineBasis\" index=\"" << d << "\">\n"
            << in << "  <KnotVector degree=\"" << P.degree[d] << "\">";
-        for (size_t j = 0; j < P.knots[d].size(); ++j) os << (j ? " " : "") << fmt(P.knots[d][j]);
-        os << "</KnotVector>\n" << in << " </Basis>\n";
+        os << number_row(P.knots[d]) << "</KnotVector>\n" << in << " </Basis>\n";
       }
       os << in << "</Basis>\n";
       if (rational) {
@@ -880,9 +890,8 @@ std::string gismo_xml_text(const std::vector<const MultiPatch*>& multipatches) {
     const MultiPatch& mp = *multipatches[m];
     const int np = static_cast<int>(mp.patches.size());
     auto check = [&](const PatchSide& s, const std::string& what) {
-      if (s.patch < 0 || s.patch >= np || static_cast<int>(s.side) < 0 || static_cast<int>(s.side) > 3)
-        error("multipatch " + std::to_string(m) + ": " + what + " names patch " + std::to_string(s.patch) +
-              " side " + std::to_string(static_cast<int>(s.side)) + ", not one of its " + std::to_string(np) + " patches' sides");
+      const std::string bad = side_out_of_range(s, np);
+      if (!bad.empty()) error("multipatch " + std::to_string(m) + ": " + what + " " + bad);
     };
     auto ps = [&](const PatchSide& s) { return std::to_string(first[m] + s.patch) + " " + std::to_string(number_of_side(s.side)); };
     os << " <MultiPatch parDim=\"2\" id=\"" << id++ << "\">\n"
@@ -960,9 +969,8 @@ std::string geopdes_text(const MultiPatch& mp) {
   if (mp.patches.empty()) error("the multipatch has no patches");
   const int np = static_cast<int>(mp.patches.size());
   auto check = [&](const PatchSide& s, const std::string& what) {
-    if (s.patch < 0 || s.patch >= np || static_cast<int>(s.side) < 0 || static_cast<int>(s.side) > 3)
-      error(what + " names patch " + std::to_string(s.patch) + " side " + std::to_string(static_cast<int>(s.side)) +
-            ", not one of the " + std::to_string(np) + " patches' sides");
+    const std::string bad = side_out_of_range(s, np);
+    if (!bad.empty()) error(what + " " + bad);
   };
   auto ps = [](const PatchSide& s) { return std::to_string(s.patch + 1) + " " + std::to_string(number_of_side(s.side)); };
   // Boundary blocks: each named group with the sides not already written (GeoPDEs gives a side
@@ -995,10 +1003,7 @@ std::string geopdes_text(const MultiPatch& mp) {
     if (!bad.empty()) error("patch " + std::to_string(k) + ": " + bad);
     os << "PATCH " << k + 1 << "\n" << P.degree[0] << " " << P.degree[1] << "\n"
        << P.knots[0].size() - P.degree[0] - 1 << " " << P.knots[1].size() - P.degree[1] - 1 << "\n";
-    for (int d = 0; d < 2; ++d) {
-      for (size_t j = 0; j < P.knots[d].size(); ++j) os << (j ? " " : "") << fmt(P.knots[d][j]);
-      os << "\n";
-    }
+    for (int d = 0; d < 2; ++d) os << number_row(P.knots[d]) << "\n";
     for (int c = 0; c < 3; ++c) {   // w x, w y, then w
       for (size_t a = 0; a < P.cp.size(); ++a) os << (a ? " " : "") << fmt(c < 2 ? P.cp[a][c] * P.cp[a][2] : P.cp[a][2]);
       os << "\n";

@@ -36,8 +36,6 @@ std::vector<double> uniform_open_knots(int p, int n) {
   return U;
 }
 
-namespace {
-
 std::vector<int> nonempty_spans(const std::vector<double>& U, int p) {
   std::vector<int> s;
   const int nb = static_cast<int>(U.size()) - p - 1;
@@ -45,6 +43,8 @@ std::vector<int> nonempty_spans(const std::vector<double>& U, int p) {
     if (U[k + 1] > U[k]) s.push_back(k);
   return s;
 }
+
+namespace {
 
 // Homogeneous evaluation of a 1-D B-spline with homogeneous control points Pw at u.
 Point3 bspline_point(const std::vector<double>& U, int p, const std::vector<Point3>& Pw, double u) {

@@ -69,5 +69,7 @@ struct Patch {
 
 /// Open knot vector [0..0, 1/n, ..., 1..1] with p + 1 repeated end knots and n spans.
 std::vector<double> uniform_open_knots(int p, int n);
+/// The non-empty knot spans s (U[s] < U[s + 1]) of knot vector U of degree p: the elements.
+std::vector<int> nonempty_spans(const std::vector<double>& U, int p);
 
 }  // namespace iga

@@ -8,8 +8,11 @@
 #include <sstream>
 
 #include "kernels/types.hpp"
+#include "model/nurbs.hpp"
 
 namespace iga {
+
+static_assert(kMaxNodesPerElement == kMaxGauss, "the kernels hold an element's nodes in arrays of kMaxGauss");
 
 void host_bspline(const std::vector<double>& T, int d, int s, double u, double* N, double* d1) {
   // Cox-de Boor (The NURBS Book A2.2), keeping the degree d - 1 values for the derivative
@@ -50,18 +53,10 @@ void host_bspline(const std::vector<double>& T, int d, int s, double u, double* 
 
 namespace {
 
-// Non-empty spans of U (degree p): [U[s], U[s + 1]) with s = p .. n - 1.
-std::vector<int> element_spans(const std::vector<double>& U, int p) {
-  std::vector<int> s;
-  for (int k = p; k + 1 < static_cast<int>(U.size()) - p; ++k)
-    if (U[k + 1] > U[k]) s.push_back(k);
-  return s;
-}
-
 // Groups sorted nodes by element; false if an element gets more than kMaxNodesPerElement.
 bool group(const std::vector<double>& U, int p, const std::vector<double>& x, const std::vector<double>& w,
            SplineRule& r) {
-  const std::vector<int> spans = element_spans(U, p);
+  const std::vector<int> spans = nonempty_spans(U, p);
   r.x.clear();
   r.w.clear();
   r.off.assign(1, 0);
@@ -83,21 +78,6 @@ bool group(const std::vector<double>& U, int p, const std::vector<double>& x, co
 }
 
 }  // namespace
-
-SplineRule element_gauss_rule(const std::vector<double>& U, int p, int n) {
-  const GaussRule g = gauss_rule(n);
-  SplineRule r;
-  r.off.assign(1, 0);
-  for (int s : element_spans(U, p)) {
-    const double a = U[s], h = 0.5 * (U[s + 1] - U[s]);
-    for (int q = 0; q < g.n; ++q) {
-      r.x.push_back(a + h * (g.x[q] + 1.0));
-      r.w.push_back(h * g.w[q]);
-    }
-    r.off.push_back(static_cast<int>(r.x.size()));
-  }
-  return r;
-}
 
 namespace {
 

@@ -51,9 +51,6 @@ constexpr int kMaxNodesPerElement = 12;   // kernels' fixed arrays (kMaxGauss)
 /// The generalised Gaussian rule for the integrands of degree p splines on knot vector U.
 SplineRule spline_gauss_rule(const std::vector<double>& U, int p);
 
-/// The element-wise Gauss-Legendre rule with n points per non-empty span, in the same layout.
-SplineRule element_gauss_rule(const std::vector<double>& U, int p, int n);
-
 /// Host B-spline values (and first derivatives when d1 is not null) of degree d <= 12 at u in
 /// span s of knot vector T: N[0..d] are the functions s - d .. s.
 void host_bspline(const std::vector<double>& T, int d, int s, double u, double* N, double* d1);

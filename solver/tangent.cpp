@@ -63,7 +63,6 @@ void TangentBuilder::rebuild(const RCP<Matrix>& K_c) {
   Teuchos::reduceAll(*K_->getComm(), Teuchos::REDUCE_MAX, 1, &grows, &any_grows);
   if (!any_grows) {
     KT_ = rcp(new Matrix(K_->getCrsGraph()));
-    map_ = Kokkos::View<size_t*, MemSpace>();
     return;
   }
   // row-wise merge; map(k) = position in K_T of K_el's entry k
@@ -138,7 +137,7 @@ bool TangentBuilder::sum_into(const Matrix& K_c) {
 void TangentBuilder::fill_values() {
   auto a = K_->getLocalMatrixDevice().values;
   auto b = KT_->getLocalMatrixDevice().values;
-  if (map_.extent(0) == 0) {   // K_T on K_el's graph: the same entries
+  if (KT_->getCrsGraph() == K_->getCrsGraph()) {   // K_T on K_el's graph: the same entries
     Kokkos::deep_copy(b, a);
     return;
   }

@@ -22,7 +22,7 @@ class TangentBuilder {
   bool sum_into(const Matrix& K_c);
   void fill_values();
   RCP<Matrix> K_, KT_;
-  Kokkos::View<size_t*, MemSpace> map_;   // entry of K_el -> entry of K_T (empty: K_T shares K_el's graph)
+  Kokkos::View<size_t*, MemSpace> map_;   // entry of K_el -> entry of K_T (unused where K_T shares K_el's graph)
   int rebuilds_ = 0;
 };
 
