@@ -131,7 +131,8 @@ void describe(const iga::Problem& P, int ranks, std::ostream& os) {
   os << "  total " << dofs << " dofs on " << ranks << " rank(s) x " << iga::ExecSpace::concurrency() << " "
      << iga::ExecSpace::name() << " thread(s); linear solver " << iga::linear_method_name(P.linear.method);
   if (P.linear.method == iga::LinearMethod::Direct) os << " (MUMPS " << (P.linear.symmetric ? "LDLT" : "LU") << ")";
-  else os << " + " << iga::preconditioner_name(P.linear.preconditioner);
+  else os << " + " << iga::preconditioner_name(P.linear.preconditioner)
+          << (iga::eisenstat_walker_forcing(P) ? ", Eisenstat-Walker forcing" : "");
   if (P.linear.automatic)
     os << " [auto: " << (P.linear.method == iga::LinearMethod::Direct ? "at most " : "more than ")
        << iga::kAutoDirectMaxDofs << " dofs]";
@@ -253,7 +254,15 @@ int run(int argc, char** argv) {
     }
   };
   iga::ResultWriter writer(*sys, dir, args.file, run_id);
-  const iga::SolveResult res = iga::solve(*sys, progress, [&](const iga::StepState& st) { writer.step(st); });
+  // a cut increment: why, before the table goes on with the halved increment
+  auto on_cut = [&](int, const std::string& why) {
+    if (show) {
+      std::printf("      cut: %s\n", why.c_str());
+      std::fflush(stdout);
+    }
+  };
+  const iga::SolveResult res =
+      iga::solve(*sys, progress, [&](const iga::StepState& st) { writer.step(st); }, on_cut);
   nlohmann::json summary = writer.finish(res);
 
   // timings: the slowest rank's time per stage

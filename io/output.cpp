@@ -42,7 +42,8 @@ std::vector<std::vector<double>> gather_displacements(const System& sys, const V
   return out;
 }
 
-nlohmann::json linear_solver_json(const LinearOptions& opt, const DirectSolverStats& ds, long long dofs) {
+nlohmann::json linear_solver_json(const LinearOptions& opt, bool eisenstat_walker, const DirectSolverStats& ds,
+                                  long long dofs) {
   nlohmann::json j;
   j["method"] = linear_method_name(opt.method);
   j["chosen_by"] = opt.automatic ? "auto" : "problem file";
@@ -60,6 +61,8 @@ nlohmann::json linear_solver_json(const LinearOptions& opt, const DirectSolverSt
   } else {
     j["preconditioner"] = preconditioner_name(opt.preconditioner);
   }
+  j["tolerance"] = opt.tolerance;
+  j["forcing"] = eisenstat_walker ? "eisenstat_walker" : "fixed";
   return j;
 }
 
@@ -398,7 +401,7 @@ nlohmann::json ResultWriter::finish(const SolveResult& res) {
   summary["linear_iterations"] = res.linear_iterations;
   summary["tangent_pattern_builds"] = res.tangent_rebuilds;
   summary["preconditioner_builds"] = res.preconditioner_builds;
-  summary["linear_solver"] = linear_solver_json(P.linear, res.direct, sys_.num_dofs());
+  summary["linear_solver"] = linear_solver_json(P.linear, eisenstat_walker_forcing(P), res.direct, sys_.num_dofs());
   summary["reactions"] = reactions_json(sys_, *res.residual);
   if (!res.converged) summary["message"] = res.message;
   summary["contact"] = contact_json(res.contact);

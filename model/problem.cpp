@@ -19,6 +19,18 @@
 
 namespace iga {
 
+// auto: not for the direct solver (its factorisations are exact, and its GMRES on kept factors
+// solves to the tolerance), and not with friction: the inexact steps of the wheel with mortar
+// friction 0.3 sent points through slip on the way, and the step ended in a different stick
+// state (tangential force 1.3e-4 apart, whatever Newton's tolerance), where every exact path
+// ended in the same one.
+bool eisenstat_walker_forcing(const Problem& P) {
+  if (P.linear.forcing != Forcing::Auto) return P.linear.forcing == Forcing::EisenstatWalker;
+  bool friction = false;
+  for (const auto& c : P.contact) friction = friction || c.friction > 0;
+  return P.linear.method != LinearMethod::Direct && !friction;
+}
+
 const char* linear_method_name(LinearMethod m) {
   switch (m) {
     case LinearMethod::CG: return "cg";
@@ -1013,7 +1025,7 @@ Problem build(Reader& R, const YAML::Node& root) {
     if (s["linear"]) {
       const YAML::Node l = s["linear"];
       R.keys(l, "solver.linear", {"method", "preconditioner", "tolerance", "max_iterations", "muelu_xml",
-                                   "reuse_preconditioner"});
+                                   "reuse_preconditioner", "forcing"});
       if (l["method"]) {
         const std::string m = R.string(l["method"], "solver.linear.method");
         if (m == "cg") P.linear.method = LinearMethod::CG;
@@ -1038,6 +1050,12 @@ Problem build(Reader& R, const YAML::Node& root) {
       if (l["muelu_xml"]) P.linear.muelu_parameters = muelu_xml(R, l["muelu_xml"]);
       if (l["reuse_preconditioner"])
         P.linear.reuse_preconditioner = R.boolean(l["reuse_preconditioner"], "solver.linear.reuse_preconditioner");
+      if (l["forcing"]) {
+        const std::string m = R.string(l["forcing"], "solver.linear.forcing");
+        if (m == "eisenstat_walker") P.linear.forcing = Forcing::EisenstatWalker;
+        else if (m == "fixed") P.linear.forcing = Forcing::Fixed;
+        else if (m != "auto") R.fail("solver.linear.forcing", l["forcing"], "expected auto, eisenstat_walker or fixed");
+      }
     }
   }
 

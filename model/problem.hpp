@@ -101,6 +101,11 @@ struct NewtonOptions {
   int max_cuts = 10;         // a failed load step is retried with half the increment, this many times
 };
 
+/// solver.linear.forcing: `tolerance` for every solve, or Eisenstat-Walker (the tolerance
+/// follows Newton's progress; `tolerance` is its floor); auto: Eisenstat-Walker for gmres and
+/// cg without friction, else fixed
+enum class Forcing { Auto, Fixed, EisenstatWalker };
+
 struct LinearOptions {
   LinearMethod method = LinearMethod::CG;
   Preconditioner preconditioner = Preconditioner::MueLu;
@@ -112,6 +117,8 @@ struct LinearOptions {
   /// the tangent is symmetric (no friction): the direct solver factors L D L^T
   bool symmetric = true;
   bool reuse_preconditioner = true;   // keep the preconditioner over a load step's Newton iterations
+  /// solver.linear.forcing: the tolerance of each Newton step's Krylov solve
+  Forcing forcing = Forcing::Auto;
   /// solver.linear.muelu_xml, read and checked with the problem: MueLu parameters set over
   /// the built-in ones (null: none)
   Teuchos::RCP<const Teuchos::ParameterList> muelu_parameters;
@@ -164,6 +171,10 @@ MultiPatch body_geometry(const Body& b, const std::vector<double>* u = nullptr);
 
 /// The curve of a contact surface (a side, or a chain of patch sides joined end to end).
 SurfaceChain surface_chain(const Problem& P, const ContactSurface& s);
+
+/// Whether Newton's Krylov solves take the Eisenstat-Walker forcing (solver.linear.forcing,
+/// `auto` resolved: the iterative methods without friction).
+bool eisenstat_walker_forcing(const Problem& P);
 
 /// Reads, overrides (`key.path=value`, as `--set`) and validates a problem file.
 /// Throws InputError with a one-line message on any bad input.

@@ -31,7 +31,8 @@ Teuchos::Time& timer(const char* name) { return *Teuchos::TimeMonitor::getNewTim
 // from one element kernel for every material (System::assemble_internal); a small-strain
 // linear material's K does not depend on u and is assembled once.
 SolveResult solve(const System& sys, const std::function<void(const IterationLog&)>& progress,
-                  const std::function<void(const StepState&)>& on_step) {
+                  const std::function<void(const StepState&)>& on_step,
+                  const std::function<void(int step, const std::string& why)>& on_cut) {
   const Problem& P = sys.problem();
   const int K_stages = P.num_stages();
   SolveResult res;
@@ -70,6 +71,8 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
   RCP<Vector> f = rcp(new Vector(sys.owned_map()));
   RCP<Vector> f_int = rcp(new Vector(sys.owned_map()));
   const bool constant_K = sys.constant_tangent();
+  // inexact Newton (solver.linear.forcing; model/problem.cpp says when auto takes it)
+  const bool eisenstat_walker = eisenstat_walker_forcing(P);
   // (every ContactPairData starts committed: its state at u = 0, the friction references)
 
   // r = f - f_int(u) - f_c(u), with the contact state updated at u; its constrained rows (the
@@ -127,7 +130,7 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
   };
   // du from K_T du = r with the constrained rows and columns eliminated; false (out.why set)
   // when the linear solver threw (Trilinos' exceptions: a failed increment, not an internal error)
-  auto linear_step = [&](const RCP<Matrix>& KT, LinearSolveResult& lr, Outcome& out) {
+  auto linear_step = [&](const RCP<Matrix>& KT, LinearSolveResult& lr, Outcome& out, double tolerance) {
     {
       Teuchos::TimeMonitor t(timer("2b) Tangent: K + K_c, Dirichlet"));
       sys.apply_dirichlet(*KT);
@@ -136,7 +139,9 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
     if (tangent.rebuilds() != prec_pattern) { prec.clear(); prec_pattern = tangent.rebuilds(); }
     du->putScalar(0.0);
     try {
-      lr = solve_linear(P.linear, KT, du, r, Z, X, &prec);
+      LinearOptions o = P.linear;
+      o.tolerance = tolerance;
+      lr = solve_linear(o, KT, du, r, Z, X, &prec);
     } catch (const std::exception& e) {
       std::string what = e.what();
       while (!what.empty() && std::isspace(static_cast<unsigned char>(what.back()))) what.pop_back();
@@ -173,7 +178,7 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
         sys.zero_dirichlet(*r);
         ref = r->norm2();
         LinearSolveResult lr;
-        if (!linear_step(KT, lr, out)) return out;
+        if (!linear_step(KT, lr, out, P.linear.tolerance)) return out;
         if (!lr.converged || !finite(du->normInf())) {
           out.why = !lr.converged ? lr.message : "the linear solver returned NaN or Inf";
           return out;
@@ -187,6 +192,7 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
       double inc = 1.0;  // last ||alpha du|| / ||u|| (max norms)
       ContactContribution cc;
       if (!evaluate(*u, cc, out)) return out;
+      double norm_prev = 0, eta_prev = 0;   // the Eisenstat-Walker forcing's history
       for (int it = 0; it <= P.newton.max_iterations; ++it) {
         sys.zero_dirichlet(*r);
         const double norm = r->norm2();
@@ -222,8 +228,28 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
           if (progress) progress(log);
           return out;
         }
+        // The linear tolerance (relative to |r|): fixed, or the Eisenstat-Walker forcing term
+        // (their choice 2, gamma = 0.9, alpha = 2, with their safeguard against a sudden
+        // drop): loose while the residual falls slowly (contact active sets settling), tight
+        // as Newton turns quadratic, and never tighter than the Newton tolerance asks
+        // (Kelley's safeguard).
+        double tol = P.linear.tolerance;
+        if (eisenstat_walker) {
+          constexpr double gamma = 0.9, alpha = 2.0, eta_max = 0.1;
+          double eta = eta_max;
+          if (it > 0 && norm_prev > 0) {
+            eta = gamma * std::pow(norm / norm_prev, alpha);
+            const double previous = gamma * std::pow(eta_prev, alpha);
+            if (previous > 0.1) eta = std::max(eta, previous);
+          }
+          eta = std::min(eta, eta_max);
+          eta = std::max(eta, 0.5 * P.newton.tolerance * ref / norm);
+          eta_prev = std::min(eta, eta_max);
+          tol = std::max(tol, eta_prev);
+        }
+        norm_prev = norm;
         LinearSolveResult lr;
-        if (!linear_step(tangent_at(cc), lr, out)) return out;
+        if (!linear_step(tangent_at(cc), lr, out, tol)) return out;
         log.linear_iterations = lr.iterations;
         if (!lr.converged || !finite(du->normInf())) {
           out.why = !lr.converged ? lr.message : "the linear solver returned NaN or Inf";
@@ -367,6 +393,7 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
           failed = true;
           break;
         }
+        if (on_cut) on_cut(step + 1, o.why);
         ++res.cuts;
         ++cuts;
         dt *= 0.5;

@@ -53,7 +53,10 @@ struct StepState {
   const std::vector<ContactPairData>* contact = nullptr;   // contact state at u
 };
 
+/// progress: after every Newton iteration; on_step: at every converged load step; on_cut: when
+/// an increment fails and is cut (the load step, and why it failed).
 SolveResult solve(const System& sys, const std::function<void(const IterationLog&)>& progress = {},
-                  const std::function<void(const StepState&)>& on_step = {});
+                  const std::function<void(const StepState&)>& on_step = {},
+                  const std::function<void(int step, const std::string& why)>& on_cut = {});
 
 }  // namespace iga
