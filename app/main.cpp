@@ -237,8 +237,7 @@ int run(int argc, char** argv) {
     if (*f && std::atoi(f) == comm->getRank()) throw std::runtime_error("injected fault (IGACONTACT_TEST_FAULT)");
   const bool show = root && !args.quiet;
   // friction: the stick and slip counts and the points that changed state beside the active set
-  bool friction = false;
-  for (const auto& c : P.contact) friction = friction || c.friction > 0;
+  const bool friction = P.has_friction();
   if (show) {
     std::printf("%5s %8s %4s %4s %4s %12s %8s", "step", "t", "cut", "aug", "it", "residual", "active");
     if (friction) std::printf(" %6s %6s %6s", "stick", "slip", "switch");

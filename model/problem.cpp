@@ -4,6 +4,7 @@
 #include <Teuchos_XMLParameterListHelpers.hpp>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -26,9 +27,11 @@ namespace iga {
 // ended in the same one.
 bool eisenstat_walker_forcing(const Problem& P) {
   if (P.linear.forcing != Forcing::Auto) return P.linear.forcing == Forcing::EisenstatWalker;
-  bool friction = false;
-  for (const auto& c : P.contact) friction = friction || c.friction > 0;
-  return P.linear.method != LinearMethod::Direct && !friction;
+  return P.linear.method != LinearMethod::Direct && !P.has_friction();
+}
+
+bool Problem::has_friction() const {
+  return std::any_of(contact.begin(), contact.end(), [](const ContactPair& c) { return c.friction > 0; });
 }
 
 const char* linear_method_name(LinearMethod m) {

@@ -153,6 +153,8 @@ struct Problem {
   OutputOptions output;
 
   int find_body(const std::string& name) const;
+  /// some contact pair has Coulomb friction (mu > 0)
+  bool has_friction() const;
 };
 
 /// Limits on what a problem file may ask for (docs/problem-file.md).

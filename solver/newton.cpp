@@ -242,9 +242,7 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
             const double previous = gamma * std::pow(eta_prev, alpha);
             if (previous > 0.1) eta = std::max(eta, previous);
           }
-          eta = std::min(eta, eta_max);
-          eta = std::max(eta, 0.5 * P.newton.tolerance * ref / norm);
-          eta_prev = std::min(eta, eta_max);
+          eta_prev = std::min(std::max(eta, 0.5 * P.newton.tolerance * ref / norm), eta_max);
           tol = std::max(tol, eta_prev);
         }
         norm_prev = norm;
