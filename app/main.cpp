@@ -135,7 +135,7 @@ void describe(const iga::Problem& P, int ranks, std::ostream& os) {
           << (iga::eisenstat_walker_forcing(P) ? ", Eisenstat-Walker forcing" : "");
   if (P.linear.automatic)
     os << " [auto: " << (P.linear.method == iga::LinearMethod::Direct ? "at most " : "more than ")
-       << iga::kAutoDirectMaxDofs << " dofs]";
+       << P.auto_direct_max_dofs() << " dofs" << (P.has_friction() ? ", with friction" : "") << "]";
   os << "\n";
 }
 

@@ -71,3 +71,13 @@ endif()
 message(STATUS "MUMPS: ${MUMPS_DMUMPS_LIBRARY}")
 target_include_directories(igacontact_stack SYSTEM INTERFACE ${MUMPS_INCLUDE_DIR})
 target_link_libraries(igacontact_stack INTERFACE ${MUMPS_DMUMPS_LIBRARY} ${MUMPS_COMMON_LIBRARY} MPI::MPI_C)
+
+# hypre (Debian's libhypre-dev, MPI build): BoomerAMG, the default preconditioner of gmres and cg
+find_path(HYPRE_INCLUDE_DIR HYPRE.h PATH_SUFFIXES hypre)
+find_library(HYPRE_LIBRARY HYPRE)
+if(NOT HYPRE_INCLUDE_DIR OR NOT HYPRE_LIBRARY)
+  message(FATAL_ERROR "hypre not found: install libhypre-dev (scripts/setup.sh does)")
+endif()
+message(STATUS "hypre: ${HYPRE_LIBRARY}")
+target_include_directories(igacontact_stack SYSTEM INTERFACE ${HYPRE_INCLUDE_DIR})
+target_link_libraries(igacontact_stack INTERFACE ${HYPRE_LIBRARY})

@@ -34,6 +34,10 @@ bool Problem::has_friction() const {
   return std::any_of(contact.begin(), contact.end(), [](const ContactPair& c) { return c.friction > 0; });
 }
 
+long long Problem::auto_direct_max_dofs() const {
+  return has_friction() ? kAutoDirectMaxDofsFriction : kAutoDirectMaxDofs;
+}
+
 const char* linear_method_name(LinearMethod m) {
   switch (m) {
     case LinearMethod::CG: return "cg";
@@ -46,6 +50,7 @@ const char* linear_method_name(LinearMethod m) {
 const char* preconditioner_name(Preconditioner p) {
   switch (p) {
     case Preconditioner::MueLu: return "muelu";
+    case Preconditioner::BoomerAMG: return "boomeramg";
     case Preconditioner::ILUT: return "ilut";
     case Preconditioner::Relaxation: return "relaxation";
     case Preconditioner::None: return "none";
@@ -1040,17 +1045,27 @@ Problem build(Reader& R, const YAML::Node& root) {
       if (l["preconditioner"]) {
         const std::string m = R.string(l["preconditioner"], "solver.linear.preconditioner");
         if (m == "muelu") P.linear.preconditioner = Preconditioner::MueLu;
+        else if (m == "boomeramg") P.linear.preconditioner = Preconditioner::BoomerAMG;
         else if (m == "ilut") P.linear.preconditioner = Preconditioner::ILUT;
         else if (m == "relaxation") P.linear.preconditioner = Preconditioner::Relaxation;
         else if (m == "none") P.linear.preconditioner = Preconditioner::None;
-        else R.fail("solver.linear.preconditioner", l["preconditioner"], "expected muelu, ilut, relaxation or none");
+        else R.fail("solver.linear.preconditioner", l["preconditioner"], "expected boomeramg, muelu, ilut, relaxation or none");
       }
       if (l["tolerance"]) P.linear.tolerance = R.positive(l["tolerance"], "solver.linear.tolerance");
       if (l["max_iterations"]) {
         P.linear.max_iterations = R.integer(l["max_iterations"], "solver.linear.max_iterations");
         if (P.linear.max_iterations < 1) R.fail("solver.linear.max_iterations", l["max_iterations"], "must be >= 1");
       }
-      if (l["muelu_xml"]) P.linear.muelu_parameters = muelu_xml(R, l["muelu_xml"]);
+      if (l["muelu_xml"]) {
+        // MueLu's parameters choose MueLu where no preconditioner is named (the default is
+        // BoomerAMG); beside another named one they would be ignored: bad input
+        if (!l["preconditioner"]) P.linear.preconditioner = Preconditioner::MueLu;
+        else if (P.linear.preconditioner != Preconditioner::MueLu)
+          R.fail("solver.linear.muelu_xml", l["muelu_xml"],
+                 std::string("MueLu parameters, but solver.linear.preconditioner is ") +
+                     preconditioner_name(P.linear.preconditioner) + " (name muelu, or drop muelu_xml)");
+        P.linear.muelu_parameters = muelu_xml(R, l["muelu_xml"]);
+      }
       if (l["reuse_preconditioner"])
         P.linear.reuse_preconditioner = R.boolean(l["reuse_preconditioner"], "solver.linear.reuse_preconditioner");
       if (l["forcing"]) {
@@ -1106,7 +1121,7 @@ Problem build(Reader& R, const YAML::Node& root) {
     }
   }
 
-  // Default linear method (auto): the direct solver up to kAutoDirectMaxDofs dofs; above, CG for
+  // Default linear method (auto): the direct solver up to auto_direct_max_dofs() dofs; above, CG for
   // elasticity (SPD), GMRES with contact, whose consistent tangent (the -p G term of the
   // moving projection) is not positive definite far from the solution.
   if (!P.linear.method_given) {
@@ -1115,7 +1130,7 @@ Problem build(Reader& R, const YAML::Node& root) {
     P.linear.automatic = true;
     // finite strain: the tangent may be indefinite (buckling) and, with follower pressure,
     // non-symmetric: GMRES
-    P.linear.method = dofs <= kAutoDirectMaxDofs                                ? LinearMethod::Direct
+    P.linear.method = dofs <= P.auto_direct_max_dofs()                         ? LinearMethod::Direct
                       : P.contact.empty() && P.kinematics == Kinematics::Small ? LinearMethod::CG
                                                                                : LinearMethod::GMRES;
   }

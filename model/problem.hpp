@@ -26,7 +26,7 @@ const char* material_model_name(MaterialModel m);   // linear, saint_venant_kirc
 enum class LoadKind { None, Pressure, LinearPressure, Traction };
 enum class ContactMethod { KtsPenalty, KtsAlm, MortarPenalty, MortarAlm };
 enum class LinearMethod { CG, GMRES, Direct };
-enum class Preconditioner { MueLu, ILUT, Relaxation, None };
+enum class Preconditioner { MueLu, BoomerAMG, ILUT, Relaxation, None };
 /// solver.quadrature: the element rule of the stiffness and internal force. Spline (the
 /// default): per patch direction the generalised Gaussian rule of the spline space
 /// (model/quadrature.hpp), about (p + 2) / 2 points per element; exact where Gauss is exact for
@@ -108,7 +108,7 @@ enum class Forcing { Auto, Fixed, EisenstatWalker };
 
 struct LinearOptions {
   LinearMethod method = LinearMethod::CG;
-  Preconditioner preconditioner = Preconditioner::MueLu;
+  Preconditioner preconditioner = Preconditioner::BoomerAMG;
   double tolerance = 1e-12;
   int max_iterations = 1000;
   bool method_given = false;
@@ -155,14 +155,20 @@ struct Problem {
   int find_body(const std::string& name) const;
   /// some contact pair has Coulomb friction (mu > 0)
   bool has_friction() const;
+  /// the size up to which solver.linear.method: auto takes the direct solver
+  long long auto_direct_max_dofs() const;
 };
 
 /// Limits on what a problem file may ask for (docs/problem-file.md).
 constexpr size_t kMaxProblemFileBytes = 64u << 20;   // a patch of 10^6 control points listed inline fits
 constexpr double kMaxDofs = 1e9;                      // besides the machine's memory (checked too)
 /// solver.linear.method: auto takes the direct solver up to this many dofs, the iterative one
-/// above (the crossover measured on the wheel family, docs/performance.md)
-constexpr long long kAutoDirectMaxDofs = 200000;
+/// (GMRES/CG + BoomerAMG) above: the crossover measured on the wheel and two-blocks families
+/// (docs/performance.md, "BoomerAMG beside MueLu"). With friction the Krylov solves keep the
+/// fixed tolerance (no inexact Newton) and MUMPS was still 2x faster at 55,272 dofs: the
+/// direct solver up to the larger figure.
+constexpr long long kAutoDirectMaxDofs = 20000;
+constexpr long long kAutoDirectMaxDofsFriction = 200000;
 constexpr size_t kMaxInsertedKnots = 1000;            // per direction; subdivide refines uniformly
 constexpr int kMaxLoadSteps = 10000;
 constexpr int kMaxContactQuadrature = 12;             // contact quadrature points per slave span

@@ -23,7 +23,7 @@ for x in tpetra belos ifpack2 amesos2 kokkos kokkos-kernels teuchos epetra epetr
   trilinos_pkgs="$trilinos_pkgs libtrilinos-$x-dev"
 done
 pkgs="build-essential cmake ninja-build pkg-config openmpi-bin libopenmpi-dev libhdf5-openmpi-dev \
-      libptscotch-dev libmumps-dev libopenblas0-serial libyaml-cpp-dev libgtest-dev libgmock-dev libbenchmark-dev \
+      libptscotch-dev libmumps-dev libhypre-dev libopenblas0-serial libyaml-cpp-dev libgtest-dev libgmock-dev libbenchmark-dev \
       python3-matplotlib python3-h5py python3-numpy python3-yaml \
       nlohmann-json3-dev clang-14 libclang-rt-14-dev zlib1g-dev \
       paraview python3-paraview xvfb xauth $trilinos_pkgs"

@@ -1,4 +1,5 @@
 #include "solver/linear_solver.hpp"
+#include "solver/hypre_preconditioner.hpp"
 
 #include <BelosSolverFactory.hpp>
 #include <BelosTpetraAdapter.hpp>
@@ -22,6 +23,7 @@ RCP<Operator> make_preconditioner(const LinearOptions& opt, const RCP<Matrix>& A
   const int ranks = A->getComm()->getSize();
   switch (opt.preconditioner) {
     case Preconditioner::None: return Teuchos::null;
+    case Preconditioner::BoomerAMG: return make_boomeramg(A);
     case Preconditioner::Relaxation: {
       auto prec = Ifpack2::Factory::create<Tpetra::RowMatrix<SC, LO, GO, Node>>("RELAXATION", A);
       Teuchos::ParameterList p;

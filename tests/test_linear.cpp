@@ -1,5 +1,5 @@
 // The linear solvers behind solve_linear. The direct solver (MUMPS) must give the solution the
-// iterative one (GMRES or CG + MueLu, tolerance 1e-13) gives, for elasticity and for every
+// iterative one (GMRES or CG + BoomerAMG or MueLu, tolerance 1e-13) gives, for elasticity and for every
 // contact method, frictionless (L D L^T) and with friction (L U); L D L^T and L U must agree
 // where the tangent is symmetric; the analysis and the factors are reused where the pattern
 // or the matrix has not changed; a singular matrix is reported in one line, without cuts.
@@ -44,6 +44,11 @@ std::vector<Case> cases() {
     RingAndBlock rb;
     rb.method = m;
     cs.push_back({std::string("RingAndBlock_") + m, rb.yaml(), {}});
+  }
+  // the iterative cases above run with the default preconditioner (BoomerAMG); MueLu here
+  {
+    RingAndBlock rb;
+    cs.push_back({"RingAndBlock_kts_penalty_MueLu", rb.yaml(), {"solver.linear.preconditioner=muelu"}});
   }
   // kts_alm over-constrains the gap where slave points outnumber master dofs (the ring and
   // block, the two blocks): the patch test, whose meshes it fits
