@@ -12,6 +12,7 @@
 #include <Tpetra_Core.hpp>
 
 #include <Teuchos_CommHelpers.hpp>
+#include <Teuchos_DefaultSerialComm.hpp>
 #include <sys/resource.h>
 
 #include <mpi.h>
@@ -128,8 +129,11 @@ void describe(const iga::Problem& P, int ranks, std::ostream& os) {
        << P.bodies[c.slave.body].name << "." << c.slave.label << ", "
        << iga::contact_method_name(c.method) << ", penalty " << c.penalty << "\n";
   }
-  os << "  total " << dofs << " dofs on " << ranks << " rank(s) x " << iga::ExecSpace::concurrency() << " "
-     << iga::ExecSpace::name() << " thread(s); linear solver " << iga::linear_method_name(P.linear.method);
+  os << "  total " << dofs << " dofs on " << ranks << " rank(s)";
+  // check and export run without Kokkos: the threads are decided when a run starts it
+  if (Kokkos::is_initialized()) os << " x " << iga::ExecSpace::concurrency() << " " << iga::ExecSpace::name() << " thread(s)";
+  else os << " (" << iga::ExecSpace::name() << ")";
+  os << "; linear solver " << iga::linear_method_name(P.linear.method);
   if (P.linear.method == iga::LinearMethod::Direct) os << " (MUMPS " << (P.linear.symmetric ? "LDLT" : "LU") << ")";
   else os << " + " << iga::preconditioner_name(P.linear.preconditioner)
           << (iga::eisenstat_walker_forcing(P) ? ", Eisenstat-Walker forcing" : "");
@@ -169,12 +173,24 @@ int export_geometry(const iga::Problem& P, const Args& args, const iga::Comm& co
   return 0;
 }
 
+// `check` and `export`: no solve, so no MPI and no Kokkos where one process runs them.
+bool light_command(int argc, char** argv) {
+  return argc > 1 && (std::strcmp(argv[1], "check") == 0 || std::strcmp(argv[1], "export") == 0);
+}
+
+// Started by mpiexec / mpirun (Open MPI, MPICH's Hydra, PMIx): then MPI is started, so that
+// every rank agrees on who prints and writes.
+bool under_mpi_launcher() {
+  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"})
+    if (std::getenv(v) != nullptr) return true;
+  return false;
+}
+
 // When the process started: the launcher's time (IGACONTACT_START_NS, app/launcher.cpp), or
 // main's entry when the solver is run directly.
 std::int64_t g_start_ns = 0;
 
-int run(int argc, char** argv) {
-  auto comm = Tpetra::getDefaultComm();
+int run(int argc, char** argv, Teuchos::RCP<const iga::Comm> comm) {
   const bool root = comm->getRank() == 0;
   // start-up: exec, loading the shared libraries, MPI and Kokkos (the slowest rank's)
   double startup = 1e-9 * static_cast<double>(iga::app::now_ns() - g_start_ns), startup_max = 0;
@@ -328,6 +344,20 @@ int main(int argc, char** argv) {
   // A file-size limit (ulimit -f) makes write(2) fail with EFBIG, reported like a full disk,
   // instead of killing the process with SIGXFSZ.
   std::signal(SIGXFSZ, SIG_IGN);
+  // check and export read the problem (and export writes the geometry) on one process: they
+  // start neither MPI nor Kokkos (about 0.5 s of a run's start-up), unless an MPI launcher
+  // started several processes, which then take the parallel path (rank 0 prints and writes)
+  if (light_command(argc, argv) && !under_mpi_launcher()) {
+    try {
+      return run(argc, argv, Teuchos::rcp(new Teuchos::SerialComm<int>()));
+    } catch (const iga::OutputError& e) {
+      std::cerr << "igacontact: " << e.what() << "\n";
+      return 4;
+    } catch (const std::exception& e) {
+      std::cerr << "igacontact: internal error: " << e.what() << "\n";
+      return 1;
+    }
+  }
   bool kokkos_help = false;   // Kokkos prints its options (and removes the argument)
   for (int i = 1; i < argc; ++i) kokkos_help = kokkos_help || std::string(argv[i]) == "--kokkos-help";
   int code = 0;
@@ -337,7 +367,7 @@ int main(int argc, char** argv) {
     int ranks = 1;
     MPI_Comm_size(MPI_COMM_WORLD, &ranks);
     try {
-      code = run(argc, argv);
+      code = run(argc, argv, Tpetra::getDefaultComm());
     } catch (const iga::OutputError& e) {   // thrown on every rank together (io/files.hpp)
       int rank = 0;
       MPI_Comm_rank(MPI_COMM_WORLD, &rank);
