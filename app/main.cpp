@@ -344,45 +344,35 @@ int main(int argc, char** argv) {
   // A file-size limit (ulimit -f) makes write(2) fail with EFBIG, reported like a full disk,
   // instead of killing the process with SIGXFSZ.
   std::signal(SIGXFSZ, SIG_IGN);
-  // check and export read the problem (and export writes the geometry) on one process: they
-  // start neither MPI nor Kokkos (about 0.5 s of a run's start-up), unless an MPI launcher
-  // started several processes, which then take the parallel path (rank 0 prints and writes)
-  if (light_command(argc, argv) && !under_mpi_launcher()) {
+  // run, with its errors turned into exit codes: an OutputError is thrown on every rank
+  // together (io/files.hpp); any other failure on one rank only would leave the others waiting
+  // in a collective forever, so on several ranks it ends them all
+  auto guarded = [&](const Teuchos::RCP<const iga::Comm>& comm) {
     try {
-      return run(argc, argv, Teuchos::rcp(new Teuchos::SerialComm<int>()));
+      return run(argc, argv, comm);
     } catch (const iga::OutputError& e) {
-      std::cerr << "igacontact: " << e.what() << "\n";
+      if (comm->getRank() == 0) std::cerr << "igacontact: " << e.what() << "\n";
       return 4;
     } catch (const std::exception& e) {
       std::cerr << "igacontact: internal error: " << e.what() << "\n";
+      if (comm->getSize() > 1) {
+        std::cerr.flush();
+        MPI_Abort(MPI_COMM_WORLD, 1);
+      }
       return 1;
     }
-  }
+  };
+  // check and export read the problem (and export writes the geometry) on one process: they
+  // start neither MPI nor Kokkos (about 0.5 s of a run's start-up), unless an MPI launcher
+  // started several processes, which then take the parallel path (rank 0 prints and writes)
+  if (light_command(argc, argv) && !under_mpi_launcher()) return guarded(Teuchos::rcp(new Teuchos::SerialComm<int>()));
   bool kokkos_help = false;   // Kokkos prints its options (and removes the argument)
   for (int i = 1; i < argc; ++i) kokkos_help = kokkos_help || std::string(argv[i]) == "--kokkos-help";
   int code = 0;
   {
     Tpetra::ScopeGuard guard(&argc, &argv);
     if (kokkos_help) return 0;
-    int ranks = 1;
-    MPI_Comm_size(MPI_COMM_WORLD, &ranks);
-    try {
-      code = run(argc, argv, Tpetra::getDefaultComm());
-    } catch (const iga::OutputError& e) {   // thrown on every rank together (io/files.hpp)
-      int rank = 0;
-      MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-      if (rank == 0) std::cerr << "igacontact: " << e.what() << "\n";
-      code = 4;
-    } catch (const std::exception& e) {
-      // A failure on one rank only would leave the others waiting in a collective forever:
-      // on several ranks, end them all.
-      std::cerr << "igacontact: internal error: " << e.what() << "\n";
-      code = 1;
-      if (ranks > 1) {
-        std::cerr.flush();
-        MPI_Abort(MPI_COMM_WORLD, code);
-      }
-    }
+    code = guarded(Tpetra::getDefaultComm());
   }
   return code;
 }

@@ -42,12 +42,12 @@ std::vector<std::vector<double>> gather_displacements(const System& sys, const V
   return out;
 }
 
-nlohmann::json linear_solver_json(const LinearOptions& opt, bool eisenstat_walker, const DirectSolverStats& ds,
-                                  long long dofs, long long auto_direct_max_dofs) {
+nlohmann::json linear_solver_json(const Problem& P, const DirectSolverStats& ds, long long dofs) {
+  const LinearOptions& opt = P.linear;
   nlohmann::json j;
   j["method"] = linear_method_name(opt.method);
   j["chosen_by"] = opt.automatic ? "auto" : "problem file";
-  if (opt.automatic) j["auto_direct_max_dofs"] = auto_direct_max_dofs;
+  if (opt.automatic) j["auto_direct_max_dofs"] = P.auto_direct_max_dofs();
   if (opt.method == LinearMethod::Direct) {
     j["package"] = "MUMPS";
     j["factorization"] = opt.symmetric ? "LDLT" : "LU";
@@ -62,7 +62,7 @@ nlohmann::json linear_solver_json(const LinearOptions& opt, bool eisenstat_walke
     j["preconditioner"] = preconditioner_name(opt.preconditioner);
   }
   j["tolerance"] = opt.tolerance;
-  j["forcing"] = eisenstat_walker ? "eisenstat_walker" : "fixed";
+  j["forcing"] = eisenstat_walker_forcing(P) ? "eisenstat_walker" : "fixed";
   return j;
 }
 
@@ -401,8 +401,7 @@ nlohmann::json ResultWriter::finish(const SolveResult& res) {
   summary["linear_iterations"] = res.linear_iterations;
   summary["tangent_pattern_builds"] = res.tangent_rebuilds;
   summary["preconditioner_builds"] = res.preconditioner_builds;
-  summary["linear_solver"] = linear_solver_json(P.linear, eisenstat_walker_forcing(P), res.direct, sys_.num_dofs(),
-                                                P.auto_direct_max_dofs());
+  summary["linear_solver"] = linear_solver_json(P, res.direct, sys_.num_dofs());
   summary["reactions"] = reactions_json(sys_, *res.residual);
   if (!res.converged) summary["message"] = res.message;
   summary["contact"] = contact_json(res.contact);

@@ -79,15 +79,15 @@ struct Exact {
   std::function<std::array<double, 3>(double, double)> sigma;    // sxx, syy, sxy
 };
 
-/// Lame: thick-walled cylinder under internal pressure p, inner radius a, outer b, plane
-/// strain (../shared/reference-solutions.md).
-// Newton iterations over all load steps
+/// Newton iterations over all load steps
 inline int newton_total(const Solved& s) {
   int n = 0;
   for (int k : s.res.newton_iterations) n += k;
   return n;
 }
 
+/// Lame: thick-walled cylinder under internal pressure p, inner radius a, outer b, plane
+/// strain (../shared/reference-solutions.md).
 inline Exact lame_cylinder(double a, double b, double p, double E, double nu) {
   Exact ex;
   const double c = p * a * a / (b * b - a * a);
