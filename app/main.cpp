@@ -246,7 +246,8 @@ int run(int argc, char** argv, Teuchos::RCP<const iga::Comm> comm) {
                 << ": " << bd.quadrature << "\n";
   }
   if (root && !args.quiet)
-    std::cout << "  quadrature: " << (spline ? "spline" : "gauss") << ", " << qp << " points" << (spline ? " (Gauss: " + std::to_string(qp_gauss) + ")" : "") << "\n";
+    std::cout << "  quadrature: " << (spline ? "spline" : "gauss") << ", " << qp << " points" << (spline ? " (Gauss: " + std::to_string(qp_gauss) + ")" : "")
+              << "; tangent formed " << (P.formation == iga::Formation::SumFactorized ? "row by row (sum_factorized)" : "element by element") << "\n";
   // Fault injection for the test of what one failing rank does to the others
   // (tests/cli_reliability.sh): IGACONTACT_TEST_FAULT=<rank> throws there after set-up.
   if (const char* f = std::getenv("IGACONTACT_TEST_FAULT"))
@@ -294,6 +295,7 @@ int run(int argc, char** argv, Teuchos::RCP<const iga::Comm> comm) {
   timings["0) Start-up: exec, libraries, MPI"] = startup_max;
   summary["quadrature"] = {{"rule", spline ? "spline" : "gauss"},
                            {"points", qp}, {"gauss_points", qp_gauss}};
+  summary["formation"] = P.formation == iga::Formation::SumFactorized ? "sum_factorized" : "elements";
   summary["timings"] = timings;
   // peak resident memory, the largest rank's and the sum over ranks (bytes per dof below)
   struct rusage ru;

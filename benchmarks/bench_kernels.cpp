@@ -6,6 +6,9 @@
 //                           (m = 1 Saint Venant-Kirchhoff, 2 neo-Hookean; element_internal)
 //   BM_Scatter<P>/sorted:s  nonzeros/s (element matrices formed and summed into the Tpetra local matrix;
 //                           s = 1: rows searched by bisection, 0: linearly)
+//   BM_Formation<P>/rows:r  dofs/s, quadrature points/s of the whole tangent (stage 2.2, refilled in place)
+//                           on a curved rational patch (quarter annulus, ~ 2.5e4 dofs, spline rule):
+//                           r = 0 the element loop, 1 row-wise sum factorisation (solver.formation)
 //   BM_ContactProjection/M  projections/s on a degree-2 master curve of M elements
 //   BM_SpMV / BM_StreamCopy GB/s of the assembled elasticity matrix, and the copy limit
 // Rates are per wall-clock second (UseRealTime), so that threaded runs count every thread.
@@ -125,6 +128,29 @@ void BM_FiniteStrain(benchmark::State& st) {
 }
 
 template <int P>
+void BM_Formation(benchmark::State& st) {
+  std::ostringstream os;
+  const int nv = 56, nu = 2 * nv;   // ~ 2 (nu + P)(nv + P) dofs
+  os << "solver: {formation: " << (st.range(0) ? "sum_factorized" : "elements") << "}\n"
+     << "bodies:\n  - name: c\n    material: {youngs_modulus: 1.0, poisson_ratio: 0.3}\n"
+     << "    geometry: {quarter_annulus: {center: [0, 0], inner_radius: 1.0, outer_radius: 2.0, start_angle: 0}}\n"
+     << "    refine: {degree_elevate: [" << P - 2 << ", " << P - 1 << "], subdivide: [" << nu << ", " << nv << "]}\n"
+     << "    boundary: {west: {displacement: {x: 0, y: 0}}}\n";
+  const Problem prob = parse_problem(os.str(), "bench.yaml");
+  System sys(prob, Tpetra::getDefaultComm());
+  RCP<Matrix> K;
+  sys.assemble_internal(nullptr, nullptr, &K);   // graph, tables, first touch
+  for (auto _ : st) {
+    sys.assemble_internal(nullptr, nullptr, &K);
+    Kokkos::fence();
+  }
+  st.counters["dofs/s"] = benchmark::Counter(static_cast<double>(sys.num_dofs()) * st.iterations(), benchmark::Counter::kIsRate);
+  st.counters["qp/s"] = benchmark::Counter(static_cast<double>(sys.blocks()[0].quadrature_points) * st.iterations(),
+                                           benchmark::Counter::kIsRate);
+  st.counters["dofs"] = static_cast<double>(sys.num_dofs());
+}
+
+template <int P>
 void BM_Scatter(benchmark::State& st) {
   const Problem prob = block_problem(P, elements_for(P));
   System sys(prob, Tpetra::getDefaultComm());
@@ -238,6 +264,10 @@ BENCHMARK_TEMPLATE(BM_Scatter, 1)->ArgName("sorted")->Arg(0)->Arg(1)->Unit(bench
 BENCHMARK_TEMPLATE(BM_Scatter, 2)->ArgName("sorted")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_TEMPLATE(BM_Scatter, 3)->ArgName("sorted")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_TEMPLATE(BM_Scatter, 4)->ArgName("sorted")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_Formation, 2)->ArgName("rows")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_Formation, 3)->ArgName("rows")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_Formation, 4)->ArgName("rows")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_Formation, 5)->ArgName("rows")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_ContactProjection)->ArgNames({"M", "warm"})->ArgsProduct({{16, 64, 256, 1024, 4096}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_SpMV)->Arg(64)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_StreamCopy)->Arg(1 << 16)->Arg(1 << 25)->Unit(benchmark::kMillisecond)->UseRealTime();

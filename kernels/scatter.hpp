@@ -44,6 +44,25 @@ struct ElementScatter {
       else G.sumIntoValues(2 * grow(cp) + r % 2, gcols, 2 * n, Ke + r * ld, sorted_G, true);
     }
   }
+
+  /// Adds one matrix row, dof (cp, comp), against the dofs of control points cps[0..n) (patch
+  /// numbering), both components: v[2 j + c] for column (cps[j], c). The row-wise formation's
+  /// write (kernels/elasticity_sf.hpp); atomic, since rows are shared with mirrored writes.
+  template <int MaxN>
+  KOKKOS_INLINE_FUNCTION void add_row(const Kokkos::View<const int*, MemSpace>& lid, int cp, int comp, const int* cps,
+                                      int n, const double* v) const {
+    int cols[2 * MaxN];
+    const bool split = orow.extent(0) > 0;
+    const bool own = !split || orow(cp) >= 0;
+    for (int j = 0; j < n; ++j) {
+      const int o = !split || !own ? lid(cps[j]) : ocol(cps[j]);
+      cols[2 * j] = 2 * o;
+      cols[2 * j + 1] = 2 * o + 1;
+    }
+    if (!split) A.sumIntoValues(2 * lid(cp) + comp, cols, 2 * n, v, sorted_A, true);
+    else if (own) A.sumIntoValues(2 * orow(cp) + comp, cols, 2 * n, v, sorted_A, true);
+    else G.sumIntoValues(2 * grow(cp) + comp, cols, 2 * n, v, sorted_G, true);
+  }
 };
 
 }  // namespace iga

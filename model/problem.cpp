@@ -1009,7 +1009,13 @@ Problem build(Reader& R, const YAML::Node& root) {
 
   if (root["solver"]) {
     const YAML::Node s = root["solver"];
-    R.keys(s, "solver", {"newton", "linear", "quadrature"});
+    R.keys(s, "solver", {"newton", "linear", "quadrature", "formation"});
+    if (s["formation"]) {
+      const std::string f = R.string(s["formation"], "solver.formation");
+      if (f == "sum_factorized") P.formation = Formation::SumFactorized;
+      else if (f == "elements") P.formation = Formation::Elements;
+      else R.fail("solver.formation", s["formation"], "expected sum_factorized or elements");
+    }
     if (s["quadrature"]) {
       const std::string q = R.string(s["quadrature"], "solver.quadrature");
       if (q == "gauss") P.quadrature = Quadrature::Gauss;

@@ -34,6 +34,11 @@ enum class Preconditioner { MueLu, BoomerAMG, ILUT, Relaxation, None };
 /// it cannot be built. Gauss: p + 1 Gauss-Legendre points per element and direction (the
 /// reference).
 enum class Quadrature { Gauss, Spline };
+/// solver.formation: how the tangent is formed. SumFactorized (the default): row by row over
+/// each patch, the quadrature sum factorised through the 1-D B-spline tables
+/// (kernels/elasticity_sf.hpp). Elements: element by element (kernels/elasticity.hpp), the
+/// reference; the same matrix to round-off.
+enum class Formation { SumFactorized, Elements };
 
 const char* contact_method_name(ContactMethod m);
 const char* linear_method_name(LinearMethod m);       // cg, gmres, direct
@@ -150,6 +155,7 @@ struct Problem {
   NewtonOptions newton;
   LinearOptions linear;
   Quadrature quadrature = Quadrature::Spline;
+  Formation formation = Formation::SumFactorized;
   OutputOptions output;
 
   int find_body(const std::string& name) const;

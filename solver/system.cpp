@@ -11,6 +11,7 @@
 
 #include "kernels/boundary_load.hpp"
 #include "kernels/elasticity.hpp"
+#include "kernels/elasticity_sf.hpp"
 
 namespace iga {
 
@@ -405,8 +406,17 @@ RCP<const Graph> System::stiffness_graph() const {
   return graph_;
 }
 
+struct System::SumFactorCache {
+  SumFactorPatch tables;
+  Kokkos::View<double***, Kokkos::LayoutRight, MemSpace> C;
+  Kokkos::View<double****, Kokkos::LayoutRight, MemSpace> U;
+  Kokkos::View<double***, Kokkos::LayoutRight, MemSpace> Ac;
+};
+
 // One element loop for the internal force and the tangent of every material
 // (kernels/elasticity.hpp, AssembleInternal): the small-strain stiffness is its tangent at any u.
+// solver.formation: sum_factorized forms the tangent row by row instead
+// (kernels/elasticity_sf.hpp, SumFactorizedTangent); the element loop then forms f_int only.
 void System::assemble_internal(const Vector* u, Vector* f_int, RCP<Matrix>* K, const LoadPoint* lp) const {
   const bool one = overlap_->isSameAs(*owned_);
   const RCP<const Graph> graph = K ? stiffness_graph() : Teuchos::null;
@@ -475,14 +485,38 @@ void System::assemble_internal(const Vector* u, Vector* f_int, RCP<Matrix>* K, c
     const PatchBlock& bd = blocks_[b];
     if (bd.e_end <= bd.e_begin) continue;
     const GaussRule g0 = gauss_rule(bd.pd.p[0] + 1), g1 = gauss_rule(bd.pd.p[1] + 1);
+    const bool rows = K && P_.formation == Formation::SumFactorized;
     dispatch_degree(std::max(bd.pd.p[0], bd.pd.p[1]), [&](auto P) {
       AssembleInternal<decltype(P)::value, Local> k{bd.pd, bd.mat, g0, g1, bd.e_begin};
       k.u = uv;
       k.f = fv;
       k.force = f_int != nullptr;
-      k.tangent = K != nullptr;
-      if (K) k.scatter = scatter(b);
-      k.run(bd.e_end);
+      k.tangent = K != nullptr && !rows;
+      if (k.tangent) k.scatter = scatter(b);
+      if (k.force || k.tangent) k.run(bd.e_end);
+      if (rows) {
+        if (sum_factor_.size() != blocks_.size()) sum_factor_.resize(blocks_.size());
+        if (!sum_factor_[b]) {
+          sum_factor_[b] = std::make_shared<SumFactorCache>();
+          sum_factor_[b]->tables = sum_factor_tables(bd.pd, g0, g1);
+        }
+        SumFactorCache& c = *sum_factor_[b];
+        SumFactorizedTangent<decltype(P)::value, Local> s;
+        s.pd = bd.pd;
+        s.mat = bd.mat;
+        s.t = c.tables.dev;
+        s.e_begin = bd.e_begin;
+        s.e_end = bd.e_end;
+        s.scatter = scatter(b);
+        s.u = uv;
+        s.C = c.C;
+        s.Uw = c.U;
+        s.Ac = c.Ac;
+        s.run(c.tables.host);
+        c.C = s.C;
+        c.U = s.Uw;
+        c.Ac = s.Ac;
+      }
     });
     // finite kinematics: pressures follow the deformed sides (kernels/boundary_load.hpp)
     if (lp && P_.kinematics == Kinematics::Finite)

@@ -165,6 +165,9 @@ class System {
   mutable RCP<const Import> ov_import_;     // owned -> overlap (displacements)
   mutable RCP<const Export> ov_export_;     // overlap -> owned (forces, ADD)
   mutable RCP<Vector> u_ov_, f_ov_;         // several ranks: overlap displacements and forces
+  // solver.formation: sum_factorized: per block, the 1-D tables and work arrays (built once)
+  struct SumFactorCache;
+  mutable std::vector<std::shared_ptr<SumFactorCache>> sum_factor_;
   RCP<const Graph> stiffness_graph() const;
 
   struct CouplingRange { std::vector<int> lo, hi; };

@@ -3,7 +3,9 @@
 # igacontact's Lame cylinder (examples/lame_cylinder.yaml) at about the same dof count.
 #
 # For each degree p, N pairs, in the order deal.II, igacontact (spline rule), igacontact
-# (Gauss rule), so that slow drifts of the machine fall on every code alike:
+# (spline rule, the element loop: solver.formation=elements), igacontact (Gauss rule), so that
+# slow drifts of the machine fall on every code alike (igacontact's tangent is formed row by
+# row, solver.formation=sum_factorized, unless the code's name says "elements"):
 #   deal.II:    build-peers/dealii_assembly P DOFS --reps R (benchmarks/peers/dealii_assembly.cpp;
 #               FE_Q(p) vector, MappingQ(p), QGauss(p + 1), one thread);
 #   igacontact: build/bin/igacontact run examples/lame_cylinder.yaml --quiet --output TMP
@@ -93,11 +95,15 @@ print(json.dumps({"p": int(sys.argv[2]), "pair": int(sys.argv[3]), "code": "deal
                   "setup_assembly_s": d["setup_s"] + d["assembly_s"], "element_loop_s": d["assembly_s"],
                   "tangent_s": None}))
 EOF
-    # B: igacontact, spline rule then Gauss
-    for rule in spline gauss; do
+    # B: igacontact, spline rule (rows, then elements), then Gauss (rows)
+    for variant in "spline sum_factorized" "spline elements" "gauss sum_factorized"; do
+      read -r rule formation <<< "$variant"
+      name=$rule
+      [ "$formation" = elements ] && name="$rule elements"
       rm -rf "$TMP/out"
-      nice "$IGA" run "$YAML" --quiet --output "$TMP/out" "${SETS[@]}" --set "solver.quadrature=$rule"
-      "$PY" - "$TMP/out/summary.json" "$p" "$k" "$rule" "$NU" "$NV" "$IGA_DOFS" >> "$RESULTS" <<'EOF'
+      nice "$IGA" run "$YAML" --quiet --output "$TMP/out" "${SETS[@]}" --set "solver.quadrature=$rule" \
+        --set "solver.formation=$formation"
+      "$PY" - "$TMP/out/summary.json" "$p" "$k" "$name" "$NU" "$NV" "$IGA_DOFS" >> "$RESULTS" <<'EOF'
 import json, sys
 d = json.load(open(sys.argv[1]))
 if d["dofs"] != int(sys.argv[7]):
@@ -130,7 +136,7 @@ print()
 print("| p | code | dofs | elements | quadrature points | set-up + assembly (us/dof) | element loop (us/dof) "
       "| element loop / deal.II's | 2b tangent + Dirichlet (us/dof) |")
 print("|---|---|---|---|---|---|---|---|---|")
-order = ["deal.II", "igacontact spline", "igacontact gauss"]
+order = ["deal.II", "igacontact spline", "igacontact spline elements", "igacontact gauss"]
 for p in sorted({r["p"] for r in rows}):
     ref = None
     for code in order:
