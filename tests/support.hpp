@@ -74,6 +74,34 @@ struct RingAndBlock {
   }
 };
 
+/// The largest |A_ij - B_ij| over the owned rows of all ranks (the same pattern expected,
+/// entry by entry), and in `scale` the largest |A_ij|.
+inline double max_abs_difference(const Matrix& A, const Matrix& B, double& scale) {
+  double diff = 0;
+  scale = 0;
+  const auto& rows = *A.getRowMap();
+  for (size_t l = 0; l < A.getNodeNumRows(); ++l) {
+    const GO g = rows.getGlobalElement(static_cast<LO>(l));
+    const size_t n = A.getNumEntriesInGlobalRow(g);
+    typename Matrix::nonconst_global_inds_host_view_type ca("c", n), cb("c", n);
+    typename Matrix::nonconst_values_host_view_type va("v", n), vb("v", n);
+    size_t na = 0, nb = 0;
+    A.getGlobalRowCopy(g, ca, va, na);
+    B.getGlobalRowCopy(g, cb, vb, nb);
+    EXPECT_EQ(na, nb);
+    for (size_t k = 0; k < na && k < nb; ++k) {
+      EXPECT_EQ(ca(k), cb(k));
+      diff = std::max(diff, std::abs(va(k) - vb(k)));
+      scale = std::max(scale, std::abs(va(k)));
+    }
+  }
+  const auto comm = A.getRowMap()->getComm();
+  double in[2] = {diff, scale}, out[2];
+  Teuchos::reduceAll(*comm, Teuchos::REDUCE_MAX, 2, in, out);
+  scale = out[1];
+  return out[0];
+}
+
 struct Exact {
   std::function<std::array<double, 2>(double, double)> u;        // displacement
   std::function<std::array<double, 3>(double, double)> sigma;    // sxx, syy, sxy

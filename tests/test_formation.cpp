@@ -23,32 +23,6 @@ using namespace iga;
 
 namespace {
 
-double max_abs_difference(const Matrix& A, const Matrix& B, double& scale) {
-  double diff = 0;
-  scale = 0;
-  const auto& rows = *A.getRowMap();
-  for (size_t l = 0; l < A.getNodeNumRows(); ++l) {
-    const GO g = rows.getGlobalElement(static_cast<LO>(l));
-    const size_t n = A.getNumEntriesInGlobalRow(g);
-    typename Matrix::nonconst_global_inds_host_view_type ca("c", n), cb("c", n);
-    typename Matrix::nonconst_values_host_view_type va("v", n), vb("v", n);
-    size_t na = 0, nb = 0;
-    A.getGlobalRowCopy(g, ca, va, na);
-    B.getGlobalRowCopy(g, cb, vb, nb);
-    EXPECT_EQ(na, nb);
-    for (size_t k = 0; k < na && k < nb; ++k) {
-      EXPECT_EQ(ca(k), cb(k));
-      diff = std::max(diff, std::abs(va(k) - vb(k)));
-      scale = std::max(scale, std::abs(va(k)));
-    }
-  }
-  const auto comm = A.getRowMap()->getComm();
-  double in[2] = {diff, scale}, out[2];
-  Teuchos::reduceAll(*comm, Teuchos::REDUCE_MAX, 2, in, out);
-  scale = out[1];
-  return out[0];
-}
-
 // A smooth displacement on every control point: u = a (sin(x + 2 y), cos(3 x - y)).
 RCP<Vector> smooth_u(const System& sys, double a) {
   RCP<Vector> u = rcp(new Vector(sys.owned_map()));
@@ -81,7 +55,7 @@ double relative_difference(const std::string& text, const std::vector<std::strin
     }
   }
   double scale = 0;
-  const double d = max_abs_difference(*K[0], *K[1], scale);
+  const double d = iga::test::max_abs_difference(*K[0], *K[1], scale);
   EXPECT_GT(scale, 0.0);
   if (std::getenv("IGA_VERBOSE")) std::printf("  relative difference %.3e\n", d / scale);
   return d / scale;

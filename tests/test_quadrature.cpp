@@ -68,28 +68,6 @@ RCP<Matrix> stiffness(const std::string& yaml, const std::string& rule) {
   return sys.assemble_stiffness();
 }
 
-double max_abs_difference(const Matrix& A, const Matrix& B, double& scale) {
-  double diff = 0;
-  scale = 0;
-  const auto& rows = *A.getRowMap();
-  for (size_t l = 0; l < A.getNodeNumRows(); ++l) {
-    const GO g = rows.getGlobalElement(static_cast<LO>(l));
-    const size_t n = A.getNumEntriesInGlobalRow(g);
-    typename Matrix::nonconst_global_inds_host_view_type ca("c", n), cb("c", n);
-    typename Matrix::nonconst_values_host_view_type va("v", n), vb("v", n);
-    size_t na = 0, nb = 0;
-    A.getGlobalRowCopy(g, ca, va, na);
-    B.getGlobalRowCopy(g, cb, vb, nb);
-    EXPECT_EQ(na, nb);
-    for (size_t k = 0; k < na && k < nb; ++k) {
-      EXPECT_EQ(ca(k), cb(k));
-      diff = std::max(diff, std::abs(va(k) - vb(k)));
-      scale = std::max(scale, std::abs(va(k)));
-    }
-  }
-  return diff;
-}
-
 }  // namespace
 
 TEST(SplineQuadrature, IntegratesItsTargetSpaceWithAboutHalfTheGaussPoints) {
@@ -165,7 +143,7 @@ TEST(SplineQuadrature, AffineBSplineStiffnessEqualsGaussToRoundOff) {
       << "    boundary: {south: {displacement: {x: 0, y: 0}}}\n";
     const RCP<Matrix> A = stiffness(y.str(), "gauss"), B = stiffness(y.str(), "spline");
     double scale = 0;
-    const double diff = max_abs_difference(*A, *B, scale);
+    const double diff = iga::test::max_abs_difference(*A, *B, scale);
     EXPECT_LT(diff, 1e-12 * scale) << "p = " << p << ": max |K_spline - K_gauss| = " << diff << " of " << scale;
   }
 }
@@ -225,6 +203,6 @@ TEST(SplineQuadrature, FallsBackToGaussWhereNoRuleIsFound) {
   EXPECT_NE(q.find(" x spline"), std::string::npos) << q;   // the other direction has its rule
   const RCP<Matrix> A = stiffness(y.str(), "gauss"), B = sys.assemble_stiffness();
   double scale = 0;
-  const double diff = max_abs_difference(*A, *B, scale);
+  const double diff = iga::test::max_abs_difference(*A, *B, scale);
   EXPECT_LT(diff, 1e-12 * scale);
 }
