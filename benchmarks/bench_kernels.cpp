@@ -7,7 +7,7 @@
 //   BM_Scatter<P>/sorted:s  nonzeros/s (element matrices formed and summed into the Tpetra local matrix;
 //                           s = 1: rows searched by bisection, 0: linearly)
 //   BM_Formation<P>/rows:r  dofs/s, quadrature points/s of the whole tangent (stage 2.2, refilled in place)
-//                           on a curved rational patch (quarter annulus, ~ 2.5e4 dofs, spline rule):
+//                           on a curved rational patch (quarter annulus, ~ 1.4e4 dofs, spline rule):
 //                           r = 0 the element loop, 1 row-wise sum factorisation (solver.formation)
 //   BM_ContactProjection/M  projections/s on a degree-2 master curve of M elements
 //   BM_SpMV / BM_StreamCopy GB/s of the assembled elasticity matrix, and the copy limit

@@ -79,7 +79,7 @@ inline void build_direction(const PD& pd, int d, const GaussRule& g, Kokkos::Vie
                             Kokkos::View<int*, MemSpace>& qel, Kokkos::View<int*, MemSpace>& qoff,
                             Kokkos::View<int*, MemSpace>& flo, Kokkos::View<int*, MemSpace>& fhi,
                             Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>& B, int& nq,
-                            std::vector<int>* h_qoff_out, std::vector<int>* h_span_out) {
+                            SumFactorRows* host) {
   const int ne = pd.ne[d], p = pd.p[d], n = pd.n[d];
   const auto& off_dev = d == 0 ? pd.qoff0 : pd.qoff1;
   std::vector<int> h_off(ne + 1);
@@ -137,10 +137,11 @@ inline void build_direction(const PD& pd, int d, const GaussRule& g, Kokkos::Vie
           }
         }
       });
-  if (h_qoff_out) *h_qoff_out = h_off;
-  if (h_span_out) {
-    h_span_out->resize(ne);
-    for (int k = 0; k < ne; ++k) (*h_span_out)[k] = h_span(k);
+  if (host) {   // the eta direction's host copies, for the chunking
+    host->qoff1 = h_off;
+    host->span1.assign(h_span.data(), h_span.data() + ne);
+    host->flo1 = h_flo;
+    host->fhi1 = h_fhi;
   }
 }
 
@@ -179,12 +180,8 @@ inline SumFactorPatch sum_factor_tables(const PatchData& pd, const GaussRule& g0
   SumFactorPatch sp;
   SumFactorTables& t = sp.dev;
   SumFactorRows& h = sp.host;
-  sf_detail::build_direction(pd, 0, g0, t.w0, t.qel0, t.qoff0, t.flo0, t.fhi0, t.B0, t.nq[0], nullptr, nullptr);
-  sf_detail::build_direction(pd, 1, g1, t.w1, t.qel1, t.qoff1, t.flo1, t.fhi1, t.B1, t.nq[1], &h.qoff1, &h.span1);
-  auto fl = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), t.flo1);
-  auto fh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), t.fhi1);
-  h.flo1.assign(fl.data(), fl.data() + fl.extent(0));
-  h.fhi1.assign(fh.data(), fh.data() + fh.extent(0));
+  sf_detail::build_direction(pd, 0, g0, t.w0, t.qel0, t.qoff0, t.flo0, t.fhi0, t.B0, t.nq[0], nullptr);
+  sf_detail::build_direction(pd, 1, g1, t.w1, t.qel1, t.qoff1, t.flo1, t.fhi1, t.B1, t.nq[1], &h);
   auto cp = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.cp);
   for (size_t a = 1; a < cp.extent(0); ++a)
     if (cp(a, 2) != cp(0, 2)) t.rational = true;
@@ -230,10 +227,10 @@ struct SumFactorizedTangent {
       M[1][l] = t.B1(q2, p1 + 1 + l);
     }
     // sum-factorised sums of the homogeneous control points (and of w u where u is given):
-    // S[k][o] = sum_ij D_o(N_i M_j) c_ij[k], o = value, xi, eta; k = w x, w y, w, w u_x, w u_y
+    // S[o][k] = sum_ij D_o(N_i M_j) c_ij[k], o = value, xi, eta; k = w x, w y, w, w u_x, w u_y
     const bool have_u = u.extent(0) > 0;
     const int nk = have_u ? 5 : 3;
-    double S[5][3] = {};
+    double S[3][5] = {};
     for (int j = 0; j <= p1; ++j) {
       double A[5] = {0, 0, 0, 0, 0}, Bd[5] = {0, 0, 0, 0, 0};
       for (int i = 0; i <= p0; ++i) {
@@ -251,28 +248,25 @@ struct SumFactorizedTangent {
         }
       }
       for (int k = 0; k < nk; ++k) {
-        S[k][0] += M[0][j] * A[k];
-        S[k][1] += M[0][j] * Bd[k];
-        S[k][2] += M[1][j] * A[k];
+        S[0][k] += M[0][j] * A[k];
+        S[1][k] += M[0][j] * Bd[k];
+        S[2][k] += M[1][j] * A[k];
       }
     }
-    const double iW = 1.0 / S[2][0], Wu = S[2][1], Wv = S[2][2];
-    const double x0 = S[0][0] * iW, x1 = S[1][0] * iW;
-    const double xu = (S[0][1] - x0 * Wu) * iW, xv = (S[0][2] - x0 * Wv) * iW;
-    const double yu = (S[1][1] - x1 * Wu) * iW, yv = (S[1][2] - x1 * Wv) * iW;
-    const double det = xu * yv - xv * yu, idet = 1.0 / det;
-    const double Ji[2][2] = {{yv * idet, -xv * idet}, {-yu * idet, xu * idet}};   // Ji[alpha][J]
+    double x[2], Ji[2][2];   // Ji[alpha][J]
+    const double det = rational_map(S[0], S[1], S[2], x, Ji);
+    const double iW = 1.0 / S[0][2], Wu = S[1][2], Wv = S[2][2];
     double E[2][3];
     for (int J = 0; J < 2; ++J) {
       E[J][1] = Ji[0][J] * iW;
       E[J][2] = Ji[1][J] * iW;
       E[J][0] = -(Ji[0][J] * Wu + Ji[1][J] * Wv) * iW * iW;
     }
-    // Grad u: H_iJ = sum_d E_Jd V_id, V_id = sum_a w_a u_ai D_d N_a = S[3 + i][d]
+    // Grad u: H_iJ = sum_d E_Jd V_id, V_id = sum_a w_a u_ai D_d N_a = S[d][3 + i]
     double H[2][2] = {{0, 0}, {0, 0}};
     if (have_u)
       for (int i = 0; i < 2; ++i)
-        for (int J = 0; J < 2; ++J) H[i][J] = E[J][0] * S[3 + i][0] + E[J][1] * S[3 + i][1] + E[J][2] * S[3 + i][2];
+        for (int J = 0; J < 2; ++J) H[i][J] = E[J][0] * S[0][3 + i] + E[J][1] * S[1][3 + i] + E[J][2] * S[2][3 + i];
     double Pk[2][2], P33, A[4][4];
     material_response<true>(mat, H, Pk, P33, A);
     const double wq = kmath::fabs(det) * t.w0(q1) * t.w1(q2);

@@ -116,6 +116,25 @@ KOKKOS_INLINE_FUNCTION void element_homogeneous_cp(const PD& pd, int s0, int s1,
     }
 }
 
+/// The rational map at a point from the homogeneous sums S = sum_ij N_i M_j cw_ij and their
+/// xi and eta derivatives Su, Sv (components w x, w y, w): the point x and the inverse Jacobian
+/// Ji[alpha][J] = d xi_alpha / d x_J; returns det(dx/dxi). Shared by nurbs_grad_1d and the
+/// row-wise formation's point fields (kernels/elasticity_sf.hpp).
+KOKKOS_INLINE_FUNCTION double rational_map(const double S[3], const double Su[3], const double Sv[3], double x[2],
+                                           double Ji[2][2]) {
+  const double iW = 1.0 / S[2], Wu = Su[2], Wv = Sv[2];
+  x[0] = S[0] * iW;
+  x[1] = S[1] * iW;
+  const double xu = (Su[0] - x[0] * Wu) * iW, xv = (Sv[0] - x[0] * Wv) * iW;
+  const double yu = (Su[1] - x[1] * Wu) * iW, yv = (Sv[1] - x[1] * Wv) * iW;
+  const double det = xu * yv - xv * yu, idet = 1.0 / det;
+  Ji[0][0] = yv * idet;
+  Ji[0][1] = -xv * idet;
+  Ji[1][0] = -yu * idet;
+  Ji[1][1] = xu * idet;
+  return det;
+}
+
 /// NURBS basis R_a, physical gradients and the point x from the 1-D B-spline values and first
 /// derivatives N[0..1][i] (along u) and M[0..1][j] (along v) and the homogeneous control
 /// points cw. Returns det(dx/dxi). The weighted sums are sum-factorised (over i, then j):
@@ -143,14 +162,11 @@ KOKKOS_INLINE_FUNCTION double nurbs_grad_1d(int p0, int p1, const double N[][kMa
       Sv[k] += M[1][j] * A[k];
     }
   }
+  double Ji[2][2];
+  const double det = rational_map(S, Su, Sv, x, Ji);
   const double iW = 1.0 / S[2], Wu = Su[2], Wv = Sv[2];
-  x[0] = S[0] * iW;
-  x[1] = S[1] * iW;
-  const double xu = (Su[0] - x[0] * Wu) * iW, xv = (Sv[0] - x[0] * Wv) * iW;
-  const double yu = (Su[1] - x[1] * Wu) * iW, yv = (Sv[1] - x[1] * Wv) * iW;
-  const double det = xu * yv - xv * yu, idet = 1.0 / det;
   // dR/dx = J^{-T} dR/dxi, J = [[xu, xv], [yu, yv]]
-  const double i00 = yv * idet, i01 = -xv * idet, i10 = -yu * idet, i11 = xu * idet;
+  const double i00 = Ji[0][0], i01 = Ji[0][1], i10 = Ji[1][0], i11 = Ji[1][1];
   for (int j = 0; j <= p1; ++j)
     for (int i = 0; i <= p0; ++i) {
       const int a = i + j * (p0 + 1);
