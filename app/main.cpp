@@ -6,7 +6,9 @@
 //   igacontact export FILE [--output DIR] [--set KEY=VALUE ...]
 //   igacontact --help | --version
 // Exit codes: 0 converged, 1 internal error, 2 bad input, 3 the nonlinear solve did not converge,
-// 4 the output could not be written (summary.json is then absent).
+// 4 the output could not be written (summary.json is then absent), 5 a converged load step failed
+// a physical check (interpenetration, self-penetration, an inverted element): the run stops
+// there, its steps are written, summary.json says why.
 #include <Teuchos_StackedTimer.hpp>
 #include <Teuchos_TimeMonitor.hpp>
 #include <Tpetra_Core.hpp>
@@ -210,6 +212,8 @@ int run(int argc, char** argv, Teuchos::RCP<const iga::Comm> comm) {
     if (root) std::cerr << e.what() << "\n";
     return 2;
   }
+  if (root)
+    for (const std::string& w : P.warnings) std::cerr << "warning: " << w << "\n";
   if (args.command == "check") {
     if (root) {
       describe(P, comm->getSize(), std::cout);
@@ -277,9 +281,16 @@ int run(int argc, char** argv, Teuchos::RCP<const iga::Comm> comm) {
       std::fflush(stdout);
     }
   };
-  const iga::SolveResult res =
-      iga::solve(*sys, progress, [&](const iga::StepState& st) { writer.step(st); }, on_cut);
+  // after every converged step (and after its files are written, so that the picture of a
+  // failed check can be looked at): interpenetration, self-penetration, inverted elements
+  auto on_step = [&](const iga::StepState& st) {
+    writer.step(st);
+    *st.stop = iga::check_configuration(*sys, *st.u, *st.contact);
+  };
+  const iga::SolveResult res = iga::solve(*sys, progress, on_step, on_cut);
   nlohmann::json summary = writer.finish(res);
+  summary["check"] = {{"passed", res.stopped.empty()}, {"message", res.stopped}};
+  summary["warnings"] = P.warnings;
 
   // timings: the slowest rank's time per stage
   std::vector<std::string> names;
@@ -319,14 +330,16 @@ int run(int argc, char** argv, Teuchos::RCP<const iga::Comm> comm) {
                   << ": normal force " << c["normal_force"].get<double>() << ", max pressure "
                   << c["max_pressure"].get<double>() << ", contact length " << c["contact_length"].get<double>()
                   << ", max penetration " << c["max_penetration"].get<double>() << "\n";
-      std::cout << (res.converged ? "converged" : "NOT converged") << ": " << sys->num_dofs() << " dofs, "
+      std::cout << (!res.converged ? "NOT converged" : res.stopped.empty() ? "converged" : "converged, physical check FAILED") << ": " << sys->num_dofs() << " dofs, "
                 << comm->getSize() << " rank(s), Newton iterations per step [";
       for (size_t k = 0; k < res.newton_iterations.size(); ++k) std::cout << (k ? ", " : "") << res.newton_iterations[k];
       std::cout << "], " << res.linear_iterations << " linear iterations; results in " << dir << "\n";
     }
     if (!res.converged) std::cerr << args.file << ": " << res.message << "\n";
+    else if (!res.stopped.empty())
+      std::cerr << args.file << ": load step " << res.steps_converged << " converged but failed a physical check: " << res.stopped << "\n";
   }
-  return res.converged ? 0 : 3;
+  return !res.converged ? 3 : !res.stopped.empty() ? 5 : 0;
 }
 
 }  // namespace

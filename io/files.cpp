@@ -208,12 +208,5 @@ void on_root(const Comm& comm, const std::function<void()>& f) {
   if (failed) throw OutputError(broadcast_string(comm, msg));
 }
 
-std::string broadcast_string(const Comm& comm, std::string s) {
-  int n = static_cast<int>(s.size());
-  Teuchos::broadcast(comm, 0, &n);
-  s.resize(static_cast<size_t>(n));
-  if (n > 0) Teuchos::broadcast(comm, 0, n, s.data());
-  return s;
-}
 
 }  // namespace iga

@@ -76,9 +76,6 @@ std::string check_output_directory(const std::string& dir);
 /// Removes what a previous run left in dir (is_run_output names only). Throws OutputError.
 void remove_previous_outputs(const std::string& dir);
 
-/// Rank 0's value of s on every rank. Collective.
-std::string broadcast_string(const Comm& comm, std::string s);
-
 /// Runs f on rank 0 and tells every rank whether it threw: on failure every rank throws
 /// OutputError with rank 0's message. Collective.
 void on_root(const Comm& comm, const std::function<void()>& f);

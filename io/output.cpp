@@ -21,27 +21,6 @@ namespace iga {
 
 namespace fs = std::filesystem;
 
-std::vector<std::vector<double>> gather_displacements(const System& sys, const Vector& u) {
-  const bool root = sys.comm()->getRank() == 0;
-  std::vector<GO> all;
-  if (root)
-    for (GO g = 0; g < sys.num_dofs(); ++g) all.push_back(g);
-  RCP<const Map> m = rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(), all, 0, sys.comm()));
-  Vector full(m);
-  Import importer(u.getMap(), m);
-  full.doImport(u, importer, Tpetra::INSERT);
-  std::vector<std::vector<double>> out;
-  if (!root) return out;
-  auto h = full.getLocalViewHost(Tpetra::Access::ReadOnly);
-  for (size_t b = 0; b < sys.problem().bodies.size(); ++b) {
-    const size_t n = static_cast<size_t>(sys.problem().bodies[b].num_cps);
-    std::vector<double> v(2 * n);
-    for (size_t k = 0; k < 2 * n; ++k) v[k] = h(2 * sys.body_offset(static_cast<int>(b)) + k, 0);
-    out.push_back(std::move(v));
-  }
-  return out;
-}
-
 nlohmann::json linear_solver_json(const Problem& P, const DirectSolverStats& ds, long long dofs) {
   const LinearOptions& opt = P.linear;
   nlohmann::json j;

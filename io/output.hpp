@@ -9,12 +9,10 @@
 #include <nlohmann/json.hpp>
 
 #include "io/files.hpp"
+#include "solver/checks.hpp"   // gather_displacements
 #include "solver/newton.hpp"
 
 namespace iga {
-
-/// Control point displacements of every body, on rank 0 (empty elsewhere).
-std::vector<std::vector<double>> gather_displacements(const System& sys, const Vector& u);
 
 /// Reactions per body and side ([Rx, Ry]), summed over ranks.
 nlohmann::json reactions_json(const System& sys, const Vector& residual);

@@ -318,7 +318,7 @@ struct Element {
 
 class Checker {
  public:
-  explicit Checker(const Patch& P) : P_(P) {
+  Checker(const Patch& P, int sign) : P_(P), sign_(sign) {
     for (int d = 0; d < 2; ++d) {
       spans_[d] = P.element_spans(d);
       C_[d] = bezier_extraction_1d(P.knots[d], P.degree[d]);
@@ -539,8 +539,8 @@ class Checker {
         area += a;
         area_abs += std::abs(a);
       }
-    by_area_ = std::abs(area) > 1e-12 * area_abs;
-    const int sigma = by_area_ ? (area > 0 ? 1 : -1) : P_.orientation();
+    by_area_ = sign_ == 0 && std::abs(area) > 1e-12 * area_abs;
+    const int sigma = sign_ != 0 ? sign_ : by_area_ ? (area > 0 ? 1 : -1) : P_.orientation();
     // elements of the wrong sign throughout first (a fold is then named as such, not by the
     // zero of det J on its crease), then the undecided ones, in element order
     for (const int pass : {-sigma, 0})
@@ -562,16 +562,17 @@ class Checker {
   DFunction dfun_ = nullptr;
   QFunction qfun_ = nullptr;
   EFunction efun_ = nullptr;
+  const int sign_;        // the sign det J must have (0: the patch's own, from its area)
   bool by_area_ = true;   // sigma from the signed area (else, a tie, from Patch::orientation())
   double inv_binom_[2][kN * kN];
 };
 
 }  // namespace
 
-std::string check_jacobian(const Patch& patch) {
+std::string check_jacobian(const Patch& patch, int sign) {
   if (patch.degree[0] < 1 || patch.degree[0] > kMaxP || patch.degree[1] < 1 || patch.degree[1] > kMaxP)
     return "degree outside 1.." + std::to_string(kMaxP);
-  return Checker(patch).run();
+  return Checker(patch, sign).run();
 }
 
 }  // namespace iga

@@ -74,7 +74,9 @@ namespace iga {
 /// above); else one line: what is wrong, the element (its parametric box), a parametric point
 /// and its physical point, e.g. "det J changes sign in element [0.25, 0.5] x [0, 0.5] (det J
 /// = -0.31 at xi = 0.41, eta = 0.12, x = (1.2, 0.3)); the control net folds over".
-/// The patch must have passed Patch::validate().
-std::string check_jacobian(const Patch& patch);
+/// The patch must have passed Patch::validate(). sign: the sign det J must have everywhere
+/// (+1 or -1; a deformed configuration keeps its reference patch's), 0: the patch's own
+/// orientation, decided by its signed area as above.
+std::string check_jacobian(const Patch& patch, int sign = 0);
 
 }  // namespace iga

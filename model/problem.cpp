@@ -1,4 +1,5 @@
 #include "model/problem.hpp"
+#include "model/configuration_check.hpp"
 
 #include <MueLu_MasterList.hpp>
 #include <Teuchos_XMLParameterListHelpers.hpp>
@@ -962,11 +963,15 @@ Problem build(Reader& R, const YAML::Node& root) {
       if (!n["slave"]) R.missing(path + ".slave");
       cp.master = read_surface(R, P, n["master"], path + ".master");
       cp.slave = read_surface(R, P, n["slave"], path + ".slave");
-      if (cp.master.body == cp.slave.body && cp.master.sides == cp.slave.sides)
-        R.fail(path + ".slave", n["slave"], "master and slave are the same side of the same body");
+      // self-contact: two different sides (or chains of patch sides) of one body
       if (cp.master.body == cp.slave.body)
-        R.fail(path + ".slave", n["slave"],
-               "master and slave are sides of the same body: self-contact is not supported; split the body in two");
+        for (const PatchSide& ps : cp.slave.sides)
+          if (std::find(cp.master.sides.begin(), cp.master.sides.end(), ps) != cp.master.sides.end())
+            R.fail(path + ".slave", n["slave"],
+                   cp.master.sides == cp.slave.sides
+                       ? std::string("master and slave are the same side of the same body")
+                       : "master and slave share the side " + P.bodies[cp.slave.body].side_label(ps.patch, ps.side) +
+                             " of body '" + P.bodies[cp.slave.body].name + "'");
       if (n["method"]) {
         const std::string m = R.string(n["method"], path + ".method");
         if (m == "kts_penalty") cp.method = ContactMethod::KtsPenalty;
@@ -1003,7 +1008,13 @@ Problem build(Reader& R, const YAML::Node& root) {
           !std::isfinite(cp.tangential_penalty * P.thickness))
         R.fail(path + ".tangential_penalty", n["tangential_penalty"] ? n["tangential_penalty"] : n["penalty"],
                "tangential_penalty x thickness is not a normal floating-point number; rescale the units");
+      // a slave side that faces away from its master never touches it: the run would end
+      // with no contact and exit 0
+      const std::string facing = check_pair_facing(P, cp);
+      if (!facing.empty()) R.fail(path + ".slave", n["slave"], facing);
       P.contact.push_back(cp);
+      const std::string warn = penalty_warning(P, static_cast<int>(P.contact.size()) - 1);
+      if (!warn.empty()) P.warnings.push_back(R.file + ": " + warn);
     }
   }
 

@@ -157,6 +157,9 @@ struct Problem {
   Quadrature quadrature = Quadrature::Spline;
   Formation formation = Formation::SumFactorized;
   OutputOptions output;
+  /// Lines the loader warns about (`check` and `run` print them; summary.json `warnings`):
+  /// e.g. a contact penalty far above E / h.
+  std::vector<std::string> warnings;
 
   int find_body(const std::string& name) const;
   /// some contact pair has Coulomb friction (mu > 0)

@@ -1,11 +1,14 @@
 #include "solver/newton.hpp"
 #include "solver/tangent.hpp"
+#include "solver/checks.hpp"
+#include "model/configuration_check.hpp"
 
 #include <Teuchos_TimeMonitor.hpp>
 #include <Teuchos_CommHelpers.hpp>
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace iga {
@@ -110,6 +113,7 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
     std::string why;
     int newton_its = 0;
     bool final = false;   // no smaller increment can help (a singular tangent at the committed state)
+    bool stall = false;   // the ALM multiplier updates stalled
   };
   // the residual at uu; a contact state the discretisation cannot represent fails the increment
   auto evaluate = [&](const Vector& uu, ContactContribution& cc, Outcome& out) {
@@ -187,6 +191,7 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
       }
     }
     sys.set_dirichlet(*u, lp);
+    std::vector<double> gap_history;   // ALM: the gaps after each Newton solve, against their tolerances
     for (int aug = 0; aug < max_aug; ++aug) {
       bool newton_ok = false;
       double inc = 1.0;  // last ||alpha du|| / ||u|| (max norms)
@@ -207,6 +212,9 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
         }
         if (!finite(norm) || rel > 1e12) {
           out.why = finite(norm) ? "the residual diverged" : "the residual is not a number (NaN or Inf)";
+          // a material law evaluated on a folded element (log J, J^-1) is the usual cause
+          const std::string inverted = find_inverted_elements(sys, *u);
+          if (!inverted.empty()) out.why += ": " + inverted;
           if (progress) progress(log);
           return out;
         }
@@ -289,7 +297,13 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
           }
           if (best_norm < 0 || tn < best_norm) { best_norm = tn; best_alpha = alpha; }
         }
-        if (best_norm < 0) { out.why = "the line search found no finite residual"; return out; }
+        if (best_norm < 0) {
+          out.why = "the line search found no finite residual";
+          u_trial->update(1.0, *u, 1.0, *du, 0.0);
+          const std::string inverted = find_inverted_elements(sys, *u_trial);
+          if (!inverted.empty()) out.why += "; at the full Newton step: " + inverted;
+          return out;
+        }
         if (best_alpha != last_alpha) {   // the last trial was not the best: back to the best
           u_trial->update(1.0, *u, best_alpha, *du, 0.0);
           if (!evaluate(*u_trial, cc, out)) return out;
@@ -315,6 +329,38 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
         if (ratio > c.pair().alm_tolerance) { gaps_ok = false; c.augment(); }
       }
       if (gaps_ok) return out;
+      // Uzawa converges linearly: at the rate of the last 5 updates, will the gaps reach the
+      // tolerance within contact.augmentations? If not, the augmentations stalled (a sharp
+      // corner's singular pressure, a penalty too small for the gaps asked for): say so now
+      // rather than at the limit, and let the caller stop cutting a stall cuts do not cure.
+      // Frictionless pairs only: with friction the stick constraints drift along the
+      // stick-slip boundary for a few hundred updates, the gaps growing for a while before
+      // they close (docs/friction.md), which a linear rate cannot predict.
+      double q = 0;   // the gaps against their tolerances
+      bool friction_alm = false;
+      for (const auto& c : res.contact)
+        if (c.pair().method == ContactMethod::KtsAlm || c.pair().method == ContactMethod::MortarAlm) {
+          q = std::max(q, c.max_active_gap_ratio() / c.pair().alm_tolerance);
+          friction_alm = friction_alm || c.friction();
+        }
+      gap_history.push_back(q);
+      constexpr int kWindow = 5;
+      const int n = static_cast<int>(gap_history.size());
+      if (!friction_alm && n > kWindow && aug + 1 < max_aug) {
+        const double rate = std::pow(gap_history[n - 1] / gap_history[n - 1 - kWindow], 1.0 / kWindow);
+        const double needed = rate < 1 ? std::log(q) / -std::log(rate) : std::numeric_limits<double>::infinity();
+        const int left = max_aug - 1 - (aug + 1);
+        if (needed > left) {
+          std::ostringstream os;
+          os << "the augmented Lagrangian stalled: in the last " << kWindow << " multiplier updates the largest gap went from "
+             << gap_history[n - 1 - kWindow] << " to " << q << " times contact.alm_tolerance (" << rate
+             << " per update), so the " << left << " updates left of contact.augmentations cannot close it";
+          os << "; try a penalty method, a larger contact penalty or a looser contact.alm_tolerance";
+          out.why = os.str();
+          out.stall = true;
+          return out;
+        }
+      }
       if (aug + 1 == max_aug) {
         std::ostringstream os;
         os << "the augmented Lagrangian reached contact.augmentations = " << max_aug - 1
@@ -329,8 +375,8 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
 
   double t_conv = 0.0;
   int step = 0;
-  bool failed = false;
-  for (int k = 0; k < K_stages && !failed; ++k) {
+  bool failed = false, stopped = false;
+  for (int k = 0; k < K_stages && !failed && !stopped; ++k) {
     if (k > 0) {
       Teuchos::TimeMonitor t(timer("2) Assembly: elasticity"));
       f_prev = f_end;
@@ -338,14 +384,16 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
     }
     const int n = P.stages[k];
     const double dt_nominal = 1.0 / n;
-    for (int j = 1; j <= n && !failed; ++j) {
+    for (int j = 1; j <= n && !failed && !stopped; ++j) {
       const double t_target = k + static_cast<double>(j) / n;
       double dt = std::min(dt_nominal, t_target - t_conv);
-      int cuts = 0;
+      int cuts = 0, stalls = 0;
       while (t_conv < t_target - 1e-12 * dt_nominal) {
         const double t_try = std::min(t_conv + dt, t_target);
         const LoadPoint lp = LoadPoint::at(t_try, K_stages);
-        const Outcome o = increment(lp, step + 1, cuts);
+        Outcome o = increment(lp, step + 1, cuts);
+        // an ALM stall that one cut did not cure is not cured by more
+        if (o.stall && ++stalls >= 2) o.final = true;
         if (o.why.empty()) {
           // commit
           ++step;
@@ -368,7 +416,14 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
             st.u = u.get();
             st.residual = r.get();
             st.contact = &res.contact;
+            std::string stop;
+            st.stop = &stop;
             on_step(st);
+            if (!stop.empty()) {
+              res.stopped = stop;
+              stopped = true;
+              break;
+            }
           }
           dt = std::min(2.0 * dt, dt_nominal);   // after a cut, grow back towards the nominal step
           continue;
@@ -380,13 +435,23 @@ SolveResult solve(const System& sys, const std::function<void(const IterationLog
           std::ostringstream os;
           os << "load step " << j << " of " << n;
           if (K_stages > 1) os << " in stage " << k + 1 << " of " << K_stages;
-          if (o.final)
+          if (o.stall)
+            os << " stopped after " << cuts << " cut(s) of its increment: " << o.why;
+          else if (o.final)
             os << " failed at its first iteration, which no smaller increment changes: " << o.why;
           else
             os << " did not converge after " << P.newton.max_cuts << " cuts of its increment (last at t = " << t_try
                << ", increment " << dt << "): " << o.why;
           if (!o.final && o.why.find("try ") == std::string::npos)
-            os << "; try more load steps, a smaller contact penalty, or more solver.newton.max_iterations";
+            os << (o.why.find("inverted elements") != std::string::npos
+                       ? "; try more load steps or a finer mesh where the elements fold"
+                       : P.contact.empty() ? "; try more load steps or more solver.newton.max_iterations"
+                                           : "; try more load steps, a smaller contact penalty, or more solver.newton.max_iterations");
+          // a penalty far above E / h is a likely cause: name it
+          for (size_t c = 0; c < P.contact.size(); ++c) {
+            const std::string w = penalty_warning(P, static_cast<int>(c));
+            if (!w.empty()) os << "; " << w;
+          }
           res.message = os.str();
           failed = true;
           break;

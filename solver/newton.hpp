@@ -38,6 +38,9 @@ struct SolveResult {
   RCP<Vector> u;                           // displacement of the kept state
   RCP<Vector> residual;                    // lambda f - K u - f_c at u (reactions: minus it)
   std::vector<ContactPairData> contact;    // contact state at u
+  /// Set where the caller stopped the run after a converged step (StepState::stop): why (a
+  /// physical check failed); converged stays true for the steps that were solved.
+  std::string stopped;
 };
 
 /// The state at a converged load step, handed to the caller before the next step starts
@@ -51,6 +54,9 @@ struct StepState {
   const Vector* u = nullptr;
   const Vector* residual = nullptr;               // lambda f - K u - f_c at u (reactions: minus it)
   const std::vector<ContactPairData>* contact = nullptr;   // contact state at u
+  /// The caller may stop the run here: a non-empty *stop (the same on every rank) ends the
+  /// load path after this step (SolveResult::stopped).
+  std::string* stop = nullptr;
 };
 
 /// progress: after every Newton iteration; on_step: at every converged load step; on_cut: when

@@ -29,6 +29,9 @@ using Comm = Teuchos::Comm<int>;
 using Teuchos::RCP;
 using Teuchos::rcp;
 
+/// Rank 0's value of s on every rank. Collective. (solver/checks.cpp)
+std::string broadcast_string(const Comm& comm, std::string s);
+
 static_assert(std::is_same<Node::execution_space, ExecSpace>::value,
               "the kernels' execution space must be Tpetra's default node's");
 

@@ -5,7 +5,7 @@ set -euo pipefail
 src="$1"; work="$2"; secs="${3:-30}"
 mkdir -p "$work/corpus"
 exe="$work/fuzz_problem"
-srcs=("$src/tests/fuzz_problem.cpp" "$src/model/problem.cpp" "$src/model/nurbs.cpp" "$src/model/bezier.cpp" "$src/model/geometry_check.cpp" "$src/model/multipatch.cpp" "$src/model/geometry_file.cpp" "$src/kernels/types.cpp")
+srcs=("$src/tests/fuzz_problem.cpp" "$src/model/problem.cpp" "$src/model/nurbs.cpp" "$src/model/bezier.cpp" "$src/model/geometry_check.cpp" "$src/model/configuration_check.cpp" "$src/model/multipatch.cpp" "$src/model/geometry_file.cpp" "$src/kernels/types.cpp")
 stale=0
 [ -x "$exe" ] || stale=1
 for f in "${srcs[@]}"; do if [ "$f" -nt "$exe" ]; then stale=1; fi; done

@@ -1,0 +1,513 @@
+#include "model/configuration_check.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <sstream>
+
+#include "model/geometry_check.hpp"
+
+namespace iga {
+
+namespace {
+
+using Vec = std::array<double, 2>;
+
+double dist(const Vec& a, const Vec& b) { return std::hypot(a[0] - b[0], a[1] - b[1]); }
+
+std::string fmt(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+std::string point(const Vec& x) { return "(" + fmt(x[0]) + ", " + fmt(x[1]) + ")"; }
+
+// ------------------------------------------------------------------ curves: points, normals
+
+struct CurveSample {
+  Vec x, n;   // point, outward unit normal
+};
+
+// Points and outward normals of a chain: `per` interior points per element and the element ends.
+std::vector<CurveSample> sample_chain(const SurfaceChain& ch, int per) {
+  const Curve& c = ch.curve;
+  const double a = c.knots.front(), b = c.knots.back();
+  std::vector<CurveSample> out;
+  for (const int s : c.element_spans()) {
+    const double t0 = c.knots[s], t1 = c.knots[s + 1];
+    for (int i = 0; i <= per + 1; ++i) {
+      const double t = t0 + (t1 - t0) * i / (per + 1);
+      const double h = 1e-7 * (b - a);
+      const Vec p = c.eval(std::min(t + h, b)), q = c.eval(std::max(t - h, a));
+      const double tx = p[0] - q[0], ty = p[1] - q[1], l = std::hypot(tx, ty);
+      if (!(l > 0)) continue;   // a collapsed point: no normal
+      out.push_back({c.eval(t), {ch.normal_sign * ty / l, -ch.normal_sign * tx / l}});
+    }
+  }
+  return out;
+}
+
+bool faces(const std::vector<CurveSample>& slave, const std::vector<CurveSample>& master, double d) {
+  for (const CurveSample& s : slave)
+    for (const CurveSample& m : master) {
+      const double nn = s.n[0] * m.n[0] + s.n[1] * m.n[1];
+      if (nn >= -1e-3) continue;
+      const double ms = (m.x[0] - s.x[0]) * s.n[0] + (m.x[1] - s.x[1]) * s.n[1];
+      const double sm = (s.x[0] - m.x[0]) * m.n[0] + (s.x[1] - m.x[1]) * m.n[1];
+      if (ms >= -d && sm >= -d) return true;
+    }
+  return false;
+}
+
+// Smallest extent of a body's control-point box.
+double smallest_extent(const Body& b) {
+  double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+  for (const Patch& p : b.patches)
+    for (const Point3& q : p.cp)
+      for (int d = 0; d < 2; ++d) { lo[d] = std::min(lo[d], q[d]); hi[d] = std::max(hi[d], q[d]); }
+  return std::min(hi[0] - lo[0], hi[1] - lo[1]);
+}
+
+// Outer sides of a body (not interfaces, not collapsed to a point).
+std::vector<PatchSide> outer_sides(const Body& b) {
+  std::vector<PatchSide> out;
+  for (size_t k = 0; k < b.patches.size(); ++k)
+    for (int s = 0; s < 4; ++s) {
+      const PatchSide ps{static_cast<int>(k), static_cast<Side>(s)};
+      if (b.is_interface(ps)) continue;
+      const Patch& p = b.patches[k];
+      const std::vector<int> idx = p.side_indices(ps.side);
+      bool collapsed = true;
+      for (const int a : idx) collapsed = collapsed && std::hypot(p.cp[a][0] - p.cp[idx[0]][0], p.cp[a][1] - p.cp[idx[0]][1]) <= b.tolerance;
+      if (!collapsed) out.push_back(ps);
+    }
+  return out;
+}
+
+}  // namespace
+
+std::string check_pair_facing(const Problem& P, const ContactPair& c) {
+  const Body& sb = P.bodies[c.slave.body];
+  const auto slave = sample_chain(surface_chain(P, c.slave), 4);
+  const auto master = sample_chain(surface_chain(P, c.master), 4);
+  const double d = 0.5 * smallest_extent(sb);
+  if (slave.empty() || master.empty() || faces(slave, master, d)) return "";
+  std::string facing;
+  for (const PatchSide& ps : outer_sides(sb)) {
+    if (c.master.body == c.slave.body && std::find(c.master.sides.begin(), c.master.sides.end(), ps) != c.master.sides.end())
+      continue;
+    try {
+      if (faces(sample_chain(make_chain(sb.patches, {ps}, sb.tolerance), 4), master, d))
+        facing += (facing.empty() ? "" : ", ") + sb.side_label(ps.patch, ps.side);
+    } catch (const std::exception&) {
+    }
+  }
+  return "the slave side faces away from the master " + P.bodies[c.master.body].name + "." + c.master.label +
+         ": no slave point has the master in front of it with opposite outward normals, so they can never touch" +
+         (facing.empty() ? std::string("") : " (sides of " + sb.name + " that face it: " + facing + ")");
+}
+
+double penalty_ratio(const Problem& P, const ContactPair& c, double* E_out, double* h_out) {
+  const double E = std::min(P.bodies[c.slave.body].E, P.bodies[c.master.body].E);
+  const SurfaceChain ch = surface_chain(P, c.slave);
+  double h = std::numeric_limits<double>::infinity();
+  for (const int s : ch.curve.element_spans()) {
+    double len = 0;
+    Vec prev = ch.curve.eval(ch.curve.knots[s]);
+    for (int i = 1; i <= 8; ++i) {
+      const Vec q = ch.curve.eval(ch.curve.knots[s] + (ch.curve.knots[s + 1] - ch.curve.knots[s]) * i / 8.0);
+      len += dist(prev, q);
+      prev = q;
+    }
+    if (len > 0) h = std::min(h, len);
+  }
+  if (E_out) *E_out = E;
+  if (h_out) *h_out = h;
+  return std::isfinite(h) && E > 0 ? c.penalty / (E / h) : 0.0;
+}
+
+std::string penalty_warning(const Problem& P, int k) {
+  const ContactPair& c = P.contact[k];
+  double E = 0, h = 0;
+  const double ratio = penalty_ratio(P, c, &E, &h);
+  if (!(ratio > kPenaltyRatioWarning)) return "";
+  return "contact[" + std::to_string(k) + "].penalty = " + fmt(c.penalty) + " is " + fmt(ratio) +
+         " x E/h (E = " + fmt(E) + ", the smaller Young's modulus; h = " + fmt(h) +
+         ", the smallest slave element): above about " + fmt(kPenaltyRatioWarning) +
+         " E/h round-off in the gaps and the tangent's conditioning make the pressure unreliable; take 1-100 E/h, "
+         "and an _alm method where the gaps must close further";
+}
+
+// ------------------------------------------------------------------ penetration
+
+namespace {
+
+
+struct Polyline {    // one outer side, deformed, with its reference points
+  std::vector<Vec> x, X;
+  int body, patch;
+  Side side;
+  std::vector<double> s, h;   // per point: reference arc length from the start, its element's length
+  std::array<std::vector<std::pair<int, int>>, 2> joined;   // per end: (line, end) meeting it
+};
+
+// The boundary near a point along the boundary itself (not across a gap): points of the same
+// side within arc length r, or of a side joined at an end, within r through that end.
+struct Boundary {
+  std::vector<Polyline> lines;
+  void join(double tol) {
+    for (size_t l = 0; l < lines.size(); ++l)
+      for (int e = 0; e < 2; ++e) {
+        const Vec& p = e ? lines[l].X.back() : lines[l].X.front();
+        for (size_t m = 0; m < lines.size(); ++m)
+          if (m != l && lines[m].body == lines[l].body)
+            for (int f = 0; f < 2; ++f)
+              if (dist(p, f ? lines[m].X.back() : lines[m].X.front()) <= tol) lines[l].joined[e].push_back({static_cast<int>(m), f});
+      }
+  }
+  double to_end(int l, double s, int e) const { return e ? lines[l].s.back() - s : s; }
+  bool near(int l, double s, int m, double t, double r) const {
+    if (l == m) return std::abs(s - t) < r;
+    for (int e = 0; e < 2; ++e)
+      for (const auto& [k, f] : lines[l].joined[e])
+        if (k == m && to_end(l, s, e) + to_end(m, t, f) < r) return true;
+    return false;
+  }
+};
+
+// A deformed patch ready for point inversion: 2 x 2 points per element in bins.
+struct Inverter {
+  const Patch* ref = nullptr;
+  Patch cur;
+  int body = 0, patch = 0;
+  double lo[2] = {0, 0}, hi[2] = {0, 0};   // bounding box of the deformed control points (contains the patch)
+  struct Pt { Vec x, X; double u, v; };
+  std::vector<Pt> pts;
+  int nb[2] = {1, 1};
+  double cell = 1;
+  std::vector<std::vector<int>> bins;
+
+  void build() {
+    lo[0] = lo[1] = 1e300; hi[0] = hi[1] = -1e300;
+    for (const Point3& q : cur.cp)
+      for (int d = 0; d < 2; ++d) { lo[d] = std::min(lo[d], q[d]); hi[d] = std::max(hi[d], q[d]); }
+    const auto s0 = cur.element_spans(0), s1 = cur.element_spans(1);
+    for (const int j : s1)
+      for (int b = 0; b < 2; ++b)
+        for (const int i : s0)
+          for (int a = 0; a < 2; ++a) {
+            const double u = cur.knots[0][i] + (a + 0.5) / 2 * (cur.knots[0][i + 1] - cur.knots[0][i]);
+            const double v = cur.knots[1][j] + (b + 0.5) / 2 * (cur.knots[1][j + 1] - cur.knots[1][j]);
+            pts.push_back({cur.eval(u, v), ref->eval(u, v), u, v});
+          }
+    const double w = std::max(hi[0] - lo[0], 1e-300), h = std::max(hi[1] - lo[1], 1e-300);
+    cell = std::sqrt(w * h / std::max<size_t>(pts.size(), 1));
+    cell = std::max({cell, w / 2048, h / 2048});
+    nb[0] = std::max(1, static_cast<int>(std::ceil(w / cell)));
+    nb[1] = std::max(1, static_cast<int>(std::ceil(h / cell)));
+    bins.assign(static_cast<size_t>(nb[0]) * nb[1], {});
+    for (size_t k = 0; k < pts.size(); ++k) bins[bin(pts[k].x)].push_back(static_cast<int>(k));
+  }
+  int cell_of(double x, int d) const {
+    return std::clamp(static_cast<int>(std::floor((x - lo[d]) / cell)), 0, nb[d] - 1);
+  }
+  size_t bin(const Vec& x) const { return static_cast<size_t>(cell_of(x[0], 0)) + static_cast<size_t>(nb[0]) * cell_of(x[1], 1); }
+  bool in_box(const Vec& x, double tol) const {
+    return x[0] >= lo[0] - tol && x[0] <= hi[0] + tol && x[1] >= lo[1] - tol && x[1] <= hi[1] + tol;
+  }
+  // the k points nearest to x (deformed), nearest first
+  std::vector<int> nearest(const Vec& x, size_t k) const {
+    const int c0 = cell_of(x[0], 0), c1 = cell_of(x[1], 1);
+    std::vector<std::pair<double, int>> best;   // sorted, at most k
+    for (int r = 0; r <= std::max(nb[0], nb[1]); ++r) {
+      if (best.size() == k && (r - 1) * cell > best.back().first) break;
+      for (int j = c1 - r; j <= c1 + r; ++j)
+        for (int i = c0 - r; i <= c0 + r; ++i) {
+          if (i < 0 || j < 0 || i >= nb[0] || j >= nb[1]) continue;
+          if (std::max(std::abs(i - c0), std::abs(j - c1)) != r) continue;
+          for (const int q : bins[static_cast<size_t>(i) + static_cast<size_t>(nb[0]) * j]) {
+            const double d = dist(pts[q].x, x);
+            if (best.size() == k && d >= best.back().first) continue;
+            best.insert(std::upper_bound(best.begin(), best.end(), std::make_pair(d, q)), {d, q});
+            if (best.size() > k) best.pop_back();
+          }
+        }
+    }
+    std::vector<int> out;
+    for (const auto& b : best) out.push_back(b.second);
+    return out;
+  }
+  // Newton on cur(u, v) = x from (u, v); true when it converges to within tol
+  bool invert(const Vec& x, double& u, double& v, double tol) const {
+    const double a0 = cur.knots[0].front(), a1 = cur.knots[0].back();
+    const double b0 = cur.knots[1].front(), b1 = cur.knots[1].back();
+    for (int it = 0; it < 50; ++it) {
+      const Vec p = cur.eval(u, v);
+      const double rx = p[0] - x[0], ry = p[1] - x[1];
+      if (std::hypot(rx, ry) <= tol) return true;
+      const double hu = 1e-7 * (a1 - a0), hv = 1e-7 * (b1 - b0);
+      const double up = std::min(u + hu, a1), um = std::max(u - hu, a0);
+      const double vp = std::min(v + hv, b1), vm = std::max(v - hv, b0);
+      const Vec pu = cur.eval(up, v), mu = cur.eval(um, v), pv = cur.eval(u, vp), mv = cur.eval(u, vm);
+      const double J00 = (pu[0] - mu[0]) / (up - um), J10 = (pu[1] - mu[1]) / (up - um);
+      const double J01 = (pv[0] - mv[0]) / (vp - vm), J11 = (pv[1] - mv[1]) / (vp - vm);
+      const double det = J00 * J11 - J01 * J10;
+      if (!(std::abs(det) > 0)) return false;
+      double du = -(J11 * rx - J01 * ry) / det, dv = -(-J10 * rx + J00 * ry) / det;
+      const double lim = std::max(std::abs(du) / (0.25 * (a1 - a0)), std::abs(dv) / (0.25 * (b1 - b0)));
+      if (lim > 1) { du /= lim; dv /= lim; }
+      const double un = std::clamp(u + du, a0, a1), vn = std::clamp(v + dv, b0, b1);
+      if (un == u && vn == v) return false;   // pushed against the patch boundary: outside
+      u = un; v = vn;
+    }
+    return false;
+  }
+};
+
+double segment_distance(const Vec& p, const Vec& a, const Vec& b) {
+  const double ex = b[0] - a[0], ey = b[1] - a[1], l2 = ex * ex + ey * ey;
+  double t = l2 > 0 ? ((p[0] - a[0]) * ex + (p[1] - a[1]) * ey) / l2 : 0.0;
+  t = std::clamp(t, 0.0, 1.0);
+  return std::hypot(p[0] - a[0] - t * ex, p[1] - a[1] - t * ey);
+}
+
+}  // namespace
+
+namespace {
+
+double orient(const Vec& a, const Vec& b, const Vec& c) {
+  return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+}
+bool cross(const Vec& a, const Vec& b, const Vec& c, const Vec& d) {
+  return orient(a, b, c) * orient(a, b, d) < 0 && orient(c, d, a) * orient(c, d, b) < 0;
+}
+
+// Pairs of boundary polylines that cross (proper crossings of their segments): lines of two
+// bodies, or of one body where the crossing segments lie farther apart along the boundary
+// than `excl` times their element size (self-penetration). A locally injective
+// map (no inverted element) whose boundary curves do not cross does not overlap itself, and
+// two bodies whose boundaries do not cross do not overlap (unless one lies wholly inside the
+// other), so only the lines found here need the point-in-body tests.
+std::vector<std::pair<int, int>> crossing_lines(const Boundary& bd, double excl) {
+  const std::vector<Polyline>& lines = bd.lines;
+  struct Seg { int line, i; };
+  std::vector<Seg> segs;
+  double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300}, len = 0;
+  for (size_t l = 0; l < lines.size(); ++l)
+    for (size_t i = 0; i + 1 < lines[l].x.size(); ++i) {
+      segs.push_back({static_cast<int>(l), static_cast<int>(i)});
+      for (const Vec& p : {lines[l].x[i], lines[l].x[i + 1]})
+        for (int d = 0; d < 2; ++d) { lo[d] = std::min(lo[d], p[d]); hi[d] = std::max(hi[d], p[d]); }
+      len += dist(lines[l].x[i], lines[l].x[i + 1]);
+    }
+  std::vector<std::pair<int, int>> out;
+  if (segs.empty()) return out;
+  // about one segment per bin: cells of the mean segment length, or coarser where the
+  // segments are few for the box they span
+  const double area = (hi[0] - lo[0]) * (hi[1] - lo[1]);
+  const double cell = std::max({len / segs.size(), std::sqrt(area / segs.size()), (hi[0] - lo[0]) / 4096,
+                                (hi[1] - lo[1]) / 4096, 1e-300});
+  const int n0 = static_cast<int>((hi[0] - lo[0]) / cell) + 1, n1 = static_cast<int>((hi[1] - lo[1]) / cell) + 1;
+  std::vector<std::vector<int>> bins(static_cast<size_t>(n0) * n1);
+  auto c = [&](double x, int d) { return std::clamp(static_cast<int>((x - lo[d]) / cell), 0, (d ? n1 : n0) - 1); };
+  for (size_t k = 0; k < segs.size(); ++k) {
+    const Vec& a = lines[segs[k].line].x[segs[k].i];
+    const Vec& b = lines[segs[k].line].x[segs[k].i + 1];
+    for (int j = c(std::min(a[1], b[1]), 1); j <= c(std::max(a[1], b[1]), 1); ++j)
+      for (int i = c(std::min(a[0], b[0]), 0); i <= c(std::max(a[0], b[0]), 0); ++i)
+        bins[static_cast<size_t>(i) + static_cast<size_t>(n0) * j].push_back(static_cast<int>(k));
+  }
+  std::vector<char> seen(lines.size() * lines.size(), 0);
+  for (const auto& bin : bins)
+    for (size_t p = 0; p < bin.size(); ++p)
+      for (size_t q = p + 1; q < bin.size(); ++q) {
+        const Seg& s = segs[bin[p]];
+        const Seg& t = segs[bin[q]];
+        const Polyline& A = lines[s.line];
+        const Polyline& B = lines[t.line];
+        char& mark = seen[static_cast<size_t>(s.line) * lines.size() + t.line];
+        if (mark) continue;
+        if (!cross(A.x[s.i], A.x[s.i + 1], B.x[t.i], B.x[t.i + 1])) continue;
+        if (A.body == B.body &&   // neighbours along the boundary (a corner, the same side)
+            bd.near(s.line, A.s[s.i], t.line, B.s[t.i], excl * std::max(A.h[s.i], B.h[t.i]) + A.s[s.i + 1] - A.s[s.i]))
+          continue;
+        mark = 1;
+        seen[static_cast<size_t>(t.line) * lines.size() + s.line] = 1;
+        out.push_back({s.line, t.line});
+      }
+  return out;
+}
+
+}  // namespace
+
+std::string find_penetration(const Problem& P, const std::vector<std::vector<double>>& u,
+                             const std::vector<double>& pair_penetration) {
+  const int nb = static_cast<int>(P.bodies.size());
+  constexpr int kPer = 4;            // boundary points per element: kPer + 1 with its ends
+  constexpr double kNear = 4.0;      // self: the boundary within 4 element sizes (along it) is the point's own
+  constexpr size_t kStarts = 6;      // Newton starts: the nearest points of a patch
+  constexpr double kFloor = 0.01;    // allowed depth at least 1 % of the boundary element
+  Boundary bd;
+  std::vector<std::vector<Inverter>> inv(nb);
+  double L = 0;
+  for (int b = 0; b < nb; ++b) {
+    const Body& B = P.bodies[b];
+    L = std::max(L, patches_diameter(B.patches));
+    for (size_t k = 0; k < B.patches.size(); ++k) {
+      Inverter I;
+      I.ref = &B.patches[k];
+      I.cur = B.patches[k];
+      I.body = b;
+      I.patch = static_cast<int>(k);
+      const std::vector<double> uk = B.patch_values(static_cast<int>(k), u[b]);
+      for (size_t a = 0; a < I.cur.cp.size(); ++a)
+        for (int c = 0; c < 2; ++c) I.cur.cp[a][c] += uk[2 * a + c];
+      inv[b].push_back(std::move(I));
+    }
+    for (const PatchSide& ps : outer_sides(B)) {
+      const Curve cr = B.patches[ps.patch].side_curve(ps.side);
+      const Curve cc = inv[b][ps.patch].cur.side_curve(ps.side);
+      Polyline pl{{}, {}, b, ps.patch, ps.side, {}, {}, {}};
+      for (const int sp : cr.element_spans()) {
+        const double t0 = cr.knots[sp], t1 = cr.knots[sp + 1];
+        for (int i = (pl.x.empty() ? 0 : 1); i <= kPer; ++i) {
+          const double t = t0 + (t1 - t0) * i / kPer;
+          const Vec X = cr.eval(t);
+          pl.s.push_back(pl.X.empty() ? 0.0 : pl.s.back() + dist(pl.X.back(), X));
+          pl.x.push_back(cc.eval(t));
+          pl.X.push_back(X);
+          pl.h.push_back(0);
+        }
+        // the element's length, for its points
+        const size_t n = pl.s.size();
+        const double he = pl.s[n - 1] - pl.s[n - 1 - kPer];
+        for (size_t q = n - 1 - kPer; q < n; ++q) pl.h[q] = std::max(pl.h[q], he);
+      }
+      bd.lines.push_back(std::move(pl));
+    }
+  }
+  bd.join(1e-9 * L);
+  const std::vector<Polyline>& lines = bd.lines;
+  // which lines to test against which bodies
+  std::vector<std::vector<char>> test(lines.size(), std::vector<char>(static_cast<size_t>(nb), 0));
+  std::vector<std::vector<int>> order(lines.size());   // per line: the lines it crosses first, then the rest
+  for (const auto& [a, b] : crossing_lines(bd, kNear)) {
+    test[a][lines[b].body] = 1;
+    test[b][lines[a].body] = 1;
+    order[a].push_back(b);
+    order[b].push_back(a);
+  }
+  for (size_t l = 0; l < lines.size(); ++l)
+    for (size_t m = 0; m < lines.size(); ++m)
+      if (std::find(order[l].begin(), order[l].end(), static_cast<int>(m)) == order[l].end()) order[l].push_back(static_cast<int>(m));
+  std::vector<char> built(static_cast<size_t>(nb), 0);
+  // allowed depth between two bodies: 3 x their pairs' penetration, at least 1e-3 h
+  std::vector<double> allowed(static_cast<size_t>(nb) * nb, 0.0);
+  std::vector<bool> declared(static_cast<size_t>(nb) * nb, false);
+  for (size_t k = 0; k < P.contact.size(); ++k) {
+    const int a = P.contact[k].slave.body, b = P.contact[k].master.body;
+    const double pen = k < pair_penetration.size() ? std::max(0.0, pair_penetration[k]) : 0.0;
+    for (const size_t i : {static_cast<size_t>(a) * nb + b, static_cast<size_t>(b) * nb + a}) {
+      allowed[i] = std::max(allowed[i], 3.0 * pen);
+      declared[i] = true;
+    }
+  }
+  const double tol_x = 1e-10 * L;
+  double worst = 0;
+  std::string message;
+  for (size_t l = 0; l < lines.size(); ++l) {
+    const Polyline& S = lines[l];
+    for (int b = 0; b < nb; ++b) {
+      if (!test[l][b]) continue;
+      if (!built[b]) {
+        for (Inverter& I : inv[b]) I.build();
+        built[b] = 1;
+      }
+      const bool self = b == S.body;
+      for (size_t i = 0; i < S.x.size(); ++i) {
+        // below 1 % of the point's boundary element the geometry of the discretisation
+        // decides (a KTS slave's corner between its quadrature points)
+        const double limit = std::max(kFloor * S.h[i], allowed[static_cast<size_t>(S.body) * nb + b]);
+        const Vec& x = S.x[i];
+        const Vec& X = S.X[i];
+        // inside a patch of body b: a preimage of x there (self: not x's own reference point)
+        bool inside = false;
+        for (const Inverter& I : inv[b]) {
+          if (inside || !I.in_box(x, tol_x)) continue;
+          for (const int k : I.nearest(x, kStarts)) {
+            double uu = I.pts[k].u, vv = I.pts[k].v;
+            if (!I.invert(x, uu, vv, tol_x)) continue;
+            if (self && dist(I.ref->eval(uu, vv), X) <= 1e-6 * L) continue;   // its own place
+            inside = true;
+            break;
+          }
+        }
+        if (!inside) continue;
+        // depth: distance to the body's deformed boundary (self: away from the point, along the
+        // boundary); the lines this one crosses first, no further once below what is reported
+        double depth = 1e300;
+        const Polyline* through = nullptr;
+        const double enough = std::max(limit, worst);
+        const double r = kNear * S.h[i];
+        for (const int m : order[l]) {
+          const Polyline& pl = lines[m];
+          if (pl.body != b) continue;
+          for (size_t j = 0; j + 1 < pl.x.size() && depth > enough; ++j) {
+            if (self && bd.near(static_cast<int>(l), S.s[i], m, pl.s[j], r) && bd.near(static_cast<int>(l), S.s[i], m, pl.s[j + 1], r))
+              continue;
+            const double d = segment_distance(x, pl.x[j], pl.x[j + 1]);
+            if (d < depth) { depth = d; through = &pl; }
+          }
+          if (depth <= enough) break;
+        }
+        if (!(depth > enough) || !through) continue;
+        worst = depth;
+        const Body& A = P.bodies[S.body];
+        const Body& B = P.bodies[b];
+        std::ostringstream os;
+        if (self) {
+          os << "self-penetration: " << A.name << "." << A.side_label(S.patch, S.side) << " passes " << fmt(depth)
+             << " into its own body through " << A.name << "." << B.side_label(through->patch, through->side) << " at "
+             << point(x);
+          os << (declared[static_cast<size_t>(b) * nb + b]
+                     ? "; its self-contact pairs allow " + fmt(limit)
+                     : "; declare a contact pair between those two sides of " + A.name + " (self-contact)");
+        } else {
+          os << "interpenetration: " << A.name << "." << A.side_label(S.patch, S.side) << " is " << fmt(depth)
+             << " inside " << B.name << " (below " << B.name << "." << B.side_label(through->patch, through->side)
+             << ") at " << point(x);
+          os << (declared[static_cast<size_t>(S.body) * nb + b]
+                     ? "; the contact pairs between them allow " + fmt(limit) + " (3 x their penalty penetration)"
+                     : "; no contact pair is declared between " + A.name + " and " + B.name);
+        }
+        message = os.str();
+      }
+    }
+  }
+  return message;
+}
+
+std::string find_inverted(const Problem& P, const std::vector<std::vector<double>>& u) {
+  for (size_t b = 0; b < P.bodies.size(); ++b) {
+    const Body& B = P.bodies[b];
+    for (size_t k = 0; k < B.patches.size(); ++k) {
+      Patch cur = B.patches[k];
+      const std::vector<double> uk = B.patch_values(static_cast<int>(k), u[b]);
+      bool finite = true;
+      for (size_t a = 0; a < cur.cp.size(); ++a)
+        for (int c = 0; c < 2; ++c) {
+          cur.cp[a][c] += uk[2 * a + c];
+          finite = finite && std::isfinite(cur.cp[a][c]);
+        }
+      const std::string where = "body " + B.name + (B.multipatch() ? " patch " + std::to_string(k) : std::string());
+      if (!finite) return "inverted elements: " + where + " has a displacement that is not a number";
+      // det F = det(dx/dxi) / det(dX/dxi): det(dx/dxi) must keep the reference sign everywhere
+      const std::string why = check_jacobian(cur, B.patches[k].orientation());
+      if (!why.empty()) return "inverted elements (det F <= 0) in the deformed " + where + ": " + why;
+    }
+  }
+  return "";
+}
+
+}  // namespace iga

@@ -1,0 +1,92 @@
+#!/usr/bin/env bash
+# Runs that must not exit 0 with a wrong answer (docs/problem-file.md, exit codes), each from a
+# problem file of the kind a user writes (tests/physical_checks/):
+#  - a tuning fork whose legs pass through each other (no contact pair): exit 5, one line naming
+#    the self-penetration, its sides and a depth near the beam-theory overlap; its files written;
+#  - the same fork with a self-contact pair between its legs, KTS and mortar: exit 0, the check
+#    passed, and the two methods' contact forces within 2 % of each other;
+#  - an O-ring squeezed by 75 % in small strain: exit 5 naming inverted elements of the ring;
+#  - a neo-Hookean block crushed in one step: exit 3 naming inverted elements, no word of a
+#    contact penalty (there is no contact);
+#  - a sharp flat punch with kts_alm: the Uzawa stall ends the run (exit 3) after at most one
+#    cut, saying "stalled";
+#  - a penalty of 1e10 (2.5e6 E/h): `check` warns in one line and still exits 0;
+#  - the fork on 2 MPI ranks: the same exit code and line as on 1 (the check is collective).
+set -uo pipefail
+exe="$1"; dir="$2"; mpiexec="${3:-}"
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+fail=0
+json() { python3 -c "import json,sys; s=json.load(open(sys.argv[1])); print(eval(sys.argv[2]))" "$@"; }
+expect_rc() { if [ "$2" != "$3" ]; then echo "FAIL $1: exit $2 (expected $3)"; fail=1; fi; }
+expect_in() { case "$2" in *"$3"*) ;; *) echo "FAIL $1: '$3' not in: $2"; fail=1 ;; esac; }
+one_line() { if [ "$(printf '%s\n' "$2" | wc -l)" != 1 ]; then echo "FAIL $1: not one line on stderr: $2"; fail=1; fi; }
+
+# 1. self-penetration: beam theory puts each leg's tip at q L^4 / (8 E' I) = 0.29 (E' = E / (1 - nu^2)),
+#    an overlap of 2 x 0.29 - 0.4 = 0.18 at the tips; the base's rotation adds to it
+err=$("$exe" run "$dir/fork.yaml" --output "$tmp/fork" --quiet 2>&1 >/dev/null); rc=$?
+expect_rc fork "$rc" 5
+one_line fork "$err"
+expect_in fork "$err" "self-penetration: fork.patch3.east passes"
+expect_in fork "$err" "through fork.patch4.west"
+depth=$(printf '%s' "$err" | sed -n 's/.*passes \([0-9.e+-]*\) into.*/\1/p')
+python3 -c "import sys; d=float(sys.argv[1]); sys.exit(0 if 0.12 <= d <= 0.3 else 1)" "${depth:-0}" || { echo "FAIL fork: depth $depth outside [0.12, 0.3]"; fail=1; }
+[ "$(json "$tmp/fork/summary.json" "s['check']['passed']")" = False ] || { echo "FAIL fork: summary.json check.passed"; fail=1; }
+[ -f "$tmp/fork/result_0001.vtu" ] || { echo "FAIL fork: the failing step's files are missing"; fail=1; }
+
+# 2. self-contact, KTS and mortar
+f=()
+for m in kts_penalty mortar_penalty; do
+  err=$("$exe" run "$dir/fork_self_contact.yaml" --output "$tmp/fc_$m" --quiet --set contact.0.method=$m 2>&1 >/dev/null); rc=$?
+  expect_rc "fork self-contact $m" "$rc" 0
+  [ -z "$err" ] || { echo "FAIL fork self-contact $m: stderr: $err"; fail=1; }
+  [ "$(json "$tmp/fc_$m/summary.json" "s['check']['passed']")" = True ] || { echo "FAIL fork self-contact $m: check"; fail=1; }
+  f+=("$(json "$tmp/fc_$m/summary.json" "s['contact'][0]['normal_force']")")
+done
+python3 -c "import sys; a,b=map(float,sys.argv[1:]); sys.exit(0 if a > 0 and abs(a-b) <= 0.02*max(a,b) else 1)" "${f[@]}" \
+  || { echo "FAIL fork self-contact: KTS and mortar forces ${f[*]} differ by more than 2 %"; fail=1; }
+
+# 3. O-ring squeezed in small strain: inverted elements
+err=$("$exe" run "$dir/oring_squeeze.yaml" --output "$tmp/oring" --quiet 2>&1 >/dev/null); rc=$?
+expect_rc oring "$rc" 5
+one_line oring "$err"
+expect_in oring "$err" "inverted elements (det F <= 0) in the deformed body ring patch"
+
+# 4. crushed neo-Hookean block
+err=$("$exe" run "$dir/crushed_block.yaml" --output "$tmp/crush" --quiet 2>&1 >/dev/null); rc=$?
+expect_rc crushed "$rc" 3
+one_line crushed "$err"
+expect_in crushed "$err" "inverted elements (det F <= 0) in the deformed body block"
+case "$err" in *penalty*) echo "FAIL crushed: blames a contact penalty: $err"; fail=1 ;; esac
+
+# 5. ALM stall on the sharp punch
+err=$("$exe" run "$dir/punch.yaml" --output "$tmp/alm" --quiet --set contact.0.method=kts_alm 2>&1 >/dev/null); rc=$?
+expect_rc "punch kts_alm" "$rc" 3
+one_line "punch kts_alm" "$err"
+expect_in "punch kts_alm" "$err" "the augmented Lagrangian stalled"
+cuts=$(json "$tmp/alm/summary.json" "s['cuts']")
+[ "$cuts" -le 1 ] || { echo "FAIL punch kts_alm: $cuts cuts spent on a stall"; fail=1; }
+
+# 6. penalty far above E/h: a warning from check
+out=$("$exe" check "$dir/punch.yaml" --set contact.0.penalty=1e10 2>"$tmp/warn"); rc=$?
+expect_rc "punch 1e10 check" "$rc" 0
+expect_in "punch 1e10 check" "$out" "check: OK"
+w=$(cat "$tmp/warn")
+one_line "punch 1e10 check" "$w"
+expect_in "punch 1e10 check" "$w" "warning: $dir/punch.yaml: contact[0].penalty = 1e+10 is 2.5e+06 x E/h"
+# the default penalty: no warning
+"$exe" check "$dir/punch.yaml" >/dev/null 2>"$tmp/nowarn" || { echo "FAIL punch check"; fail=1; }
+[ ! -s "$tmp/nowarn" ] || { echo "FAIL punch check: unexpected warning: $(cat "$tmp/nowarn")"; fail=1; }
+
+# 7. 2 ranks: the same line (rank 0 computes the check, every rank stops)
+if [ -n "$mpiexec" ]; then
+  err2=$("$mpiexec" -n 2 "$exe" run "$dir/fork.yaml" --output "$tmp/fork2" --quiet 2>&1 >/dev/null); rc=$?
+  expect_rc "fork 2 ranks" "$rc" 5
+  err1=$("$exe" run "$dir/fork.yaml" --output "$tmp/fork1" --quiet 2>&1 >/dev/null)
+  # (mpiexec adds its own lines about the non-zero exit: the program's line is the first)
+  [ "$(printf '%s\n' "$err2" | head -n1)" = "$err1" ] || { echo "FAIL fork 2 ranks: '$err2' differs from 1 rank's '$err1'"; fail=1; }
+else
+  echo "FAIL: no mpiexec given"; fail=1
+fi
+
+[ "$fail" = 0 ] && echo "physical checks: all cases as expected"
+exit $fail
