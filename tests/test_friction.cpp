@@ -123,28 +123,69 @@ INSTANTIATE_TEST_SUITE_P(Degrees, FrictionTangent,
 
 class FrictionMethods : public ::testing::TestWithParam<const char*> {};
 
-// friction: 0 is the frictionless path: the same displacements to round-off.
+// friction: 0 parses to the frictionless pair (mu = 0 never enters the friction code), so the
+// friction machinery is checked in the limit: mu = 1e-10 > 0 takes the friction path (the
+// friction tangent, the non-symmetric solve, stick/slip states, with ALM the tangential
+// multipliers) and must give the frictionless answer to O(mu): every active point slips with
+// |tau| <= mu p, and the displacements, the normal force and the reactions agree to 1e-8
+// (100 mu; the solves themselves agree to 1e-13). The frictionless run itself: no tangential
+// traction and, on the flat foundation, no horizontal force at the block's top (the
+// block slides freely) while the vertical reaction balances the contact force.
 TEST_P(FrictionMethods, ZeroCoefficientIsFrictionless) {
   const std::string method = GetParam();
-  const std::string with = sliding_block(method, 0.0, 0.05), without = [&] {
-    std::string y = with;
+  const double mu = 1e-10;
+  const std::string frictionless = [&] {
+    std::string y = sliding_block(method, 0.0, 0.05);
     y.replace(y.find(", friction: 0"), std::string(", friction: 0").size(), "");
     return y;
   }();
-  const Solved a = solve_text(with), b = solve_text(without);
-  ASSERT_TRUE(a.res.converged && b.res.converged);
+  {   // friction: 0 given explicitly is the frictionless problem
+    const Problem z = parse_problem(sliding_block(method, 0.0, 0.05), "t.yaml"), t = parse_problem(sliding_block(method, mu, 0.05), "t.yaml");
+    EXPECT_EQ(z.contact[0].friction, 0.0);
+    EXPECT_FALSE(z.has_friction());
+    ASSERT_TRUE(t.has_friction()) << "mu = " << mu << " must take the friction path";
+  }
+  const Solved a = solve_text(sliding_block(method, mu, 0.05)), b = solve_text(frictionless);
+  ASSERT_TRUE(a.res.converged) << a.res.message;
+  ASSERT_TRUE(b.res.converged) << b.res.message;
   double diff = 0, norm = 0;
-  for (size_t k = 0; k < a.disp.size(); ++k)
-    for (size_t i = 0; i < a.disp[k].size(); ++i) {
+  for (size_t k = 0; k < b.disp.size(); ++k)   // rank 0 holds the gathered displacements
+    for (size_t i = 0; i < b.disp[k].size(); ++i) {
       diff = std::max(diff, std::abs(a.disp[k][i] - b.disp[k][i]));
       norm = std::max(norm, std::abs(b.disp[k][i]));
     }
-  EXPECT_LE(diff, 1e-12 * norm);
-  // frictionless: no tangential traction, the active points slip
-  const auto st = a.res.contact[0].state();
+  if (a.sys->comm()->getRank() == 0) {
+    EXPECT_GT(norm, 0.04);   // the drag of 0.05
+    EXPECT_LE(diff, 1e-8 * norm) << "mu = " << mu << " against frictionless";
+  }
+  const ContactSummary ca = a.res.contact[0].summary(), cb = b.res.contact[0].summary();
+  std::printf("  %s: max |u(mu = %g) - u(frictionless)| = %.2e of %.3g; normal force %.12g vs %.12g, Fx %.3g vs %.3g\n",
+              method.c_str(), mu, diff, norm, ca.normal_force, cb.normal_force, ca.fx, cb.fx);
+  EXPECT_GT(cb.normal_force, 0.0);
+  EXPECT_NEAR(ca.normal_force, cb.normal_force, 1e-8 * cb.normal_force);
+  // the friction path: every active point slips, |tau| <= mu p (to round-off)
+  const auto sa = a.res.contact[0].state();
+  int active = 0;
+  for (size_t i = 0; i < sa.x.size(); ++i) {
+    if (!sa.active[i]) continue;
+    ++active;
+    EXPECT_EQ(sa.state[i], 2) << "point " << i;
+    EXPECT_LE(std::abs(sa.tangential[i]), mu * sa.pressure[i] * (1 + 1e-8) + 1e-14 * cb.max_pressure) << "point " << i;
+  }
+  EXPECT_GT(active, 10);
+  // frictionless: no tangential traction, the active points slip, nothing holds the block back
+  const auto st = b.res.contact[0].state();
   for (size_t i = 0; i < st.x.size(); ++i) {
     EXPECT_EQ(st.tangential[i], 0.0);
     EXPECT_EQ(st.state[i], st.active[i] ? 2 : 0);
+  }
+  EXPECT_EQ(cb.tangential_force, 0.0);
+  EXPECT_LE(std::abs(cb.fx), 1e-10 * std::abs(cb.fy));   // the master normal is (0, 1)
+  for (const Solved* s : {&a, &b}) {
+    const auto R = reactions_json(*s->sys, *s->res.residual);
+    const double tx = R["block"]["north"][0].get<double>(), ty = R["block"]["north"][1].get<double>();
+    EXPECT_LE(std::abs(tx), 1e-7 * std::abs(cb.fy)) << "horizontal reaction at the block's top";
+    EXPECT_NEAR(ty, -cb.fy, 1e-7 * std::abs(cb.fy)) << "vertical reaction at the block's top";
   }
 }
 

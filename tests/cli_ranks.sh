@@ -1,0 +1,109 @@
+#!/usr/bin/env bash
+# An example through the command line on 1 and 2 MPI ranks: the same answers, and the physics.
+#  - 1 vs 2 ranks: Newton iterations, dofs and cuts equal; every reaction, contact force and
+#    pressure, probe displacement and stress, and the largest displacement agree to 1e-10 of
+#    the largest value of that quantity (the direct solver: both runs differ by the round-off
+#    of sums taken in another order);
+#  - lame (examples/lame_cylinder.yaml): the probes against the closed form (plane strain
+#    Lame), displacement to 1e-5 and stress to 1e-2 of the largest (O(h^(p+1)) and O(h^p) at
+#    h = 1/16, p >= 2), and the reactions of the two symmetry cuts balance the pressure on
+#    the inner quarter circle (p a in x and in y) to 1e-10;
+#  - wheel (examples/wheel.yaml): the reactions of each body balance the contact force to
+#    1e-8 (the Newton tolerance is 1e-10 of the residual), and the peak pressure and the
+#    half-width (the gap's zero crossing at the edge of the active points) agree with Hertz
+#    for the computed load within 5 % (as tests/test_contact).
+# Usage: cli_ranks.sh EXE MPIEXEC PROBLEM lame|wheel
+set -euo pipefail
+exe="$1"; mpiexec="$2"; file="$3"; check="$4"
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+"$exe" run "$file" --output "$tmp/r1" --quiet
+"$mpiexec" -n 2 "$exe" run "$file" --output "$tmp/r2" --quiet
+/usr/bin/python3 - "$tmp" "$file" "$check" <<'PY'
+import csv, json, math, re, sys
+# the contact edge: the gap's zero crossing between the outermost active point and its inactive
+# neighbour (the slave points run along the rim towards x = 0)
+def edge(d):
+    rows = list(csv.DictReader(open(d + "/contact_0.csv")))
+    e = float("nan")
+    for r0, r1 in zip(rows, rows[1:]):
+        if r0["active"] == "0" and r1["active"] != "0":
+            g0, g1 = float(r0["gap"]), float(r1["gap"])
+            e = abs(float(r0["x"]) + g0 / (g0 - g1) * (float(r1["x"]) - float(r0["x"])))
+    return e
+tmp, problem, check = sys.argv[1:4]
+a, b = (json.load(open(f"{tmp}/r{n}/summary.json")) for n in (1, 2))
+assert a["ranks"] == 1 and b["ranks"] == 2, (a["ranks"], b["ranks"])
+assert a["converged"] and b["converged"], "not converged"
+for k in ("dofs", "newton_iterations", "cuts"):
+    assert a[k] == b[k], (k, a[k], b[k])
+for s in (a, b):
+    assert s["linear_solver"]["method"] == "direct", "1e-10 assumes the direct solver: " + s["linear_solver"]["method"]
+
+worst = {}
+def same(name, x, y):   # lists of numbers, one quantity: relative to its largest value
+    assert len(x) == len(y), (name, x, y)
+    scale = max(abs(v) for v in x)
+    d = max(abs(u - v) for u, v in zip(x, y))
+    assert d <= 1e-10 * scale, f"1 vs 2 ranks: {name}: {x} vs {y}"
+    worst[name] = d / scale if scale else 0.0
+
+reac = lambda s: [v for body in sorted(s["reactions"]) for side in sorted(s["reactions"][body]) for v in s["reactions"][body][side]]
+same("reactions", reac(a), reac(b))
+same("max_displacement", [a["max_displacement"]], [b["max_displacement"]])
+assert len(a["contact"]) == len(b["contact"])
+for k, (ca, cb) in enumerate(zip(a["contact"], b["contact"])):
+    assert ca["active_points"] == cb["active_points"], (k, ca["active_points"], cb["active_points"])
+    for f in ("normal_force", "max_pressure", "contact_length"):
+        same(f"contact {k} {f}", [ca[f]], [cb[f]])
+    same(f"contact {k} force", ca["force"], cb["force"])
+assert len(a["probes"]) == len(b["probes"])
+for k, (pa, pb) in enumerate(zip(a["probes"], b["probes"])):
+    for f in ("displacement", "stress"):
+        same(f"probe {k} {f}", pa[f], pb[f])
+print("1 vs 2 ranks agree: largest relative difference %.1e (%s)" % max((v, k) for k, v in worst.items()))
+
+text = open(problem).read()
+def num(key):   # the first value of `key` in the problem file
+    m = re.search(key + r":\s*([-+0-9.eE]+)", text)
+    assert m, ("no " + key + " in " + problem)
+    return float(m.group(1))
+
+for s, n in ((a, 1), (b, 2)):
+    d = f"{tmp}/r{n}"
+    if check == "lame":
+        ri, ro, p, E, nu = num("inner_radius"), num("outer_radius"), num("pressure"), num("youngs_modulus"), num("poisson_ratio")
+        A, B = p * ri**2 / (ro**2 - ri**2), p * ri**2 * ro**2 / (ro**2 - ri**2)
+        assert len(s["probes"]) >= 2, "the Lame example has probes at both radii"
+        for q in s["probes"]:
+            x, y = q["x"], q["y"]
+            r = math.hypot(x, y); c, sn = x / r, y / r
+            ur = (1 + nu) / E * ((1 - 2 * nu) * A * r + B / r)
+            srr, stt = A - B / r**2, A + B / r**2
+            u = (ur * c, ur * sn)
+            sig = (srr * c * c + stt * sn * sn, srr * sn * sn + stt * c * c, (srr - stt) * sn * c)
+            eu = max(abs(g - e) for g, e in zip(q["displacement"], u)) / abs(ur)
+            es = max(abs(g - e) for g, e in zip(q["stress"], sig)) / max(abs(v) for v in sig)
+            print(f"  {n} rank(s): probe r = {r:g}: displacement error {eu:.1e}, stress error {es:.1e} (closed form)")
+            assert eu <= 1e-5 and es <= 1e-2, ("Lame closed form", q, u, sig)
+        R = s["reactions"]["cylinder"]
+        fx, fy = sum(v[0] for v in R.values()), sum(v[1] for v in R.values())
+        assert abs(fx + p * ri) <= 1e-10 * p * ri and abs(fy + p * ri) <= 1e-10 * p * ri, ("reactions", R, p * ri)
+    elif check == "wheel":
+        c = s["contact"][0]
+        P = c["normal_force"]
+        for body, sign in ((c["slave"]["body"], -1), (c["master"]["body"], 1)):
+            R = s["reactions"][body]
+            for i in range(2):
+                tot = sum(v[i] for v in R.values())
+                assert abs(tot - sign * c["force"][i]) <= 1e-8 * P, ("equilibrium", body, i, R, c["force"])
+        Rw, E, nu = num("outer_radius"), num("youngs_modulus"), num("poisson_ratio")
+        Es = E / (2 * (1 - nu * nu))   # two bodies of the same material
+        half = math.sqrt(4 * 2 * P * Rw / (math.pi * Es))   # the whole wheel carries 2 P
+        p0 = 2 * 2 * P / (math.pi * half)
+        e = edge(d)
+        print(f"  {n} rank(s): p0 {c['max_pressure']:.5g} (Hertz {p0:.5g}), half-width {e:.5g} (Hertz {half:.5g})")
+        assert abs(c["max_pressure"] - p0) <= 0.05 * p0 and abs(e - half) <= 0.05 * half, "Hertz"
+    else:
+        sys.exit("unknown check " + check)
+print(check + ": physics OK on 1 and 2 ranks")
+PY
