@@ -63,6 +63,11 @@ std::vector<std::array<double, 2>> fit_points(int p0, int p1);
 /// (values[j * ncomp + c] at fit_points(p0, p1)[j]): coef[k * ncomp + c].
 void fit_rational_bezier(int p0, int p1, const double* w, int ncomp, const double* values, double* coef);
 
+/// Clamps coefficient k, component q into [lo[q], hi[q]] (coef[k * ncomp + q], k < n). A
+/// rational Bezier field with positive weights is a convex combination of its coefficients,
+/// so afterwards it lies within [lo, hi] everywhere in the cell.
+void clamp_coefficients(int n, int ncomp, const double* lo, const double* hi, double* coef);
+
 /// All bodies as rational Bezier cells, arrays as described above (points in VTK order).
 struct BezierMesh {
   std::vector<double> points;         // 3 per point
