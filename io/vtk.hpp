@@ -15,6 +15,11 @@
 //     the element's rational Bezier interpolant equals BodyField's stress at the
 //     (p0 + 1)(p1 + 1) collocation points t = (j0 / p0, j1 / p1) (a small dense solve per
 //     element); von_mises is fitted the same way (it is not recomputed from the tensor).
+//     Then every coefficient is clamped into the range of the element's samples (the
+//     collocation points and the output.samples_per_element grid of result.xdmf), per
+//     component: the field, a convex combination of its coefficients (positive weights),
+//     stays within what was sampled (von Mises >= 0). Corners still interpolate; interior
+//     points where a coefficient was clamped no longer do (docs/paraview.md).
 //   Points are not shared between cells, so each element carries its own stress values and
 //   the (discontinuous across elements, in general) fit is represented exactly.
 //
@@ -39,7 +44,7 @@
 //   field data: TimeValue (Float64, 1: the load factor), run_id (String, 1),
 //               body_names (String, one per body)
 // Cost: O(C ((p0+1)(p1+1))^3) for the fits (at most 36 x 36 per element), plus one
-// BodyField evaluation per point.
+// BodyField evaluation per point and per sample of the bounds.
 #include <array>
 #include <cstdint>
 #include <string>
