@@ -195,11 +195,18 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
     f.attribute("run_id", run_id_);
     f.attribute("load_factor", std::to_string(lambda));
     f.group("/bodies");
-    std::ostringstream grids;   // this step's spatial collection
+    // this step's spatial collections: bodies (result.xdmf), control nets
+    // (result_control_nets.xdmf), contact points (result_contact.xdmf). Xdmf3ReaderS, the GUI's
+    // default, reads a spatial collection as the pieces of ONE data set and ParaView appends
+    // them for drawing, keeping only the arrays every piece has: a control net (no stress)
+    // beside the bodies left nothing to colour by (grey bodies). So each file holds grids
+    // with the same arrays (docs/paraview-xdmf-notes.md).
+    std::ostringstream grids, nets, points;
     char tv[64];
     std::snprintf(tv, sizeof tv, "%.17g", lambda);
-    grids << "  <Grid Name=\"step_" << name.substr(7) << "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
-          << "   <Time Value=\"" << tv << "\"/>\n";
+    for (std::ostringstream* o : {&grids, &nets, &points})
+      *o << "  <Grid Name=\"step_" << name.substr(7) << "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
+         << "   <Time Value=\"" << tv << "\"/>\n";
     double umax = 0;
     for (const PatchBlock& blk : sys_.blocks()) {
       const size_t b = static_cast<size_t>(blk.body);
@@ -273,8 +280,8 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
               << data_item(h5name, g + "/" + a, {n}) << "</Attribute>\n";
       grids << "    <Attribute Name=\"element\" AttributeType=\"Scalar\" Center=\"Cell\">"
             << data_item(h5name, g + "/element", {nq}, true) << "</Attribute>\n"
-            << "   </Grid>\n"
-            << "   <Grid Name=\"" << bn << "_control_net\" GridType=\"Uniform\">\n"
+            << "   </Grid>\n";
+      nets  << "   <Grid Name=\"" << bn << "_control_net\" GridType=\"Uniform\">\n"
             << "    <Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"" << mq << "\" NodesPerElement=\"4\">"
             << data_item(h5name, g + "/control_quads", {mq, 4}, true) << "</Topology>\n"
             << "    <Geometry GeometryType=\"XYZ\">" << data_item(h5name, g + "/control_xyz", {m, 3}) << "</Geometry>\n"
@@ -321,18 +328,18 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
       f.write(g + "/tangential_traction", cs.tangential, {n});
       f.write(g + "/slip", cs.slip, {n});
       f.write(g + "/state", state, {n});
-      grids << "   <Grid Name=\"contact_" << k << "\" GridType=\"Uniform\">\n"
+      points << "   <Grid Name=\"contact_" << k << "\" GridType=\"Uniform\">\n"
             << "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n << "\" NodesPerElement=\"1\">"
             << data_item(h5name, g + "/conn", {n}, true) << "</Topology>\n"
             << "    <Geometry GeometryType=\"XYZ\">" << data_item(h5name, g + "/xyz", {n, 3}) << "</Geometry>\n"
             << "    <Attribute Name=\"displacement\" AttributeType=\"Vector\" Center=\"Node\">"
             << data_item(h5name, g + "/displacement", {n, 3}) << "</Attribute>\n";
       for (const char* a : {"gap", "pressure", "xi", "active", "tangential_traction", "slip", "state"})
-        grids << "    <Attribute Name=\"" << a << "\" AttributeType=\"Scalar\" Center=\"Node\">"
-              << data_item(h5name, g + "/" + a, {n}) << "</Attribute>\n";
-      grids << "   </Grid>\n";
+        points << "    <Attribute Name=\"" << a << "\" AttributeType=\"Scalar\" Center=\"Node\">"
+               << data_item(h5name, g + "/" + a, {n}) << "</Attribute>\n";
+      points << "   </Grid>\n";
     }
-    grids << "  </Grid>\n";
+    for (std::ostringstream* o : {&grids, &nets, &points}) *o << "  </Grid>\n";
     write(h5name, f.image());
     // VTK writes string arrays as character codes: the run id also as a readable comment
     auto with_comment = [&](std::string xml) {
@@ -342,13 +349,16 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
     write(name + ".vtu", with_comment(bezier_vtu(P, disp, lambda, run_id_)));
 
     // the collections over every state written so far, rewritten whole each time
-    xdmf_grids_.push_back(grids.str());
-    std::ostringstream x;
-    x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n  <Information Name=\"run_id\" Value=\"" << run_id_
-      << "\"/>\n  <Grid Name=\"load_steps\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-    for (const auto& gs : xdmf_grids_) x << gs;
-    x << "  </Grid>\n </Domain>\n</Xdmf>\n";
-    write("result.xdmf", x.str());
+    xdmf_grids_.push_back({grids.str(), nets.str(), points.str()});
+    const char* xdmf_names[3] = {"result.xdmf", "result_control_nets.xdmf", "result_contact.xdmf"};
+    for (int fi = 0; fi < 3; ++fi) {
+      std::ostringstream x;
+      x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n  <Information Name=\"run_id\" Value=\"" << run_id_
+        << "\"/>\n  <Grid Name=\"load_steps\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+      for (const auto& gs : xdmf_grids_) x << gs[fi];
+      x << "  </Grid>\n </Domain>\n</Xdmf>\n";
+      write(xdmf_names[fi], x.str());
+    }
     std::vector<std::pair<double, std::string>> vtus;
     for (const auto& w : written_) vtus.push_back({w.lambda, step_name(w.step) + ".vtu"});
     write("result.pvd", with_comment(pvd_collection(vtus)));

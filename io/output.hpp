@@ -1,8 +1,9 @@
 #pragma once
-// What a run writes: result.h5 + result.xdmf (bodies sampled on a refined grid, contact
-// sides), summary.json, contact_<n>.csv. Files are written through io/files.hpp (checked,
+// What a run writes: result.h5 + result.xdmf (bodies sampled on a refined grid),
+// result_control_nets.xdmf, result_contact.xdmf (contact sides), summary.json, contact_<n>.csv. Files are written through io/files.hpp (checked,
 // atomic, HDF5 built in memory, run id). Only rank 0 writes; the solution is brought there
 // with a Tpetra Import.
+#include <array>
 #include <string>
 #include <vector>
 
@@ -41,7 +42,9 @@ class ResultWriter {
   std::string dir_, problem_file_, run_id_;
   struct Written { int step; double lambda; };
   std::vector<Written> written_;
-  std::vector<std::string> xdmf_grids_;   // one spatial collection per written state
+  // per written state, one spatial collection for each of result.xdmf (bodies),
+  // result_control_nets.xdmf and result_contact.xdmf
+  std::vector<std::array<std::string, 3>> xdmf_grids_;
   nlohmann::json history_, files_;
   double max_displacement_ = 0;           // largest |u| at the sample points of the last state written
 };

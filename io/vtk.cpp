@@ -2,6 +2,7 @@
 // io/vtk.hpp for what is computed, the point order and the array shapes.
 #include "io/vtk.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <iomanip>
@@ -73,6 +74,11 @@ void fit_rational_bezier(int p0, int p1, const double* w, int ncomp, const doubl
     }
 }
 
+void clamp_coefficients(int n, int ncomp, const double* lo, const double* hi, double* coef) {
+  for (int k = 0; k < n; ++k)
+    for (int q = 0; q < ncomp; ++q) coef[k * ncomp + q] = std::clamp(coef[k * ncomp + q], lo[q], hi[q]);
+}
+
 BezierMesh bezier_mesh(const Problem& P, const std::vector<std::vector<double>>& cp_displacement) {
   if (cp_displacement.size() != P.bodies.size())
     throw std::invalid_argument("bezier_mesh: one displacement vector per body expected");
@@ -91,20 +97,35 @@ BezierMesh bezier_mesh(const Problem& P, const std::vector<std::vector<double>>&
       const std::vector<double> ucp = P.bodies[b].patch_values(static_cast<int>(k), cp_displacement[b]);
       const int p0 = B.degree()[0], p1 = B.degree()[1], n0 = p0 + 1, n = B.points_per_element();
       const auto t = fit_points(p0, p1);
+      // the bounds of each cell's fit: the fit points and the output sample grid of the cell
+      // (the points result.xdmf shows, s per element and direction, ends included)
+      const int s = std::max(1, P.output.samples_per_element);
+      std::vector<std::array<double, 2>> tb(t);
+      for (int j1 = 0; j1 <= s; ++j1)
+        for (int j0 = 0; j0 <= s; ++j0) tb.push_back({static_cast<double>(j0) / s, static_cast<double>(j1) / s});
       std::vector<Point3> pts(n);
-      std::vector<double> u(2 * n), w(n), vals(5 * n), coef(5 * n);
+      std::vector<double> u(2 * n), w(n), vals(5 * n), coef(5 * n), lo(5), hi(5);
       for (int e = 0; e < B.num_elements(); ++e) {
         B.element_points(e, pts.data());
         B.element_field(e, ucp.data(), 2, u.data());
         const auto r0 = B.range(e, 0), r1 = B.range(e, 1);
         const int s0 = B.span(e, 0), s1 = B.span(e, 1);
-        for (int j = 0; j < n; ++j) {
-          w[j] = pts[j][2];
-          const FieldPoint f = field.eval(r0[0] + t[j][0] * (r0[1] - r0[0]), r1[0] + t[j][1] * (r1[1] - r1[0]), s0, s1);
+        std::fill(lo.begin(), lo.end(), std::numeric_limits<double>::infinity());
+        std::fill(hi.begin(), hi.end(), -std::numeric_limits<double>::infinity());
+        for (size_t j = 0; j < tb.size(); ++j) {
+          const FieldPoint f = field.eval(r0[0] + tb[j][0] * (r0[1] - r0[0]), r1[0] + tb[j][1] * (r1[1] - r1[0]), s0, s1);
           const double v[5] = {f.sxx, f.syy, f.szz, f.sxy, f.von_mises()};
-          std::copy(v, v + 5, &vals[5 * j]);
+          for (int q = 0; q < 5; ++q) {
+            lo[q] = std::min(lo[q], v[q]);
+            hi[q] = std::max(hi[q], v[q]);
+          }
+          if (j < static_cast<size_t>(n)) {
+            w[j] = pts[j][2];
+            std::copy(v, v + 5, &vals[5 * j]);
+          }
         }
         fit_rational_bezier(p0, p1, w.data(), 5, vals.data(), coef.data());
+        clamp_coefficients(n, 5, lo.data(), hi.data(), coef.data());
         // scatter into VTK order
         const size_t base = m.weights.size();
         m.points.resize(3 * (base + n));

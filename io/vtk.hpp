@@ -15,6 +15,11 @@
 //     the element's rational Bezier interpolant equals BodyField's stress at the
 //     (p0 + 1)(p1 + 1) collocation points t = (j0 / p0, j1 / p1) (a small dense solve per
 //     element); von_mises is fitted the same way (it is not recomputed from the tensor).
+//     Then every coefficient is clamped into the range of the element's samples (the
+//     collocation points and the output.samples_per_element grid of result.xdmf), per
+//     component: the field, a convex combination of its coefficients (positive weights),
+//     stays within what was sampled (von Mises >= 0). Corners still interpolate; interior
+//     points where a coefficient was clamped no longer do (docs/paraview.md).
 //   Points are not shared between cells, so each element carries its own stress values and
 //   the (discontinuous across elements, in general) fit is represented exactly.
 //
@@ -39,7 +44,7 @@
 //   field data: TimeValue (Float64, 1: the load factor), run_id (String, 1),
 //               body_names (String, one per body)
 // Cost: O(C ((p0+1)(p1+1))^3) for the fits (at most 36 x 36 per element), plus one
-// BodyField evaluation per point.
+// BodyField evaluation per point and per sample of the bounds.
 #include <array>
 #include <cstdint>
 #include <string>
@@ -62,6 +67,11 @@ std::vector<std::array<double, 2>> fit_points(int p0, int p1);
 /// weights w (per Bezier point, k = k0 + k1 (p0 + 1)) that interpolate `values`
 /// (values[j * ncomp + c] at fit_points(p0, p1)[j]): coef[k * ncomp + c].
 void fit_rational_bezier(int p0, int p1, const double* w, int ncomp, const double* values, double* coef);
+
+/// Clamps coefficient k, component q into [lo[q], hi[q]] (coef[k * ncomp + q], k < n). A
+/// rational Bezier field with positive weights is a convex combination of its coefficients,
+/// so afterwards it lies within [lo, hi] everywhere in the cell.
+void clamp_coefficients(int n, int ncomp, const double* lo, const double* hi, double* coef);
 
 /// All bodies as rational Bezier cells, arrays as described above (points in VTK order).
 struct BezierMesh {

@@ -150,30 +150,81 @@ TEST(VtkBezier, CellsReproduceThePatchAndTheDisplacement) {
   EXPECT_GT(on_circle, 0);
 }
 
-TEST(VtkBezier, StressFitInterpolatesBodyFieldAtTheCollocationPoints) {
+// The stress fit: the interpolant at the (p0+1)(p1+1) fit points with its coefficients clamped
+// into the range of the cell's samples (fit points and the output grid), so the field stays
+// within what was sampled (von Mises >= 0). At the cell corners it interpolates (a corner
+// coefficient is the corner value); at the other fit points too where nothing was clamped.
+TEST(VtkBezier, StressFitInterpolatesAndStaysWithinTheCellsSamples) {
   const auto& s = annulus();
   const BezierMesh m = bezier_mesh(s.P, s.disp);
   double smax = 0;
   for (double v : m.von_mises) smax = std::max(smax, std::abs(v));
   ASSERT_GT(smax, 1.0);   // internal pressure 10
+  int interpolated = 0, clamped_cells = 0;
   for (size_t c = 0; c < m.num_cells(); ++c) {
     const BodyField f(s.P, m.body[c], s.disp[m.body[c]]);
     const double* r = &m.range[4 * c];
-    for (const auto& t : fit_points(m.degrees[3 * c], m.degrees[3 * c + 1])) {
+    const int p0 = m.degrees[3 * c], p1 = m.degrees[3 * c + 1], sp = s.P.output.samples_per_element;
+    auto at = [&](double t0, double t1) {
+      return f.eval(r[0] + t0 * (r[1] - r[0]), r[2] + t1 * (r[3] - r[2]), m.knot_span[2 * c], m.knot_span[2 * c + 1]);
+    };
+    // the cell's sampled range of von Mises and sxx
+    double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+    auto grow = [&](const FieldPoint& p) {
+      const double v[2] = {p.von_mises(), p.sxx};
+      for (int q = 0; q < 2; ++q) lo[q] = std::min(lo[q], v[q]), hi[q] = std::max(hi[q], v[q]);
+    };
+    for (const auto& t : fit_points(p0, p1)) grow(at(t[0], t[1]));
+    for (int j = 0; j <= sp; ++j)
+      for (int i = 0; i <= sp; ++i) grow(at(static_cast<double>(i) / sp, static_cast<double>(j) / sp));
+    const int64_t first = c ? m.offsets[c - 1] : 0;
+    for (int64_t k = first; k < m.offsets[c]; ++k) {
+      EXPECT_GE(m.von_mises[k], lo[0] - 1e-12 * smax);
+      EXPECT_LE(m.von_mises[k], hi[0] + 1e-12 * smax);
+      EXPECT_GE(m.stress[6 * k], lo[1] - 1e-12 * smax);
+      EXPECT_LE(m.stress[6 * k], hi[1] + 1e-12 * smax);
+    }
+    // clamped: the plain interpolant's coefficients differ from the written ones
+    const int n0 = p0 + 1, n = n0 * (p1 + 1);
+    std::vector<double> w(n), vals(2 * n), coef(2 * n);
+    const auto tf = fit_points(p0, p1);
+    for (int k = 0; k < n; ++k) {
+      w[k] = m.weights[first + vtk_quad_point_index(k % n0, k / n0, p0, p1)];
+      const FieldPoint p = at(tf[k][0], tf[k][1]);
+      vals[2 * k] = p.von_mises();
+      vals[2 * k + 1] = p.sxx;
+    }
+    fit_rational_bezier(p0, p1, w.data(), 2, vals.data(), coef.data());
+    bool clamped = false;
+    for (int k = 0; k < n; ++k) {
+      const int64_t q = first + vtk_quad_point_index(k % n0, k / n0, p0, p1);
+      clamped = clamped || std::abs(coef[2 * k] - m.von_mises[q]) > 1e-12 * smax ||
+                std::abs(coef[2 * k + 1] - m.stress[6 * q]) > 1e-12 * smax;
+    }
+    EXPECT_GE(lo[0], 0.0);
+    clamped_cells += clamped;
+    for (const auto& t : fit_points(p0, p1)) {
+      const bool corner = (t[0] == 0.0 || t[0] == 1.0) && (t[1] == 0.0 || t[1] == 1.0);
+      if (!corner && clamped) continue;
       double S[6], VM;
       eval_cell(m, c, m.stress, 6, t[0], t[1], S);
       eval_cell(m, c, m.von_mises, 1, t[0], t[1], &VM);
-      const FieldPoint p = f.eval(r[0] + t[0] * (r[1] - r[0]), r[2] + t[1] * (r[3] - r[2]), m.knot_span[2 * c],
-                                  m.knot_span[2 * c + 1]);
-      EXPECT_NEAR(S[0], p.sxx, 1e-12 * smax);
-      EXPECT_NEAR(S[1], p.syy, 1e-12 * smax);
-      EXPECT_NEAR(S[2], p.szz, 1e-12 * smax);
-      EXPECT_NEAR(S[3], p.sxy, 1e-12 * smax);
+      const FieldPoint p = at(t[0], t[1]);
+      if (corner) {
+        EXPECT_NEAR(S[0], p.sxx, 1e-12 * smax);
+        EXPECT_NEAR(S[1], p.syy, 1e-12 * smax);
+        EXPECT_NEAR(S[2], p.szz, 1e-12 * smax);
+        EXPECT_NEAR(S[3], p.sxy, 1e-12 * smax);
+      }
       EXPECT_EQ(S[4], 0.0);
       EXPECT_EQ(S[5], 0.0);
       EXPECT_NEAR(VM, p.von_mises(), 1e-12 * smax);
+      ++interpolated;
     }
   }
+  std::printf("  %zu cells, %d with coefficients clamped, %d fit points interpolated\n", m.num_cells(),
+              clamped_cells, interpolated);
+  EXPECT_GT(interpolated, 0);
 }
 
 // A field in the element's rational Bezier space is fitted exactly: the coordinates (whose

@@ -1,12 +1,13 @@
 # Checks an igacontact output directory with ParaView (pvpython), as a user would open it:
 #     pvpython tests/paraview/check_results.py OUTDIR [--max-displacement X] [--max-pressure K=X ...]
-# OUTDIR holds result.xdmf + result.h5 (temporal collection of spatial collections, see
-# docs/paraview-xdmf-notes.md), result.pvd + result_<step>.vtu (rational Bezier cells,
+# OUTDIR holds result.xdmf (bodies), result_control_nets.xdmf, result_contact.xdmf + result.h5
+# (each a temporal collection of spatial collections, see docs/paraview-xdmf-notes.md), result.pvd + result_<step>.vtu (rational Bezier cells,
 # io/vtk.hpp) and summary.json.
 #
-# Each reader runs in a pvpython child process of its own (a crashing reader cannot take the
+# Each reader runs in a pvpython child process of its own (all its files in that one) (a crashing reader cannot take the
 # check down with it, and its stderr is its own): Xdmf3ReaderS, Xdmf3ReaderT and the legacy
-# XDMFReader on result.xdmf, PVDReader on result.pvd. For each:
+# XDMFReader on each of the three .xdmf (result.xdmf must hold bodies only), PVDReader on
+# result.pvd. For each:
 #   - nothing at all on stderr (ParaView's reader errors and warnings, HDF5 diagnostics);
 #   - time steps: the same in every reader, increasing, the last = summary["load_factor"];
 #   - at every time step, the arrays and component counts of every block: bodies
@@ -99,7 +100,8 @@ def child(kind, path):
             blocks.append(b)
         steps.append({"time": t, "blocks": blocks})
 
-    warp = WarpByVector(Input=reader, Vectors=["POINTS", "displacement"], ScaleFactor=1.0)
+    vec = "control_displacement" if path.endswith("_control_nets.xdmf") else "displacement"
+    warp = WarpByVector(Input=reader, Vectors=["POINTS", vec], ScaleFactor=1.0)
     warp.UpdatePipeline(times[-1] if times else None)
     warped = sum(ds.GetNumberOfPoints() for _, ds in leaves(sm.Fetch(warp)))
     print("RESULT " + json.dumps({"times": times, "steps": steps, "warped_points": warped}))
@@ -135,19 +137,37 @@ def main():
     pvpython = shutil.which("pvpython") or sys.executable
     close = lambda a, b: abs(a - b) <= args.rtol * max(abs(a), abs(b), 1e-300)
     all_times = {}
-    for kind, fname in (("Xdmf3ReaderS", "result.xdmf"), ("Xdmf3ReaderT", "result.xdmf"), ("XDMFReader", "result.xdmf"),
-                        ("PVDReader", "result.pvd")):
-        path = os.path.join(args.outdir, fname)
-        if not check(os.path.isfile(path), "%s exists" % fname):
+    xdmfs = ("result.xdmf", "result_control_nets.xdmf", "result_contact.xdmf")
+    for kind, fnames in (("Xdmf3ReaderS", xdmfs), ("Xdmf3ReaderT", xdmfs), ("XDMFReader", xdmfs), ("PVDReader", ("result.pvd",))):
+        # the files of one reader (one pvpython): their steps merged (the same times in each)
+        r, tag = None, "%s(%s)" % (kind, ", ".join(fnames))
+        paths = [os.path.join(args.outdir, f) for f in fnames]
+        if not all(check(os.path.isfile(p), "%s exists" % p) for p in paths):
             continue
-        p = subprocess.run([pvpython, HERE, "--child", kind, path], capture_output=True, text=True, timeout=600)
-        tag = "%s(%s)" % (kind, fname)
+        p = subprocess.run([pvpython, HERE, "--child", kind] + paths, capture_output=True, text=True, timeout=600)
         check(p.returncode == 0, "%s exits 0 (got %d)" % (tag, p.returncode))
         check(p.stderr.strip() == "", "%s writes nothing on stderr; it wrote:\n%s" % (tag, p.stderr.strip()[:3000]))
         lines = [l for l in p.stdout.splitlines() if l.startswith("RESULT ")]
-        if not check(len(lines) == 1, "%s reported a result" % tag):
+        if not check(len(lines) == len(fnames), "%s reported a result per file" % tag):
             continue
-        r = json.loads(lines[0][7:])
+        for fname, line in zip(fnames, lines):
+            rf = json.loads(line[7:])
+            ftag = "%s(%s)" % (kind, fname)
+            if fname == "result.xdmf":
+                # only bodies: Xdmf3ReaderS appends the grids of a file into one data set for
+                # drawing and keeps only the arrays all of them have (grey bodies otherwise)
+                for st in rf["steps"]:
+                    odd = [b["raw_name"] for b in st["blocks"] if "stress" not in b["point_arrays"]]
+                    check(not odd, "%s t=%r: every grid is a body with stress (not: %s)" % (ftag, st["time"], odd))
+            if r is None:
+                r = rf
+                continue
+            check(rf["times"] == r["times"], "%s: the times of result.xdmf %s" % (ftag, r["times"]))
+            for a, b in zip(r["steps"], rf["steps"]):
+                a["blocks"] += b["blocks"]
+            r["warped_points"] += rf["warped_points"]
+        if r is None:
+            continue
         times = r["times"]
         all_times[kind] = times
         check(len(times) >= 1 and all(a < b for a, b in zip(times, times[1:])), "%s: increasing time steps %s" % (tag, times))
@@ -227,7 +247,8 @@ def main():
 
 
 if __name__ == "__main__":
-    if len(sys.argv) == 4 and sys.argv[1] == "--child":
-        child(sys.argv[2], sys.argv[3])
+    if len(sys.argv) >= 4 and sys.argv[1] == "--child":
+        for path in sys.argv[3:]:
+            child(sys.argv[2], path)
     else:
         main()

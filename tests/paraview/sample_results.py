@@ -110,7 +110,7 @@ pvd += [' </Collection>', '</VTKFile>', '']
 open(out + "/result.pvd", "w").write("\n".join(pvd))
 
 
-# result.xdmf, the recipe
+# result.xdmf (bodies), result_control_nets.xdmf, result_contact.xdmf: the recipe
 def item(path, dims, nt="Float", prec=8):
     return ('<DataItem Dimensions="%s" NumberType="%s" Precision="%d" Format="HDF">result.h5:%s</DataItem>'
             % (" ".join(map(str, dims)), nt, prec, path))
@@ -120,11 +120,14 @@ def quads(b, path, m0, m1):
     nq = (m0 - 1) * (m1 - 1)
     return ('   <Topology TopologyType="Quadrilateral" NumberOfElements="%d" NodesPerElement="4">%s</Topology>'
             % (nq, item("/bodies/%s/%s" % (b, path), [nq, 4], "Int", 4)))
-o = ['<?xml version="1.0" ?>', '<Xdmf Version="3.0">', '<Domain>',
-     '<Grid Name="load_steps" GridType="Collection" CollectionType="Temporal">']
+head = ['<?xml version="1.0" ?>', '<Xdmf Version="3.0">', '<Domain>',
+        '<Grid Name="load_steps" GridType="Collection" CollectionType="Temporal">']
+files = {"result.xdmf": list(head), "result_control_nets.xdmf": list(head), "result_contact.xdmf": list(head)}
 for s, lam in enumerate(steps, 1):
     g = "/step_%04d" % s
-    o += [' <Grid Name="step_%04d" GridType="Collection" CollectionType="Spatial">' % s, '  <Time Value="%r"/>' % lam]
+    for o in files.values():
+        o += [' <Grid Name="step_%04d" GridType="Collection" CollectionType="Spatial">' % s, '  <Time Value="%r"/>' % lam]
+    o, on = files["result.xdmf"], files["result_control_nets.xdmf"]
     for b, (n0, n1) in bodies.items():
         n = n0 * n1
         o += ['  <Grid Name="%s" GridType="Uniform">' % b, quads(b, "quads", n0, n1),
@@ -134,13 +137,17 @@ for s, lam in enumerate(steps, 1):
         o += [attr(a, "Scalar", "%s/%s/%s" % (g, b, a), [n]) for a in ("sxx", "syy", "sxy", "szz", "von_mises")]
         o += [attr("element", "Scalar", "/bodies/%s/element" % b, [(n0 - 1) * (n1 - 1)], "Cell", "Int", 4), '  </Grid>']
         c0, c1 = ncp[b]
-        o += ['  <Grid Name="%s_control_net" GridType="Uniform">' % b, quads(b, "control_quads", c0, c1),
-              '   <Geometry GeometryType="XYZ">%s</Geometry>' % item("/bodies/%s/control_xyz" % b, [c0 * c1, 3]),
-              attr("control_displacement", "Vector", "%s/%s/control_displacement" % (g, b), [c0 * c1, 3]), '  </Grid>']
-    o += ['  <Grid Name="contact_0" GridType="Uniform">',
+        on += ['  <Grid Name="%s_control_net" GridType="Uniform">' % b, quads(b, "control_quads", c0, c1),
+               '   <Geometry GeometryType="XYZ">%s</Geometry>' % item("/bodies/%s/control_xyz" % b, [c0 * c1, 3]),
+               attr("control_displacement", "Vector", "%s/%s/control_displacement" % (g, b), [c0 * c1, 3]), '  </Grid>']
+    files["result_contact.xdmf"] += [
+          '  <Grid Name="contact_0" GridType="Uniform">',
           '   <Topology TopologyType="Polyvertex" NumberOfElements="%d" NodesPerElement="1">%s</Topology>' % (npc, item("/contact/0/conn", [npc], "Int", 4)),
           '   <Geometry GeometryType="XYZ">%s</Geometry>' % item("/contact/0/xyz", [npc, 3]),
           attr("pressure", "Scalar", "%s/contact_0/pressure" % g, [npc]), attr("gap", "Scalar", "%s/contact_0/gap" % g, [npc]),
-          attr("traction", "Vector", "%s/contact_0/traction" % g, [npc, 3]), '  </Grid>', ' </Grid>']
-o += ['</Grid>', '</Domain>', '</Xdmf>', '']
-open(out + "/result.xdmf", "w").write("\n".join(o))
+          attr("traction", "Vector", "%s/contact_0/traction" % g, [npc, 3]), '  </Grid>']
+    for o in files.values():
+        o.append(' </Grid>')
+for name, o in files.items():
+    o += ['</Grid>', '</Domain>', '</Xdmf>', '']
+    open(out + "/" + name, "w").write("\n".join(o))
