@@ -804,8 +804,19 @@ int rigid_rank(const Body& b) {
   return rank;
 }
 
+// --set KEY=VALUE. KEY is a dotted path: map keys and list indices. A map key may itself
+// contain dots (a multi-patch side `patch0.south`, a corner `patch1.south_west`): at each map
+// the walk takes the longest run of the remaining components that, joined with '.', is a key
+// the map already has, and otherwise one component (created when missing, as a new key). A
+// component in double quotes is taken whole: bodies.0.boundary."patch0.south".displacement.
 void apply_override(const std::string& file, YAML::Node root, const std::string& ov, std::vector<Override>& record) {
-  const size_t eq = ov.find('=');
+  size_t eq = std::string::npos;
+  bool open_quote = false;
+  for (size_t i = 0; i < ov.size() && eq == std::string::npos; ++i) {
+    if (ov[i] == '"') open_quote = !open_quote;
+    else if (ov[i] == '=' && !open_quote) eq = i;
+  }
+  if (open_quote) throw InputError(file + ": --set " + ov + ": the key path has an unclosed quote");
   if (eq == std::string::npos || eq == 0)
     throw InputError(file + ": --set " + ov + ": expected KEY=VALUE with a dotted key path");
   const std::string path = ov.substr(0, eq), text = ov.substr(eq + 1);
@@ -813,38 +824,63 @@ void apply_override(const std::string& file, YAML::Node root, const std::string&
   try { value = YAML::Load(text); } catch (const YAML::Exception& e) {
     throw InputError(file + ": --set " + path + " = " + text + ": value is not valid YAML");
   }
+  // split on the dots outside double quotes; a quoted component keeps its dots
   std::vector<std::string> parts;
-  std::stringstream ss(path);
-  for (std::string p; std::getline(ss, p, '.');) parts.push_back(p);
-  if (path.back() == '.') parts.push_back("");
+  std::vector<bool> quoted;
+  {
+    std::string p;
+    bool in_quotes = false, was_quoted = false;
+    for (const char c : path) {
+      if (c == '"') { in_quotes = !in_quotes; was_quoted = true; }
+      else if (c == '.' && !in_quotes) { parts.push_back(p); quoted.push_back(was_quoted); p.clear(); was_quoted = false; }
+      else p += c;
+    }
+    parts.push_back(p);
+    quoted.push_back(was_quoted);
+  }
   for (const auto& p : parts)
     if (p.empty()) throw InputError(file + ": --set " + ov + ": the key path has an empty part");
   record.push_back({ov, value});
+  auto has_key = [](const YAML::Node& map, const std::string& key) {
+    if (!map.IsMap()) return false;
+    for (const auto& it : map)
+      if (it.first.IsScalar() && it.first.Scalar() == key) return true;
+    return false;
+  };
+  auto index = [&](const YAML::Node& list, const std::string& p) {
+    char* end = nullptr;
+    const long i = std::strtol(p.c_str(), &end, 10);
+    if (*end || i < 0 || i >= static_cast<long>(list.size()))
+      throw InputError(file + ": --set " + path + ": '" + p + "' is not an index of that list");
+    return static_cast<size_t>(i);
+  };
   // walk with node copies (yaml-cpp nodes are references into the tree)
   std::vector<YAML::Node> chain{root};
-  for (size_t k = 0; k + 1 < parts.size(); ++k) {
+  for (size_t k = 0; k < parts.size();) {
     YAML::Node cur = chain.back();
-    const std::string& p = parts[k];
     if (cur.IsSequence()) {
-      char* end = nullptr;
-      const long i = std::strtol(p.c_str(), &end, 10);
-      if (*end || i < 0 || i >= static_cast<long>(cur.size()))
-        throw InputError(file + ": --set " + path + ": '" + p + "' is not an index of that list");
-      chain.push_back(cur[static_cast<size_t>(i)]);
-    } else {
-      if (!cur[p]) cur[p] = YAML::Node(YAML::NodeType::Map);
-      chain.push_back(cur[p]);
+      const size_t i = index(cur, parts[k]);
+      if (k + 1 == parts.size()) { cur[i] = value; return; }
+      chain.push_back(cur[i]);
+      ++k;
+      continue;
     }
-  }
-  YAML::Node last = chain.back();
-  if (last.IsSequence()) {
-    char* end = nullptr;
-    const long i = std::strtol(parts.back().c_str(), &end, 10);
-    if (*end || i < 0 || i >= static_cast<long>(last.size()))
-      throw InputError(file + ": --set " + path + ": '" + parts.back() + "' is not an index of that list");
-    last[static_cast<size_t>(i)] = value;
-  } else {
-    last[parts.back()] = value;
+    if (!cur.IsMap() && !cur.IsNull())
+      throw InputError(file + ": --set " + path + ": '" + parts[k] + "' is below a value, not a map");
+    // the longest run parts[k..j] of unquoted components that is an existing key
+    size_t j = k;
+    std::string key = parts[k];
+    if (!quoted[k])
+      for (size_t m = parts.size() - 1; m > k; --m) {
+        std::string joined = parts[k];
+        bool plain = true;
+        for (size_t q = k + 1; q <= m; ++q) { plain = plain && !quoted[q]; joined += "." + parts[q]; }
+        if (plain && has_key(cur, joined)) { j = m; key = joined; break; }
+      }
+    if (j + 1 == parts.size()) { cur[key] = value; return; }
+    if (!cur[key]) cur[key] = YAML::Node(YAML::NodeType::Map);
+    chain.push_back(cur[key]);
+    k = j + 1;
   }
 }
 

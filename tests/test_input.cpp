@@ -97,3 +97,53 @@ TEST(BadInput, FuzzedTextNeverCrashesTheLoader) {
   }
   std::printf("  %d of 3000 mutated files were still valid\n", accepted);
 }
+
+// --set reaches map keys that contain dots: the sides and corners of a multi-patch body
+// (`patch2.south`), by the longest existing key or by a quoted component; a path that reaches
+// no key of the file is still bad input with one line.
+TEST(BadInput, SetReachesDottedKeysOfMultiPatchBodies) {
+  const fs::path file = fs::path(IGACONTACT_SOURCE_DIR) / "examples" / "whole_wheel.yaml";
+  std::ifstream in(file);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // the hub by patch sides instead of the named boundary `inner`, plus one corner
+  const std::string inner = "      inner: {displacement: {x: [0.0, 0.01], y: -0.04}}";
+  const size_t at = text.find(inner);
+  ASSERT_NE(at, std::string::npos);
+  std::string sides;
+  for (int k = 0; k < 4; ++k)
+    sides += "      patch" + std::to_string(k) + ".south: {displacement: {x: [0.0, 0.01], y: -0.04}}\n";
+  sides += "      patch0.south_west: {displacement: {x: [0.0, 0.01]}}";
+  text.replace(at, inner.size(), sides);
+
+  const Problem P0 = parse_problem(text, file.string(), {});
+  const auto& s0 = P0.bodies[1].sides;
+  ASSERT_EQ(s0.size(), 4u);
+  EXPECT_DOUBLE_EQ(s0[2][static_cast<int>(Side::South)].value.back()[1], -0.04);
+
+  const Problem P = parse_problem(text, file.string(),
+      {"bodies.1.boundary.patch2.south.displacement.y=-0.05",
+       "bodies.1.boundary.\"patch0.south_west\".displacement.x=[0.0, 0.25]"});
+  const Body& w = P.bodies[1];
+  EXPECT_DOUBLE_EQ(w.sides[2][static_cast<int>(Side::South)].value.back()[1], -0.05);
+  EXPECT_DOUBLE_EQ(w.sides[1][static_cast<int>(Side::South)].value.back()[1], -0.04);
+  EXPECT_DOUBLE_EQ(w.sides[2][static_cast<int>(Side::South)].value.back()[0], 0.01);
+  EXPECT_DOUBLE_EQ(w.corners[0][static_cast<int>(Corner::SouthWest)].value.back()[0], 0.25);
+
+  auto one_line_error = [&](const std::string& ov, const std::string& part) {
+    try {
+      parse_problem(text, file.string(), {ov});
+      ADD_FAILURE() << ov << " was accepted";
+    } catch (const InputError& e) {
+      const std::string msg = e.what();
+      EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+      EXPECT_NE(msg.find(part), std::string::npos) << ov << ": " << msg;
+    }
+  };
+  // patch2.north is no key of the file: the walk makes `patch2: {north: ...}`, an unknown side
+  one_line_error("bodies.1.boundary.patch2.north.displacement.y=0", "bodies[1].boundary.patch2 = {north:");
+  one_line_error("bodies.1.boundary.patch2.north.displacement.y=0", "unknown side");
+  one_line_error("bodies.1.boundary.\"patch2.south.displacement.y=0", "the key path has an unclosed quote");
+  one_line_error("bodies.1.boundary.\"\".displacement.y=0", "the key path has an empty part");
+  one_line_error("analysis.type.x=0", "--set analysis.type.x: 'x' is below a value, not a map");
+  one_line_error("bodies.2.boundary.patch2.south.displacement.y=0", "'2' is not an index of that list");
+}
