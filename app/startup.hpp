@@ -20,14 +20,16 @@ inline const char* kUsage =
     "\n"
     "Solves the elastostatic contact problem of a YAML problem file (docs/problem-file.md) and\n"
     "writes into the output directory (default out/<file stem>): result.xdmf (open it in ParaView:\n"
-    "sampled fields, control nets, contact points, every load step), result.pvd (the exact\n"
+    "the bodies' sampled fields, every load step; control nets and contact points in\n"
+    "result_control_nets.xdmf and result_contact.xdmf), result.pvd (the exact\n"
     "geometry as rational Bezier cells), result.h5, summary.json and contact_<n>.csv. --set overrides a problem-file key by its dotted path,\n"
     "e.g. --set contact.0.penalty=1e7 --set bodies.1.refine.subdivide=[16,8].\n"
     "export writes each body's refined geometry, as the run would use it, without solving:\n"
     "<body>.xml (G+Smo XML) and <body>.txt (GeoPDEs v2.1) in DIR (default out/<file stem>/geometry).\n"
     "Kokkos' own options (threads, devices): --kokkos-help.\n"
     "Exit codes: 0 converged, 2 bad input, 3 not converged (last converged load step kept),\n"
-    "4 output could not be written.\n";
+    "4 output could not be written, 5 a converged step failed a physical check\n"
+    "(interpenetration, self-penetration, inverted elements; the steps so far are written).\n";
 
 /// --help or --version among the arguments: answered (usage or version on stdout), true.
 inline bool answer_help_or_version(int argc, char** argv, const char* version) {

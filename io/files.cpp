@@ -164,7 +164,7 @@ std::string H5Memory::image() {
 
 bool is_run_output(const std::string& f) {
   static const std::regex ours(
-      R"((result\.(h5|xdmf|pvd)|result_[0-9]+\.(h5|vtu)|summary\.json|contact_[0-9]+\.csv)(\.part)?)");
+      R"((result\.(h5|xdmf|pvd)|result_(control_nets|contact)\.xdmf|result_[0-9]+\.(h5|vtu)|summary\.json|contact_[0-9]+\.csv)(\.part)?)");
   return std::regex_match(f, ours);
 }
 
