@@ -108,7 +108,7 @@ struct NewtonOptions {
 
 /// solver.linear.forcing: `tolerance` for every solve, or Eisenstat-Walker (the tolerance
 /// follows Newton's progress; `tolerance` is its floor); auto: Eisenstat-Walker for gmres and
-/// cg without friction, else fixed
+/// cg without friction on a nonlinear problem (contact or finite strain), else fixed
 enum class Forcing { Auto, Fixed, EisenstatWalker };
 
 struct LinearOptions {
