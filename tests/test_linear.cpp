@@ -190,3 +190,29 @@ TEST(LinearMethod, AutoChoosesBySize) {
   EXPECT_FALSE(given.linear.automatic);
   EXPECT_EQ(given.linear.method, LinearMethod::GMRES);
 }
+
+// A linear problem (small strain, no contact) is solved once: auto forcing keeps the fixed
+// Krylov tolerance there, so one Newton iteration (one CG solve) meets Newton's tolerance,
+// and the answer is the Lame solution to the discretisation's accuracy. Eisenstat-Walker,
+// asked for by name, takes more Newton iterations to the same answer.
+TEST(LinearMethod, LinearProblemTakesOneNewtonIteration) {
+  const std::string lame = read(IGACONTACT_SOURCE_DIR "/examples/lame_cylinder.yaml");
+  const std::vector<std::string> sets = {"solver.linear.method=cg", "bodies.0.refine.subdivide=[32,16]"};
+  EXPECT_FALSE(eisenstat_walker_forcing(parse_problem(lame, "test.yaml", sets)));
+  const Solved once = solve_text(lame, Tpetra::getDefaultComm(), {}, sets);
+  ASSERT_TRUE(once.res.converged) << once.res.message;
+  EXPECT_EQ(once.res.newton_iterations, std::vector<int>{1});
+  std::vector<std::string> ew = sets;
+  ew.push_back("solver.linear.forcing=eisenstat_walker");
+  const Solved inexact = solve_text(lame, Tpetra::getDefaultComm(), {}, ew);
+  ASSERT_TRUE(inexact.res.converged) << inexact.res.message;
+  EXPECT_GT(newton_total(inexact), 1);
+  if (Tpetra::getDefaultComm()->getRank() != 0) return;
+  // quarter annulus a = 1, b = 2, p = 10, E = 2e5, nu = 0.3 (examples/lame_cylinder.yaml),
+  // degree (3, 3), 16 elements across the wall: the discretisation's displacement error is
+  // 1.03e-7 (docs/verification.md, p = 3, n = 16); the one solve must not add to it (1 %),
+  // and both solves agree far below it
+  const Errors e = l2_errors(once, 0, lame_cylinder(1.0, 2.0, 10.0, 2.0e5, 0.3));
+  EXPECT_NEAR(e.u_rel, 1.032e-7, 0.01 * 1.032e-7);
+  EXPECT_LT(relative_difference(once, inexact), 1e-8);
+}
