@@ -22,7 +22,7 @@
 // mortar: bodies that touch exactly at the start are held by the first solve)
 //   f_c += -p w N,     K_c += w (eps N N^T - p G)
 // The contact force on the slave body is what these contributions put on the slave dofs,
-// -sum_a f_c[a] (force_sum below): the summary reports it, so it equals the reactions.
+// -sum_a f_c[a] (add_slave_force below): the summary reports it, so it equals the reactions.
 // w = Gauss weight x |dX_s/dxi| x thickness (reference slave measure).
 //
 // Search: master element boxes (convex hull of their current control points, so they hold
