@@ -187,7 +187,7 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
   const Problem& P = sys_.problem();
   const auto disp = gather_displacements(sys_, u);   // collective
   std::vector<ContactPointState> cstate;
-  for (const auto& c : contact) cstate.push_back(c.state());
+  for (const auto& c : contact) cstate.push_back(c.state(true));   // the points with a projection
   written_.push_back({step, lambda});   // on every rank: finish() decides collectively from it
   on_root(*sys_.comm(), [&] {
     const std::string name = step_name(step), h5name = name + ".h5";
@@ -397,7 +397,7 @@ nlohmann::json ResultWriter::finish(const SolveResult& res) {
   summary["history"] = history_;
   summary["output_steps"] = P.output.all_steps ? "all" : "last";
   std::vector<ContactPointState> cstate;
-  for (const auto& c : res.contact) cstate.push_back(c.state());
+  for (const auto& c : res.contact) cstate.push_back(c.state(true));   // the points with a projection
 
   on_root(*sys_.comm(), [&] {
     // result.h5: the kept state, the same file as its result_<n>.h5 (a hard link; a copy
@@ -443,9 +443,21 @@ nlohmann::json ResultWriter::finish(const SolveResult& res) {
       std::ostringstream csv;
       csv.precision(12);
       csv << "x,y,xi,gap,pressure,active,tangential_traction,slip,state\n";
-      for (size_t i = 0; i < s.x.size(); ++i)
-        csv << s.x[i] << "," << s.y[i] << "," << s.xi[i] << "," << s.gap[i] << "," << s.pressure[i] << ","
-            << s.active[i] << "," << s.tangential[i] << "," << s.slip[i] << "," << s.state[i] << "\n";
+      // the slave points with a projection on the master (state(true)): every value is
+      // defined; a value that is not finite all the same is left empty, never written as nan
+      auto num = [&](double v) -> std::ostream& {
+        if (std::isfinite(v)) csv << v;
+        return csv;
+      };
+      for (size_t i = 0; i < s.x.size(); ++i) {
+        num(s.x[i]) << ",";
+        num(s.y[i]) << ",";
+        num(s.xi[i]) << ",";
+        num(s.gap[i]) << ",";
+        num(s.pressure[i]) << "," << s.active[i] << ",";
+        num(s.tangential[i]) << ",";
+        num(s.slip[i]) << "," << s.state[i] << "\n";
+      }
       write("contact_" + std::to_string(k) + ".csv", csv.str());
     }
     summary["files"] = files_;

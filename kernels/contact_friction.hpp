@@ -17,7 +17,9 @@
 //                                                augmented to the current one (ALM))
 //   stick   |tau_tr| <= mu p:  tau = tau_tr
 //   slip    otherwise:         tau = mu p sign(tau_tr)
-//   p the normal pressure (KTS: <lambda_N - eps g>, mortar: lambda_A).
+//   p the normal pressure (KTS: <lambda_N - eps g>, mortar: lambda_A). A point (control point)
+//   that touches with p = 0 is active: at a zero trial traction it sticks, and its stick
+//   tangent holds a body that friction alone keeps in place from the first solve.
 // Weak form: the tangential virtual work is tau times the variation of the slip measure,
 //   f_c += -w tau S,   S = d(ds)/du = |t| D + (eta - eta_n) e . dt/du,
 //   D = d eta / du = (T + g Nb) / H  (contact_kts.hpp), dt/du = [0 ; R_b' I] + m D,
@@ -93,8 +95,12 @@ struct FrictionPointUpdate {
     fr.tangent(i, 1) = t[1] / len;
     if (fr.ref_valid(i)) fr.ds(i) = len * (sp.mxi(i) - fr.ref_mxi(i));
     if (mortar) return;
-    const double pr = sp.lambda(i) - eps * sp.gap(i);
-    if (pr < 0) { fr.tau(i) = 0; fr.state(i) = 0; fr.slip(i) = fr.slip_c(i); return; }
+    if (!kts_active(sp.lambda(i), eps, sp.gap(i), sp.touch)) {
+      fr.tau(i) = 0; fr.state(i) = 0; fr.slip(i) = fr.slip_c(i); return;
+    }
+    // touching (p = 0) counts: at a zero trial traction it is stick, whose tangent eps_T S S^T
+    // holds a body that friction alone keeps in place from the first solve
+    const double pl = sp.lambda(i) - eps * sp.gap(i), pr = pl > 0 ? pl : 0.0;
     double tau;
     fr.state(i) = coulomb(fr.lamT(i), fr.epsT, fr.ds(i), fr.mu, pr, tau);
     fr.tau(i) = tau;
@@ -278,6 +284,7 @@ struct AssembleFriction {
   bool mortar = false;
   LocalMatrix K;
   FView f;
+  ForceSum force;   // the slave rows' sum of -f_c (add_slave_force)
 
   KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
     using F = FadN<N>;
@@ -293,14 +300,20 @@ struct AssembleFriction {
     if (mortar) {
       tau = F(fr.tau(i));
     } else {
-      const F p = sp.lambda(i) - eps * g;
-      if (!(p.val() > 0)) return;
+      // the state (FrictionPointUpdate) says active: p = <lambda - eps g>, 0 when touching
+      F p = sp.lambda(i) - eps * g;
+      if (!(p.val() > 0)) p = F(0.0);
       const F tr = fr.lamT(i) - fr.epsT * ds;
       if (fr.state(i) == 1) tau = tr;
       else tau = (tr.val() >= 0 ? fr.mu : -fr.mu) * p;
     }
     const double w = sp.weight(i);
-    double row[N];
+    double row[N], fv[N];
+    for (int r = 0; r < d.nd; ++r) fv[r] = (-w * tau.val()) * S[r].val();   // = Fr.val() below
+    {
+      const double none[2] = {0.0, 0.0}, e[2] = {fr.tangent(i, 0), fr.tangent(i, 1)};
+      add_slave_force(force, fv, d.nds, none, e);
+    }
     for (int r = 0; r < d.nd; ++r) {
       const F Fr = -w * tau * S[r];
       Kokkos::atomic_add(&f(lid[r]), Fr.val());

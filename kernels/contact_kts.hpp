@@ -17,8 +17,12 @@
 //   delta g = N . delta u
 //   Delta delta g = G = -(n.m)/(a11 H) T T^T - (g/H) Nb Nb^T - (1/H)(T Nb^T + Nb T^T),
 //   a11 = t.t, H = a11 - g n.m            (moving projection point and normal included)
-// Contributions of an active point (lambda - eps g >= 0: touching counts)
+// Contributions of an active point (lambda - eps g >= -eps touch: touching counts, and a gap
+// within round-off of 0 (touch = 1e-12 of the smallest slave element) is touching, as in
+// mortar: bodies that touch exactly at the start are held by the first solve)
 //   f_c += -p w N,     K_c += w (eps N N^T - p G)
+// The contact force on the slave body is what these contributions put on the slave dofs,
+// -sum_a f_c[a] (add_slave_force below): the summary reports it, so it equals the reactions.
 // w = Gauss weight x |dX_s/dxi| x thickness (reference slave measure).
 //
 // Search: master element boxes (convex hull of their current control points, so they hold
@@ -62,7 +66,34 @@ struct SlavePoints {
   Kokkos::View<double*, MemSpace> mxi, gap, pressure;
   Kokkos::View<double* [2], MemSpace> x;       // current slave point
   Kokkos::View<double* [2], MemSpace> normal;  // master outward normal at the projection
+  double touch = 0;                            // gaps up to this count as closed (KTS)
 };
+
+/// KTS: a point with multiplier lambda and gap g is active when lambda - eps g >= -eps touch
+/// (touching counts; touch absorbs the round-off of an exactly closed gap).
+KOKKOS_INLINE_FUNCTION bool kts_active(double lambda, double eps, double g, double touch) {
+  return lambda - eps * g >= -eps * touch;
+}
+
+/// Per pair: the contact force the assembly kernels put on the slave dofs, summed as it is
+/// assembled (-f_c over the slave rows): [Fx, Fy, Fn, Ft]; Fn sums each point's normal part
+/// (AssembleKts: along the master normal n there) along n, Ft each point's friction part
+/// (AssembleFriction: along the master tangent there) along the unit tangent e. A kernel
+/// passes the direction of its own part and 0 for the other.
+using ForceSum = Kokkos::View<double[4], MemSpace>;
+
+/// Adds the slave rows' share of a point's residual contribution fr[0..nds) (pairs x, y).
+KOKKOS_INLINE_FUNCTION void add_slave_force(const ForceSum& F, const double* fr, int nds, const double n[2],
+                                            const double e[2]) {
+  double s[4] = {0, 0, 0, 0};
+  for (int r = 0; r < nds; ++r) {
+    const int c = r % 2;
+    s[c] -= fr[r];
+    s[2] -= fr[r] * n[c];
+    s[3] -= fr[r] * e[c];
+  }
+  for (int k = 0; k < 4; ++k) Kokkos::atomic_add(&F(k), s[k]);
+}
 
 /// Search grid over master element boxes: a uniform grid of cell size h from (x0, y0), of
 /// which only the non-empty cells are stored (a curve crosses O(M) of the grid's cells, not
@@ -105,7 +136,8 @@ KOKKOS_INLINE_FUNCTION double box_distance2(const SearchGrid& g, int e, const do
 /// (x - rho) . rho' = 0 from the best of a few samples, clamped to the element.
 /// Returns the squared distance and xi; `inside` is false when the projection is clamped at
 /// an element end with the foot point beyond it (f = (x - rho) . t pointing out of the
-/// element by more than 1e-10 of the element's length). Points on the curve itself (gap 0,
+/// element by more than 1e-10 of the element's length; 1e-6 at the ends of the whole curve,
+/// see below). Points on the curve itself (gap 0,
 /// as augmented Lagrangian solutions have) are judged by that sign, not by a ratio to the
 /// distance, which round-off would decide.
 /// `warm`: start Newton from xi as given (the previous projection) instead of sampling.
@@ -148,8 +180,13 @@ KOKKOS_INLINE_FUNCTION double project_on_element(const CurveData& m, int s, cons
   curve_eval_span(s, m.p, U, cp, m.w, xi, r, t, dd, R);
   const double dx = x[0] - r[0], dy = x[1] - r[1];
   const double f = dx * t[0] + dy * t[1];
-  const double tol = 1e-10 * (t[0] * t[0] + t[1] * t[1]) * (b - a);
-  inside = !((xi <= a && f < -tol) || (xi >= b && f > tol));
+  // at an end of the whole curve a foot up to 1e-6 of the element length beyond it still
+  // counts (the end itself is the closest point): where the master ends on a symmetry axis
+  // its discrete end tangent tilts a little, and the slave points next to the axis, which
+  // carry the peak pressure, would otherwise have no projection
+  const double rel_a = s == m.p ? 1e-6 : 1e-10, rel_b = s == m.nb - 1 ? 1e-6 : 1e-10;
+  const double tt = (t[0] * t[0] + t[1] * t[1]) * (b - a);
+  inside = !((xi <= a && f < -rel_a * tt) || (xi >= b && f > rel_b * tt));
   for (int c = 0; c < 2; ++c) { rho[c] = r[c]; tan[c] = t[c]; }
   return dx * dx + dy * dy;
 }
@@ -248,14 +285,16 @@ struct AssembleKts {
   bool mortar = false;
   LocalMatrix K;
   FView f;
+  ForceSum force;   // the slave rows' sum of -f_c (add_slave_force)
 
   KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
     constexpr int MaxDof = 4 * (P + 1);
     const int i = p_begin + k;
     if (!sp.valid(i)) return;
     const double g = sp.gap(i);
-    const double pr = mortar ? sp.pressure(i) : sp.lambda(i) - eps * g;
-    if (mortar ? !(pr > 0) : pr < 0) return;
+    if (mortar ? !(sp.pressure(i) > 0) : !kts_active(sp.lambda(i), eps, g, sp.touch)) return;
+    const double pl = sp.lambda(i) - eps * g;
+    const double pr = mortar ? sp.pressure(i) : (pl > 0 ? pl : 0.0);
     const double epsN = mortar ? 0.0 : eps;
     const double w = sp.weight(i);
     // slave basis at xi_s
@@ -288,9 +327,12 @@ struct AssembleKts {
         lid[r] = 2 * m.lid(ms - m.p + b) + c;
       }
     const double cTT = -nm / (a11 * H), cNN = -g / H, cTN = -1.0 / H;
-    double row[MaxDof];
+    double row[MaxDof], fr[MaxDof];
+    for (int r = 0; r < nd; ++r) fr[r] = -pr * w * N[r];
+    const double none[2] = {0.0, 0.0};
+    add_slave_force(force, fr, nds, n, none);
     for (int r = 0; r < nd; ++r) {
-      Kokkos::atomic_add(&f(lid[r]), -pr * w * N[r]);
+      Kokkos::atomic_add(&f(lid[r]), fr[r]);
       for (int c = 0; c < nd; ++c) {
         const double G = cTT * T[r] * T[c] + cNN * Nb[r] * Nb[c] + cTN * (T[r] * Nb[c] + Nb[r] * T[c]);
         row[c] = w * (epsN * N[r] * N[c] - pr * G);

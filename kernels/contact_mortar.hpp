@@ -7,7 +7,10 @@
 //   g(xi) = (x_s(xi) - rho(eta(xi))) . n(eta),  eta(xi) the closest-point projection
 // Multiplier (a pressure) and potential
 //   lambda_A = <lbar_A - eps g_A / w_A>,   Pi = sum_A w_A / (2 eps) lambda_A^2
-//   (penalty: lbar = 0; ALM: lbar <- lambda between Newton solves). Pressure field
+//   (penalty: lbar = 0; ALM: lbar <- lambda between Newton solves). Active: lbar_A -
+//   eps g_A / w_A >= -eps touch, so a zero weighted gap (and one within round-off of 0,
+//   touch = 1e-12 of the smallest slave element) is in contact, as a touching KTS point is.
+//   Pressure field
 //   p(xi) = sum_A lambda_A R_A(xi): a uniform lambda transmits a uniform pressure exactly
 //   (partition of unity), which is why mortar passes the contact patch test.
 // Residual and tangent

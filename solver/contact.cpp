@@ -123,6 +123,7 @@ ContactPairData::ContactPairData(const System& sys, int index) : pair_(sys.probl
     const double a = c.knots[s], b = c.knots[s + 1];
     h_min_ = std::min(h_min_, std::hypot(c.eval(b)[0] - c.eval(a)[0], c.eval(b)[1] - c.eval(a)[1]));
   }
+  force_ = ForceSum("contact_force");
   int n = 0;
   if (!mortar_) {
     // slave quadrature points in the reference configuration
@@ -179,6 +180,8 @@ ContactPairData::ContactPairData(const System& sys, int index) : pair_(sys.probl
     a_end = static_cast<int>(ra.second);
   }
   allocate_points(n);
+  // KTS: a gap within round-off of 0 is touching (mortar: MortarGaps' touch, the same 1e-12)
+  sp_.touch = 1e-12 * h_min_;
   // every rank holds the displacements of both curves (boundary-sized)
   std::vector<GO> cps(slave_gid);
   cps.insert(cps.end(), master_gid.begin(), master_gid.end());
@@ -482,7 +485,7 @@ double ContactPairData::potential() const {
   return pi;
 }
 
-ContactPointState ContactPairData::state() const {
+ContactPointState ContactPairData::state(bool projected_only) const {
   ContactPointState s;
   const int n = num_points();
   auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.x);
@@ -500,6 +503,9 @@ ContactPointState ContactPairData::state() const {
   auto tan = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr_.tangent);
   for (int i = 0; i < n; ++i) {
     if (span(i) < 0) continue;   // unused mortar slot
+    // a point without a projection on the master (beyond its ends, far from it) has no gap
+    // and takes no part in the contact: NaN gap here, left out of the outputs
+    if (projected_only && !valid(i)) continue;
     s.x.push_back(x(i, 0));
     s.y.push_back(x(i, 1));
     s.nx.push_back(valid(i) ? nrm(i, 0) : 0.0);
@@ -509,7 +515,7 @@ ContactPointState ContactPairData::state() const {
     s.pressure.push_back(pr(i));
     s.weight.push_back(w(i));
     if (mortar_) s.active.push_back(valid(i) && pr(i) > 0 ? 1 : 0);
-    else s.active.push_back(valid(i) && lam(i) - pair_.penalty * gap(i) >= 0 ? 1 : 0);
+    else s.active.push_back(valid(i) && kts_active(lam(i), pair_.penalty, gap(i), sp_.touch) ? 1 : 0);
     s.tangential.push_back(tau(i));
     s.slip.push_back(slip(i));
     s.state.push_back(fst(i));
@@ -520,15 +526,17 @@ ContactPointState ContactPairData::state() const {
 }
 
 ContactSummary ContactPairData::summary() const {
-  const auto st = state();
+  const auto st = state(true);
   ContactSummary c;
+  // the forces: what the last assembly put on the slave dofs (assemble_contact), so that
+  // they are the residual's and equal the reactions
+  c.fx = assembled_[0];
+  c.fy = assembled_[1];
+  c.normal_force = assembled_[2];
+  c.tangential_force = assembled_[3];
   for (size_t i = 0; i < st.x.size(); ++i) {
     if (!st.active[i]) continue;
     ++c.active_points;
-    c.normal_force += st.pressure[i] * st.weight[i];
-    c.fx += st.weight[i] * (st.pressure[i] * st.nx[i] + st.tangential[i] * st.tx[i]);
-    c.fy += st.weight[i] * (st.pressure[i] * st.ny[i] + st.tangential[i] * st.ty[i]);
-    c.tangential_force += st.tangential[i] * st.weight[i];
     if (st.state[i] == 1) c.stick_length += st.weight[i] / thickness;
     if (st.state[i] == 2) c.slip_length += st.weight[i] / thickness;
     c.max_pressure = std::max(c.max_pressure, st.pressure[i]);
@@ -570,7 +578,7 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
     };
     for (int i = pd.p_begin; i < pd.p_end; ++i) {
       if (sspan(i) < 0 || !valid(i)) continue;
-      if (!pd.mortar() && lam(i) - pd.pair().penalty * gap(i) >= 0) ++active;
+      if (!pd.mortar() && kts_active(lam(i), pd.pair().penalty, gap(i), pd.sp_.touch)) ++active;
       groups.push_back(point_group(i));
     }
     if (pd.mortar()) {
@@ -637,8 +645,10 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
       Kokkos::deep_copy(fv, 0.0);
     }
     again = false;
-    for (auto& pd : pairs)
+    for (auto& pd : pairs) {
       if (pd.mortar()) Kokkos::deep_copy(pd.ms_.flags, 0);
+      Kokkos::deep_copy(pd.force_, 0.0);
+    }
     for (auto& pd : pairs) {
       for (CurveData* c : {&pd.slave, &pd.master}) {
         const auto& gid = c == &pd.slave ? pd.slave_gid : pd.master_gid;
@@ -653,7 +663,7 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
         dispatch_degree(std::max(pd.slave.p, pd.master.p), [&](auto P) {
           AssembleKts<decltype(P)::value, decltype(lcl), decltype(fv)> k;
           k.s = pd.slave; k.m = pd.master; k.sp = pd.sp_; k.eps = pd.pair().penalty;
-          k.p_begin = pd.p_begin; k.mortar = pd.mortar(); k.K = lcl; k.f = fv;
+          k.p_begin = pd.p_begin; k.mortar = pd.mortar(); k.K = lcl; k.f = fv; k.force = pd.force_;
           Kokkos::parallel_for(pd.mortar() ? "iga::AssembleMortarPressure" : "iga::AssembleKts",
                                Kokkos::RangePolicy<ExecSpace>(0, pd.p_end - pd.p_begin), k);
         });
@@ -661,7 +671,7 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
         dispatch_degree(std::max(pd.slave.p, pd.master.p), [&](auto P) {
           AssembleFriction<decltype(P)::value, decltype(lcl), decltype(fv)> k;
           k.s = pd.slave; k.m = pd.master; k.sp = pd.sp_; k.fr = pd.fr_; k.eps = pd.pair().penalty;
-          k.p_begin = pd.p_begin; k.mortar = pd.mortar(); k.K = lcl; k.f = fv;
+          k.p_begin = pd.p_begin; k.mortar = pd.mortar(); k.K = lcl; k.f = fv; k.force = pd.force_;
           Kokkos::parallel_for("iga::AssembleFriction", Kokkos::RangePolicy<ExecSpace>(0, pd.p_end - pd.p_begin), k);
         });
       if (pd.friction() && pd.mortar() && pd.a_end > pd.a_begin)
@@ -687,6 +697,12 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
     Kokkos::fence();
   }
   K->fillComplete(sys.owned_map(), sys.owned_map());
+  // each pair's force on its slave body: this rank's points summed by the kernels, all ranks'
+  for (auto& pd : pairs) {
+    auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.force_);
+    double loc[4] = {h(0), h(1), h(2), h(3)};
+    Teuchos::reduceAll(*sys.comm(), Teuchos::REDUCE_SUM, 4, loc, pd.assembled_);
+  }
   ContactContribution out;
   out.K = sys.export_matrix(K);
   out.f = sys.export_vector(f);

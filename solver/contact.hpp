@@ -23,6 +23,12 @@ struct ContactPointState {
   std::vector<int> active, state;
 };
 
+/// A pair's summary at its last update and assembly. fx, fy: the force on the slave body, the
+/// sum over the slave dofs of the pair's assembled contact residual (-f_c), so it equals the
+/// reactions; normal_force / tangential_force: the sums of each point's share of it along the
+/// master's outward normal / unit tangent there (increasing master parameter): the integral
+/// of the pressure, and of the tangential traction as the weak form applies it (tau d(ds)/dx_s
+/// along the tangent: tau (|t| + (eta - eta_n) e.rho'') |t| / H, H = |t|^2 - g n.rho'').
 struct ContactSummary {
   double normal_force = 0, fx = 0, fy = 0, max_pressure = 0, contact_length = 0, max_penetration = 0;
   double tangential_force = 0, stick_length = 0, slip_length = 0;
@@ -59,8 +65,10 @@ class ContactPairData {
   double max_active_gap_ratio() const;
   bool friction() const { return fr_.mu > 0; }
   FrictionCounts friction_counts() const { return counts_; }
-  /// Slave points (KTS: quadrature points; mortar: segment quadrature points in use).
-  ContactPointState state() const;
+  /// Slave points (KTS: quadrature points; mortar: segment quadrature points in use). A point
+/// without a projection on the master (beyond its ends) has no gap: NaN, and with
+/// projected_only (what the outputs write) it is left out.
+  ContactPointState state(bool projected_only = false) const;
   ContactSummary summary() const;
   /// The contact potential at the last update: KTS sum_q w <lambda - eps g>^2 / (2 eps),
   /// mortar sum_A w_A lambda_A^2 / (2 eps) (the penalty potential when the multipliers are 0).
@@ -85,6 +93,10 @@ class ContactPairData {
   int a_begin = 0, a_end = 0;              // this rank's slave control points
   // friction (every pair: the slip and state outputs; assembled only where mu > 0)
   FrictionData fr_;
+  // the force on the slave body: summed by the assembly kernels on this rank (force_), all
+  // ranks' sum after assemble_contact (assembled_: Fx, Fy, Fn, Ft; ContactSummary)
+  ForceSum force_;
+  double assembled_[4] = {0, 0, 0, 0};
 
  private:
   ContactPair pair_;
