@@ -284,12 +284,12 @@ bool cross(const Vec& a, const Vec& b, const Vec& c, const Vec& d) {
 }
 
 // Pairs of boundary polylines that cross (proper crossings of their segments): lines of two
-// bodies, or of one body where the crossing segments lie farther apart along the boundary
-// than `excl` times their element size (self-penetration). A locally injective
+// bodies, or of one body where the crossing segments are not neighbours along the boundary
+// (self-penetration; the crossing may lie close to a crease, as where an O-ring's slit closes). A locally injective
 // map (no inverted element) whose boundary curves do not cross does not overlap itself, and
 // two bodies whose boundaries do not cross do not overlap (unless one lies wholly inside the
 // other), so only the lines found here need the point-in-body tests.
-std::vector<std::pair<int, int>> crossing_lines(const Boundary& bd, double excl) {
+std::vector<std::pair<int, int>> crossing_lines(const Boundary& bd) {
   const std::vector<Polyline>& lines = bd.lines;
   struct Seg { int line, i; };
   std::vector<Seg> segs;
@@ -329,8 +329,10 @@ std::vector<std::pair<int, int>> crossing_lines(const Boundary& bd, double excl)
         char& mark = seen[static_cast<size_t>(s.line) * lines.size() + t.line];
         if (mark) continue;
         if (!cross(A.x[s.i], A.x[s.i + 1], B.x[t.i], B.x[t.i + 1])) continue;
-        if (A.body == B.body &&   // neighbours along the boundary (a corner, the same side)
-            bd.near(s.line, A.s[s.i], t.line, B.s[t.i], excl * std::max(A.h[s.i], B.h[t.i]) + A.s[s.i + 1] - A.s[s.i]))
+        // one body: segments next to each other along the boundary (they share a point) do
+        // not count; any other proper crossing means the boundary crosses itself
+        if (A.body == B.body &&
+            bd.near(s.line, A.s[s.i], t.line, B.s[t.i], 1.01 * (A.s[s.i + 1] - A.s[s.i] + B.s[t.i + 1] - B.s[t.i])))
           continue;
         mark = 1;
         seen[static_cast<size_t>(t.line) * lines.size() + s.line] = 1;
@@ -392,7 +394,7 @@ std::string find_penetration(const Problem& P, const std::vector<std::vector<dou
   // which lines to test against which bodies
   std::vector<std::vector<char>> test(lines.size(), std::vector<char>(static_cast<size_t>(nb), 0));
   std::vector<std::vector<int>> order(lines.size());   // per line: the lines it crosses first, then the rest
-  for (const auto& [a, b] : crossing_lines(bd, kNear)) {
+  for (const auto& [a, b] : crossing_lines(bd)) {
     test[a][lines[b].body] = 1;
     test[b][lines[a].body] = 1;
     order[a].push_back(b);

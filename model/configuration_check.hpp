@@ -16,8 +16,8 @@
 // What find_penetration computes. The boundary: every outer side (not an interface, not
 // collapsed) as a polyline of 4 + 1 points per element, deformed (x) and reference (X), with
 // its reference arc length. 1) Crossings: segments of two bodies' lines that cross, or of one
-// body's lines that cross farther apart along the boundary than 4 element sizes, found
-// through bins (about one segment per bin). A locally injective map (no inverted element)
+// body's lines that cross and are not neighbours along the boundary, found through bins
+// (about one segment per bin). A locally injective map (no inverted element)
 // whose boundary curves do not cross does not overlap itself, and two bodies whose boundaries
 // do not cross do not overlap (unless one lies wholly inside the other, not looked for): only
 // the lines found here are tested further. 2) A point x of such a line is inside patch Q of

@@ -43,8 +43,10 @@ std::string check_configuration(const System& sys, const Vector& u, const std::v
   const auto disp = gather_displacements(sys, u);
   std::string why;
   if (sys.comm()->getRank() == 0) {
-    why = find_inverted(sys.problem(), disp);
-    if (why.empty()) why = find_penetration(sys.problem(), disp, pen);
+    // both, where both are found (a crease that folds where a body closes on itself)
+    const std::string inverted = find_inverted(sys.problem(), disp);
+    const std::string penetration = find_penetration(sys.problem(), disp, pen);
+    why = inverted.empty() ? penetration : penetration.empty() ? inverted : inverted + "; " + penetration;
   }
   return broadcast_string(*sys.comm(), why);
 }

@@ -11,6 +11,8 @@
 #  - a sharp flat punch with kts_alm: the Uzawa stall ends the run (exit 3) after at most one
 #    cut, saying "stalled";
 #  - a penalty of 1e10 (2.5e6 E/h): `check` warns in one line and still exits 0;
+#  - an O-ring closing on itself with a self-contact pair (exit 0, equilibrium) and without one
+#    (exit 5, self-penetration);
 #  - the fork on 2 MPI ranks: the same exit code and line as on 1 (the check is collective).
 set -uo pipefail
 exe="$1"; dir="$2"; mpiexec="${3:-}"
@@ -77,7 +79,26 @@ expect_in "punch 1e10 check" "$w" "warning: $dir/punch.yaml: contact[0].penalty 
 "$exe" check "$dir/punch.yaml" >/dev/null 2>"$tmp/nowarn" || { echo "FAIL punch check"; fail=1; }
 [ ! -s "$tmp/nowarn" ] || { echo "FAIL punch check: unexpected warning: $(cat "$tmp/nowarn")"; fail=1; }
 
-# 7. 2 ranks: the same line (rank 0 computes the check, every rank stops)
+# 7. an O-ring closing on itself (finite strain, mortar): with the self-contact pair the inner
+#    surface touches itself (pair 2 active), the check passes and each plate's reaction equals
+#    the force its contact pair puts on the ring (1e-8); without the pair, squeezed a little
+#    further on a finer mesh, the run stops (5) naming the self-penetration of the ring's inner
+#    surface (0.2 deep; the crease where the slit closes folds too, and is named first)
+err=$("$exe" run "$dir/oring_self_contact.yaml" --output "$tmp/os" --quiet 2>&1 >/dev/null); rc=$?
+expect_rc "oring self-contact" "$rc" 0
+[ -z "$err" ] || { echo "FAIL oring self-contact: stderr: $err"; fail=1; }
+json "$tmp/os/summary.json" "s['contact'][2]['active_points'] > 0 and s['contact'][2]['normal_force'] > 0 and s['check']['passed']" | grep -qx True \
+  || { echo "FAIL oring self-contact: the inner surface is not in contact, or the check failed"; fail=1; }
+json "$tmp/os/summary.json" "max(abs(s['reactions']['bottom']['south'][1] - s['contact'][0]['force'][1]), abs(s['reactions']['top']['north'][1] - s['contact'][1]['force'][1])) <= 1e-8 * abs(s['contact'][0]['force'][1])" | grep -qx True \
+  || { echo "FAIL oring self-contact: plate reactions differ from the contact forces"; fail=1; }
+head -n -1 "$dir/oring_self_contact.yaml" > "$tmp/oring_no_self.yaml"
+err=$("$exe" run "$tmp/oring_no_self.yaml" --output "$tmp/ons" --quiet --set bodies.1.boundary.north.displacement.y=-3.3 \
+  --set "bodies.2.refine.subdivide=[32,4]" 2>&1 >/dev/null); rc=$?
+expect_rc "oring without self-contact" "$rc" 5
+one_line "oring without self-contact" "$err"
+expect_in "oring without self-contact" "$err" "self-penetration: ring.patch"
+
+# 8. 2 ranks: the same line (rank 0 computes the check, every rank stops)
 if [ -n "$mpiexec" ]; then
   err2=$("$mpiexec" -n 2 "$exe" run "$dir/fork.yaml" --output "$tmp/fork2" --quiet 2>&1 >/dev/null); rc=$?
   expect_rc "fork 2 ranks" "$rc" 5

@@ -84,7 +84,11 @@ def default(d):
     o = np.argsort(c["x"])
     x, p = c["x"][o], c["pressure"][o]
     pa = p[p > 0]
-    drops = np.diff(pa) < -1e-9 * p0
+    # no dip: near the axis Hertz's pressure is flat (zero slope) and the mortar pressure
+    # interpolated at the segment points varies there by ~1e-5 p0 (the points on the axis
+    # itself, 4e-6 p0 below the largest): a drop counts above 1e-4 p0, far below the dip of
+    # the issue (several % at the contact edge)
+    drops = np.diff(pa) < -1e-4 * p0
     check(not drops.any(), "pressure rises monotonically to the axis (%d drops)" % drops.sum())
     inner = np.abs(x - xc) < 0.8 * a
     dev = np.abs(p - p0 * np.sqrt(np.maximum(0, 1 - (x - xc) ** 2 / a ** 2)))[inner].max() / p0
