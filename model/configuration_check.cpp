@@ -242,7 +242,7 @@ struct Inverter {
   bool invert(const Vec& x, double& u, double& v, double tol) const {
     const double a0 = cur.knots[0].front(), a1 = cur.knots[0].back();
     const double b0 = cur.knots[1].front(), b1 = cur.knots[1].back();
-    for (int it = 0; it < 50; ++it) {
+    for (int it = 0; it < 25; ++it) {
       const Vec p = cur.eval(u, v);
       const double rx = p[0] - x[0], ry = p[1] - x[1];
       if (std::hypot(rx, ry) <= tol) return true;
@@ -348,7 +348,7 @@ std::string find_penetration(const Problem& P, const std::vector<std::vector<dou
   const int nb = static_cast<int>(P.bodies.size());
   constexpr int kPer = 4;            // boundary points per element: kPer + 1 with its ends
   constexpr double kNear = 4.0;      // self: the boundary within 4 element sizes (along it) is the point's own
-  constexpr size_t kStarts = 6;      // Newton starts: the nearest points of a patch
+  constexpr size_t kStarts = 6;      // Newton starts in its own body: the nearest points of a patch
   constexpr double kFloor = 0.01;    // allowed depth at least 1 % of the boundary element
   Boundary bd;
   std::vector<std::vector<Inverter>> inv(nb);
@@ -437,7 +437,9 @@ std::string find_penetration(const Problem& P, const std::vector<std::vector<dou
         bool inside = false;
         for (const Inverter& I : inv[b]) {
           if (inside || !I.in_box(x, tol_x)) continue;
-          for (const int k : I.nearest(x, kStarts)) {
+          // another body: from the nearest point (a preimage is unique); its own body: from
+          // several, since the nearest may lie on the point's own side of the fold
+          for (const int k : I.nearest(x, self ? kStarts : 1)) {
             double uu = I.pts[k].u, vv = I.pts[k].v;
             if (!I.invert(x, uu, vv, tol_x)) continue;
             if (self && dist(I.ref->eval(uu, vv), X) <= 1e-6 * L) continue;   // its own place

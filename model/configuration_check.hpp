@@ -21,8 +21,8 @@
 // whose boundary curves do not cross does not overlap itself, and two bodies whose boundaries
 // do not cross do not overlap (unless one lies wholly inside the other, not looked for): only
 // the lines found here are tested further. 2) A point x of such a line is inside patch Q of
-// the body it crosses when Newton on x_Q(xi) = x, from one of the 6 nearest of Q's 2 x 2
-// points per element, converges to |x_Q(xi) - x| <= 1e-10 L (L the largest body's size); in
+// the body it crosses when Newton on x_Q(xi) = x, from the nearest of Q's 2 x 2 points per
+// element (in its own body: from one of the 6 nearest), converges to |x_Q(xi) - x| <= 1e-10 L (L the largest body's size); in
 // its own body, the preimage must not be x's own reference point. 3) Its depth is the
 // distance from x to that body's deformed boundary polylines (its own body: leaving out the
 // boundary within 4 element sizes of x along the boundary). Allowed depth: 3 x the largest
