@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdlib>
 #include <cmath>
 #include <filesystem>
 #include <functional>
@@ -1260,15 +1261,22 @@ Problem build(Reader& R, const YAML::Node& root) {
   return P;
 }
 
-// MemAvailable of /proc/meminfo in bytes (0 where unknown).
+// MemAvailable of /proc/meminfo in bytes (0 where unknown), or less where the environment's
+// IGACONTACT_MEMORY_LIMIT (bytes) says so: a shared machine, or the fuzzer, which must not
+// spend its time refining a valid 2e7-dof mesh.
 double available_memory_bytes() {
   std::ifstream in("/proc/meminfo");
   std::string key;
-  double kib = 0;
+  double kib = 0, bytes = 0;
   std::string unit;
   while (in >> key >> kib >> unit)
-    if (key == "MemAvailable:") return kib * 1024.0;
-  return 0;
+    if (key == "MemAvailable:") { bytes = kib * 1024.0; break; }
+  if (const char* lim = std::getenv("IGACONTACT_MEMORY_LIMIT")) {
+    char* end = nullptr;
+    const double l = std::strtod(lim, &end);
+    if (end != lim && l > 0 && std::isfinite(l)) bytes = bytes > 0 ? std::min(bytes, l) : l;
+  }
+  return bytes;
 }
 
 }  // namespace
