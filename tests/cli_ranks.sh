@@ -13,11 +13,13 @@
 #    half-width (the gap's zero crossing at the edge of the active points) agree with Hertz
 #    for the computed load within 5 % (as tests/test_contact).
 # Usage: cli_ranks.sh EXE MPIEXEC PROBLEM lame|wheel
+# MPI runs take one thread per rank (OMP_NUM_THREADS=1): 2 ranks x 1 thread fill 2 cores; with
+# the OpenMP build more threads oversubscribe them and Kokkos warns on stderr.
 set -euo pipefail
 exe="$1"; mpiexec="$2"; file="$3"; check="$4"
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 "$exe" run "$file" --output "$tmp/r1" --quiet
-"$mpiexec" -n 2 "$exe" run "$file" --output "$tmp/r2" --quiet
+env OMP_NUM_THREADS=1 "$mpiexec" -n 2 "$exe" run "$file" --output "$tmp/r2" --quiet
 /usr/bin/python3 - "$tmp" "$file" "$check" <<'PY'
 import csv, json, math, re, sys
 # the contact edge: the gap's zero crossing between the outermost active point and its inactive

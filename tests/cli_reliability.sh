@@ -8,6 +8,8 @@
 #  - a directory, a device or a missing file as the problem file, --set errors that cite
 #    the --set argument, empty key-path parts.
 # Usage: cli_reliability.sh EXE EXAMPLES_DIR MPIEXEC
+# MPI runs take one thread per rank (OMP_NUM_THREADS=1): 2 ranks x 1 thread fill 2 cores; with
+# the OpenMP build more threads oversubscribe them and Kokkos warns on stderr.
 set -u
 exe="$1"; ex="$2"; mpiexec="$3"
 tmp=$(mktemp -d); mnt=""
@@ -27,7 +29,7 @@ no_results() {   # dir: nothing named like a result, no .part
 }
 
 # 1. a failing rank ends all ranks within seconds (2 ranks; the fault is on rank 1 only)
-timeout 60 env IGACONTACT_TEST_FAULT=1 "$mpiexec" -n 2 "$exe" run "$ex/lame_cylinder.yaml" --output "$tmp/fault" --quiet 2>"$tmp/err"; rc=$?
+timeout 60 env IGACONTACT_TEST_FAULT=1 env OMP_NUM_THREADS=1 "$mpiexec" -n 2 "$exe" run "$ex/lame_cylinder.yaml" --output "$tmp/fault" --quiet 2>"$tmp/err"; rc=$?
 [ "$rc" = 124 ] && bad "a fault on rank 1 hung the run"
 [ "$rc" = 0 ] && bad "a fault on rank 1 exited 0"
 grep -q "injected fault" "$tmp/err" || bad "the fault was not reported: $(cat "$tmp/err")"
@@ -35,7 +37,7 @@ no_results "$tmp/fault" "fault on rank 1"
 
 # 2. an unusable output directory on 2 ranks: bad input before solving, no hang
 touch "$tmp/afile"
-timeout 60 "$mpiexec" -n 2 "$exe" run "$ex/lame_cylinder.yaml" --output "$tmp/afile/sub" --quiet 2>"$tmp/err"; rc=$?
+timeout 60 env OMP_NUM_THREADS=1 "$mpiexec" -n 2 "$exe" run "$ex/lame_cylinder.yaml" --output "$tmp/afile/sub" --quiet 2>"$tmp/err"; rc=$?
 [ "$rc" = 124 ] && bad "unusable output on 2 ranks hung"
 one_line "output under a file (2 ranks)" "$rc" 2 "$tmp/err"
 grep -q -- "--output = $tmp/afile/sub: cannot create the directory" "$tmp/err" || bad "output message: $(cat "$tmp/err")"
@@ -47,7 +49,7 @@ if mount -t tmpfs -o size=64k tmpfs "$full" 2>/dev/null; then mnt="$full"; else 
 for ranks in 1 2; do
   out="$full/w$ranks"
   ( [ -n "$limit" ] && ulimit -f "$limit"
-    exec timeout 120 "$mpiexec" -n $ranks "$exe" run "$ex/wheel.yaml" --output "$out" --quiet $extra ) 2>"$tmp/err"; rc=$?
+    exec timeout 120 env OMP_NUM_THREADS=1 "$mpiexec" -n $ranks "$exe" run "$ex/wheel.yaml" --output "$out" --quiet $extra ) 2>"$tmp/err"; rc=$?
   one_line "full disk ($ranks rank(s))" "$rc" 4 "$tmp/err"
   grep -q -E "cannot write .*(No space left on device|File too large)" "$tmp/err" || bad "full disk message: $(cat "$tmp/err")"
   no_results "$out" "full disk ($ranks rank(s))"

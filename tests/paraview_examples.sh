@@ -6,6 +6,8 @@
 # the 1- and 2-rank wheels must agree. Exits 77 (skipped) without pvpython;
 # in CI (CI=true) a missing pvpython fails.
 # Usage: paraview_examples.sh EXE EXAMPLES_DIR MPIEXEC
+# MPI runs take one thread per rank (OMP_NUM_THREADS=1): 2 ranks x 1 thread fill 2 cores; with
+# the OpenMP build more threads oversubscribe them and Kokkos warns on stderr.
 set -u
 exe="$1"; ex="$2"; mpiexec="$3"
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -16,7 +18,7 @@ tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 fail=0
 run() {   # name ranks file [args]
   local name="$1" ranks="$2" file="$3"; shift 3
-  "$mpiexec" -n "$ranks" "$exe" run "$file" --output "$tmp/$name" --quiet "$@" || { echo "FAIL: $name did not run"; fail=1; return; }
+  env OMP_NUM_THREADS=1 "$mpiexec" -n "$ranks" "$exe" run "$file" --output "$tmp/$name" --quiet "$@" || { echo "FAIL: $name did not run"; fail=1; return; }
   pvpython "$here/paraview/check_results.py" "$tmp/$name" || { echo "FAIL: ParaView check of $name"; fail=1; }
 }
 run wheel1 1 "$ex/wheel.yaml"
