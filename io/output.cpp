@@ -300,7 +300,7 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
       std::vector<BodyField> sfields;
       for (size_t q = 0; q < sb.patches.size(); ++q) sfields.emplace_back(P, pair.slave.body, disp[pair.slave.body], static_cast<int>(q));
       const hsize_t n = cs.x.size();
-      std::vector<double> xyz, d3, xyz_def, gap(cs.gap), active, state;
+      std::vector<double> xyz, d3, xyz_def, active, state;
       std::vector<int> conn;
       for (size_t i = 0; i < n; ++i) {
         double pu, pv;
@@ -313,15 +313,13 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
         state.push_back(cs.state[i]);
         conn.push_back(static_cast<int>(i));
       }
-      for (double& gv : gap)
-        if (!std::isfinite(gv)) gv = std::nan("");
       const std::string g = "/contact/pair_" + std::to_string(k);
       f.group(g);
       f.write_int(g + "/conn", conn, {n});
       f.write(g + "/xyz", xyz, {n, 3});
       f.write(g + "/displacement", d3, {n, 3});
       f.write(g + "/xyz_deformed", xyz_def, {n, 3});
-      f.write(g + "/gap", gap, {n});
+      f.write(g + "/gap", cs.gap, {n});   // projected points only: every gap is defined
       f.write(g + "/pressure", cs.pressure, {n});
       f.write(g + "/xi", cs.xi, {n});
       f.write(g + "/active", active, {n});

@@ -309,17 +309,15 @@ struct AssembleFriction {
     }
     const double w = sp.weight(i);
     double row[N], fv[N];
-    for (int r = 0; r < d.nd; ++r) fv[r] = (-w * tau.val()) * S[r].val();   // = Fr.val() below
-    {
-      const double none[2] = {0.0, 0.0}, e[2] = {fr.tangent(i, 0), fr.tangent(i, 1)};
-      add_slave_force(force, fv, d.nds, none, e);
-    }
     for (int r = 0; r < d.nd; ++r) {
       const F Fr = -w * tau * S[r];
-      Kokkos::atomic_add(&f(lid[r]), Fr.val());
+      fv[r] = Fr.val();
+      Kokkos::atomic_add(&f(lid[r]), fv[r]);
       for (int c = 0; c < d.nd; ++c) row[c] = Fr.fastAccessDx(c);
       K.sumIntoValues(lid[r], lid, d.nd, row, false, true);
     }
+    const double none[2] = {0.0, 0.0}, e[2] = {fr.tangent(i, 0), fr.tangent(i, 1)};
+    add_slave_force(force, fv, d.nds, none, e);
   }
 };
 

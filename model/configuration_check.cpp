@@ -75,12 +75,7 @@ std::vector<PatchSide> outer_sides(const Body& b) {
   for (size_t k = 0; k < b.patches.size(); ++k)
     for (int s = 0; s < 4; ++s) {
       const PatchSide ps{static_cast<int>(k), static_cast<Side>(s)};
-      if (b.is_interface(ps)) continue;
-      const Patch& p = b.patches[k];
-      const std::vector<int> idx = p.side_indices(ps.side);
-      bool collapsed = true;
-      for (const int a : idx) collapsed = collapsed && std::hypot(p.cp[a][0] - p.cp[idx[0]][0], p.cp[a][1] - p.cp[idx[0]][1]) <= b.tolerance;
-      if (!collapsed) out.push_back(ps);
+      if (!b.is_interface(ps) && !side_collapsed(b.patches[k], ps.side, b.tolerance)) out.push_back(ps);
     }
   return out;
 }
@@ -180,7 +175,6 @@ struct Boundary {
 struct Inverter {
   const Patch* ref = nullptr;
   Patch cur;
-  int body = 0, patch = 0;
   double lo[2] = {0, 0}, hi[2] = {0, 0};   // bounding box of the deformed control points (contains the patch)
   struct Pt { Vec x, X; double u, v; };
   std::vector<Pt> pts;
@@ -356,15 +350,11 @@ std::string find_penetration(const Problem& P, const std::vector<std::vector<dou
   for (int b = 0; b < nb; ++b) {
     const Body& B = P.bodies[b];
     L = std::max(L, patches_diameter(B.patches));
+    MultiPatch deformed = body_geometry(B, &u[b]);
     for (size_t k = 0; k < B.patches.size(); ++k) {
       Inverter I;
       I.ref = &B.patches[k];
-      I.cur = B.patches[k];
-      I.body = b;
-      I.patch = static_cast<int>(k);
-      const std::vector<double> uk = B.patch_values(static_cast<int>(k), u[b]);
-      for (size_t a = 0; a < I.cur.cp.size(); ++a)
-        for (int c = 0; c < 2; ++c) I.cur.cp[a][c] += uk[2 * a + c];
+      I.cur = std::move(deformed.patches[k]);
       inv[b].push_back(std::move(I));
     }
     for (const PatchSide& ps : outer_sides(B)) {
@@ -495,15 +485,11 @@ std::string find_penetration(const Problem& P, const std::vector<std::vector<dou
 std::string find_inverted(const Problem& P, const std::vector<std::vector<double>>& u) {
   for (size_t b = 0; b < P.bodies.size(); ++b) {
     const Body& B = P.bodies[b];
+    const MultiPatch deformed = body_geometry(B, &u[b]);
     for (size_t k = 0; k < B.patches.size(); ++k) {
-      Patch cur = B.patches[k];
-      const std::vector<double> uk = B.patch_values(static_cast<int>(k), u[b]);
+      const Patch& cur = deformed.patches[k];
       bool finite = true;
-      for (size_t a = 0; a < cur.cp.size(); ++a)
-        for (int c = 0; c < 2; ++c) {
-          cur.cp[a][c] += uk[2 * a + c];
-          finite = finite && std::isfinite(cur.cp[a][c]);
-        }
+      for (const Point3& q : cur.cp) finite = finite && std::isfinite(q[0]) && std::isfinite(q[1]);
       const std::string where = "body " + B.name + (B.multipatch() ? " patch " + std::to_string(k) : std::string());
       if (!finite) return "inverted elements: " + where + " has a displacement that is not a number";
       // det F = det(dx/dxi) / det(dX/dxi): det(dx/dxi) must keep the reference sign everywhere

@@ -110,6 +110,8 @@ int base_normal_sign(const Patch& P, Side s) {
 
 }  // namespace
 
+bool side_collapsed(const Patch& P, Side s, double tol) { return collapsed(side_points(P, s), tol); }
+
 namespace {
 // Calls f(x, y, a, b) for every pair of distinct sides x < y (the same patch's too) that are
 // not collapsed to a point, with their control points a, b; stops when f returns true.

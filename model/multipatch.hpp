@@ -44,6 +44,10 @@ int corner_index(const Patch& P, Corner c);   // the patch control point at the 
 /// Size of a set of patches: the diagonal of their control points' bounding box.
 double patches_diameter(const std::vector<Patch>& patches);
 
+/// The side's control points all lie within tol of its first: a side collapsed to a point
+/// (a degenerate patch), which is no boundary and no interface.
+bool side_collapsed(const Patch& P, Side s, double tol);
+
 /// Interfaces of patches found by coincident control points (within tol, forward or reversed)
 /// along whole sides, any pair of distinct sides (the same patch's two sides close a ring).
 /// Sides collapsed to a point are left out.

@@ -66,8 +66,8 @@ class ContactPairData {
   bool friction() const { return fr_.mu > 0; }
   FrictionCounts friction_counts() const { return counts_; }
   /// Slave points (KTS: quadrature points; mortar: segment quadrature points in use). A point
-/// without a projection on the master (beyond its ends) has no gap: NaN, and with
-/// projected_only (what the outputs write) it is left out.
+  /// without a projection on the master (beyond its ends) has no gap: NaN, and with
+  /// projected_only (what the outputs write) it is left out.
   ContactPointState state(bool projected_only = false) const;
   ContactSummary summary() const;
   /// The contact potential at the last update: KTS sum_q w <lambda - eps g>^2 / (2 eps),
