@@ -40,23 +40,60 @@ bool write_all(int fd, const char* p, size_t n) {
 
 }  // namespace
 
-void write_file_atomic(const std::string& path, const std::string& bytes) {
+void FileBatch::add(const std::string& path, const std::string& bytes) {
   const std::string tmp = path + ".part";
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) throw OutputError("cannot write " + tmp + ": " + errno_text(errno));
+  if (fd < 0) {
+    const int e = errno;
+    discard();
+    throw OutputError("cannot write " + tmp + ": " + errno_text(e));
+  }
   int err = 0;
   if (!write_all(fd, bytes.data(), bytes.size())) err = errno;
-  if (!err && ::fsync(fd) != 0 && errno != EINVAL && errno != EROFS) err = errno;   // EINVAL: no fsync on this file system
   if (::close(fd) != 0 && !err) err = errno;
+  paths_.push_back(path);
   if (err) {
-    ::unlink(tmp.c_str());
+    discard();
     throw OutputError("cannot write " + path + ": " + errno_text(err));
   }
-  if (::rename(tmp.c_str(), path.c_str()) != 0) {
-    err = errno;
-    ::unlink(tmp.c_str());
-    throw OutputError("cannot write " + path + ": " + errno_text(err));
+}
+
+void FileBatch::commit() {
+  if (paths_.empty()) return;
+  // one flush of the file system holding the files: their data is on the disk before any
+  // rename makes it visible under its name (EINVAL/EROFS: no syncing on this file system)
+  const std::string dir = fs::path(paths_.front()).parent_path().string();
+  const int dfd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  int err = dfd < 0 ? errno : 0;
+  if (!err && ::syncfs(dfd) != 0 && errno != EINVAL && errno != EROFS) err = errno;
+  if (dfd >= 0) ::close(dfd);
+  if (err) {
+    const std::string first = paths_.front();
+    discard();
+    throw OutputError("cannot write " + first + ": " + errno_text(err));
   }
+  for (size_t k = 0; k < paths_.size(); ++k)
+    if (::rename((paths_[k] + ".part").c_str(), paths_[k].c_str()) != 0) {
+      err = errno;
+      const std::string failed = paths_[k];
+      paths_.erase(paths_.begin(), paths_.begin() + static_cast<std::ptrdiff_t>(k));
+      discard();
+      throw OutputError("cannot write " + failed + ": " + errno_text(err));
+    }
+  paths_.clear();
+}
+
+void FileBatch::discard() noexcept {
+  for (const std::string& p : paths_) ::unlink((p + ".part").c_str());
+  paths_.clear();
+}
+
+FileBatch::~FileBatch() { discard(); }
+
+void write_file_atomic(const std::string& path, const std::string& bytes) {
+  FileBatch b;
+  b.add(path, bytes);
+  b.commit();
 }
 
 std::string crc32_hex(const std::string& bytes) {
@@ -133,6 +170,10 @@ void h5_write(hid_t file, hid_t type, const std::string& path, const std::vector
 
 void H5Memory::write(const std::string& path, const std::vector<double>& v, const std::vector<hsize_t>& dims) {
   h5_write(file_, H5T_NATIVE_DOUBLE, path, v, dims, [this](const std::string& w) { fail(w); });
+}
+
+void H5Memory::write_float(const std::string& path, const std::vector<float>& v, const std::vector<hsize_t>& dims) {
+  h5_write(file_, H5T_NATIVE_FLOAT, path, v, dims, [this](const std::string& w) { fail(w); });
 }
 
 void H5Memory::write_int(const std::string& path, const std::vector<int>& v, const std::vector<hsize_t>& dims) {

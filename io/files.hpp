@@ -1,8 +1,8 @@
 #pragma once
 // Writing output files so that a failure never leaves a file that looks complete.
 //
-//  * Every file is written whole to `<name>.part`, flushed to the disk (fsync), closed and
-//    only then renamed to its name; every system call is checked. On any failure the `.part`
+//  * Every file is written whole to `<name>.part`, flushed to the disk (one syncfs for the
+//    files of a load step, FileBatch), closed and only then renamed to its name; every system call is checked. On any failure the `.part`
 //    is removed and OutputError is thrown: no file of that name is created or replaced.
 //  * HDF5 files are built in memory (HDF5's core driver, no backing store) and their image is
 //    written by the same checked path: HDF5 itself never writes to the disk, so a full disk
@@ -36,6 +36,25 @@ struct OutputError : std::runtime_error {
 /// Writes bytes to path atomically (see above). Throws OutputError.
 void write_file_atomic(const std::string& path, const std::string& bytes);
 
+/// Files made durable together (one load step's): add() writes each whole to <path>.part;
+/// commit() flushes them all with one syncfs of their file system (one journal commit, not
+/// one fsync per file), then renames each .part to its name. On failure the .part files are
+/// removed and OutputError is thrown; files committed before stay as they were. A batch
+/// destroyed uncommitted (an exception between add and commit) removes its .part files.
+class FileBatch {
+ public:
+  FileBatch() = default;
+  ~FileBatch();
+  FileBatch(const FileBatch&) = delete;
+  FileBatch& operator=(const FileBatch&) = delete;
+  void add(const std::string& path, const std::string& bytes);
+  void commit();
+
+ private:
+  std::vector<std::string> paths_;   // written to <path>.part, not yet renamed
+  void discard() noexcept;
+};
+
 /// CRC-32 (zlib) of bytes, as 8 hex digits.
 std::string crc32_hex(const std::string& bytes);
 
@@ -52,6 +71,7 @@ class H5Memory {
   H5Memory& operator=(const H5Memory&) = delete;
   void group(const std::string& path);
   void write(const std::string& path, const std::vector<double>& v, const std::vector<hsize_t>& dims);
+  void write_float(const std::string& path, const std::vector<float>& v, const std::vector<hsize_t>& dims);
   void write_int(const std::string& path, const std::vector<int>& v, const std::vector<hsize_t>& dims);
   /// A string attribute on the root group.
   void attribute(const std::string& name, const std::string& value);

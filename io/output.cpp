@@ -101,10 +101,15 @@ std::string dims_str(const std::vector<hsize_t>& d) {
 }
 
 // An XDMF DataItem naming a dataset of an HDF5 file beside the .xdmf.
+enum class Item { Double, Float, Int };
+const char* number_type(Item type) {   // the NumberType and Precision attributes' values
+  return type == Item::Int ? "Int\" Precision=\"4\"" : type == Item::Float ? "Float\" Precision=\"4\"" : "Float\" Precision=\"8\"";
+}
 std::string data_item(const std::string& file, const std::string& path, const std::vector<hsize_t>& d,
-                      bool integer = false) {
-  return std::string("<DataItem Dimensions=\"") + dims_str(d) + "\" NumberType=\"" + (integer ? "Int\" Precision=\"4\"" : "Float\" Precision=\"8\"") +
-         " Format=\"HDF\">" + file + ":" + path + "</DataItem>";
+                      Item type = Item::Double) {
+  const char* t = number_type(type);
+  return std::string("<DataItem Dimensions=\"") + dims_str(d) + "\" NumberType=\"" + t + " Format=\"HDF\">" + file + ":" +
+         path + "</DataItem>";
 }
 
 // Parametric sample coordinates: s per element in each direction plus the end.
@@ -179,7 +184,7 @@ void ResultWriter::step(const StepState& st) {
 }
 
 void ResultWriter::write(const std::string& name, const std::string& bytes) {
-  write_file_atomic((fs::path(dir_) / name).string(), bytes);
+  batch_.add((fs::path(dir_) / name).string(), bytes);
   files_[name] = {{"bytes", bytes.size()}, {"crc32", crc32_hex(bytes)}};
 }
 
@@ -212,22 +217,24 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
       const size_t b = static_cast<size_t>(blk.body);
       const Patch& pt = P.bodies[b].patches[blk.patch];
       const BodyField field(P, blk.body, disp[b], blk.patch);
-      const int s = P.output.samples_per_element;
+      const int s = output_samples(P.output, pt);
       const auto su = samples(pt.knots[0], pt.element_spans(0), s);
       const auto sv = samples(pt.knots[1], pt.element_spans(1), s);
       const int n0 = static_cast<int>(su.size()), n1 = static_cast<int>(sv.size());
       const hsize_t n = static_cast<hsize_t>(n0) * n1;
-      std::vector<double> xyz, d3, stress, sxx, syy, sxy, szz, vm;
-      xyz.reserve(3 * n); d3.reserve(3 * n); stress.reserve(6 * n);
+      // the sampled grid is a picture: Float32 (the exact data are the control net's, Float64)
+      std::vector<float> xyz, d3, stress, vm;
+      xyz.reserve(3 * n); d3.reserve(3 * n); stress.reserve(6 * n); vm.reserve(n);
       for (const auto& v : sv)
         for (const auto& uu : su) {
           const FieldPoint fp = field.eval(uu.first, v.first, uu.second, v.second);
-          xyz.insert(xyz.end(), {fp.x, fp.y, 0.0});
-          d3.insert(d3.end(), {fp.ux, fp.uy, 0.0});
+          xyz.insert(xyz.end(), {static_cast<float>(fp.x), static_cast<float>(fp.y), 0.0f});
+          d3.insert(d3.end(), {static_cast<float>(fp.ux), static_cast<float>(fp.uy), 0.0f});
           umax = std::max(umax, std::hypot(fp.ux, fp.uy));
-          stress.insert(stress.end(), {fp.sxx, fp.syy, fp.szz, fp.sxy, 0.0, 0.0});   // VTK order XX YY ZZ XY YZ XZ
-          sxx.push_back(fp.sxx); syy.push_back(fp.syy); sxy.push_back(fp.sxy); szz.push_back(fp.szz);
-          vm.push_back(fp.von_mises());
+          // VTK order XX YY ZZ XY YZ XZ
+          stress.insert(stress.end(), {static_cast<float>(fp.sxx), static_cast<float>(fp.syy), static_cast<float>(fp.szz),
+                                       static_cast<float>(fp.sxy), 0.0f, 0.0f});
+          vm.push_back(static_cast<float>(fp.von_mises()));
         }
       const std::vector<int> quads = grid_quads(n0, n1);
       const hsize_t nq = quads.size() / 4;
@@ -252,16 +259,12 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
       const std::string g = "/bodies/" + bn;
       f.group(g);
       f.write_int(g + "/shape", {n1, n0}, {2});
-      f.write(g + "/xyz", xyz, {n, 3});
+      f.write_float(g + "/xyz", xyz, {n, 3});
       f.write_int(g + "/quads", quads, {nq, 4});
       f.write_int(g + "/element", element, {nq});
-      f.write(g + "/displacement", d3, {n, 3});
-      f.write(g + "/stress", stress, {n, 6});
-      f.write(g + "/sxx", sxx, {n});
-      f.write(g + "/syy", syy, {n});
-      f.write(g + "/sxy", sxy, {n});
-      f.write(g + "/szz", szz, {n});
-      f.write(g + "/von_mises", vm, {n});
+      f.write_float(g + "/displacement", d3, {n, 3});
+      f.write_float(g + "/stress", stress, {n, 6});
+      f.write_float(g + "/von_mises", vm, {n});
       f.write_int(g + "/control_shape", {m1, m0}, {2});
       f.write(g + "/control_xyz", cxyz, {m, 3});
       f.write_int(g + "/control_quads", cquads, {mq, 4});
@@ -269,21 +272,23 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
 
       grids << "   <Grid Name=\"" << bn << "\" GridType=\"Uniform\">\n"
             << "    <Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"" << nq << "\" NodesPerElement=\"4\">"
-            << data_item(h5name, g + "/quads", {nq, 4}, true) << "</Topology>\n"
-            << "    <Geometry GeometryType=\"XYZ\">" << data_item(h5name, g + "/xyz", {n, 3}) << "</Geometry>\n"
+            << data_item(h5name, g + "/quads", {nq, 4}, Item::Int) << "</Topology>\n"
+            << "    <Geometry GeometryType=\"XYZ\">" << data_item(h5name, g + "/xyz", {n, 3}, Item::Float) << "</Geometry>\n"
             << "    <Attribute Name=\"displacement\" AttributeType=\"Vector\" Center=\"Node\">"
-            << data_item(h5name, g + "/displacement", {n, 3}) << "</Attribute>\n"
+            << data_item(h5name, g + "/displacement", {n, 3}, Item::Float) << "</Attribute>\n"
             << "    <Attribute Name=\"stress\" AttributeType=\"Tensor6\" Center=\"Node\">"
-            << data_item(h5name, g + "/stress", {n, 6}) << "</Attribute>\n";
-      for (const char* a : {"sxx", "syy", "sxy", "szz", "von_mises"})
-        grids << "    <Attribute Name=\"" << a << "\" AttributeType=\"Scalar\" Center=\"Node\">"
-              << data_item(h5name, g + "/" + a, {n}) << "</Attribute>\n";
+            << data_item(h5name, g + "/stress", {n, 6}, Item::Float) << "</Attribute>\n";
+      // the stress once, as a tensor: ParaView colours by its components XX, YY, ZZ, XY (the
+      // scalars sxx, syy, sxy, szz written beside it before doubled the file; an XDMF
+      // hyperslab view of a column reads in the Xdmf3 readers or in the legacy one, not both)
+      grids << "    <Attribute Name=\"von_mises\" AttributeType=\"Scalar\" Center=\"Node\">"
+            << data_item(h5name, g + "/von_mises", {n}, Item::Float) << "</Attribute>\n";
       grids << "    <Attribute Name=\"element\" AttributeType=\"Scalar\" Center=\"Cell\">"
-            << data_item(h5name, g + "/element", {nq}, true) << "</Attribute>\n"
+            << data_item(h5name, g + "/element", {nq}, Item::Int) << "</Attribute>\n"
             << "   </Grid>\n";
       nets  << "   <Grid Name=\"" << bn << "_control_net\" GridType=\"Uniform\">\n"
             << "    <Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"" << mq << "\" NodesPerElement=\"4\">"
-            << data_item(h5name, g + "/control_quads", {mq, 4}, true) << "</Topology>\n"
+            << data_item(h5name, g + "/control_quads", {mq, 4}, Item::Int) << "</Topology>\n"
             << "    <Geometry GeometryType=\"XYZ\">" << data_item(h5name, g + "/control_xyz", {m, 3}) << "</Geometry>\n"
             << "    <Attribute Name=\"control_displacement\" AttributeType=\"Vector\" Center=\"Node\">"
             << data_item(h5name, g + "/control_displacement", {m, 3}) << "</Attribute>\n"
@@ -328,7 +333,7 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
       f.write(g + "/state", state, {n});
       points << "   <Grid Name=\"contact_" << k << "\" GridType=\"Uniform\">\n"
             << "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n << "\" NodesPerElement=\"1\">"
-            << data_item(h5name, g + "/conn", {n}, true) << "</Topology>\n"
+            << data_item(h5name, g + "/conn", {n}, Item::Int) << "</Topology>\n"
             << "    <Geometry GeometryType=\"XYZ\">" << data_item(h5name, g + "/xyz", {n, 3}) << "</Geometry>\n"
             << "    <Attribute Name=\"displacement\" AttributeType=\"Vector\" Center=\"Node\">"
             << data_item(h5name, g + "/displacement", {n, 3}) << "</Attribute>\n";
@@ -360,6 +365,7 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
     std::vector<std::pair<double, std::string>> vtus;
     for (const auto& w : written_) vtus.push_back({w.lambda, step_name(w.step) + ".vtu"});
     write("result.pvd", with_comment(pvd_collection(vtus)));
+    batch_.commit();   // the step's files: one flush, then their names
     max_displacement_ = umax;
   });
 }
@@ -458,6 +464,7 @@ nlohmann::json ResultWriter::finish(const SolveResult& res) {
       }
       write("contact_" + std::to_string(k) + ".csv", csv.str());
     }
+    batch_.commit();
     summary["files"] = files_;
   });
   return summary;

@@ -1,5 +1,6 @@
 #pragma once
-// What a run writes: result.h5 + result.xdmf (bodies sampled on a refined grid),
+// What a run writes: result.h5 + result.xdmf (bodies sampled on a grid, Float32, auto: about
+// one sample per control point), result_<n>.vtu (the exact geometry, the primary picture),
 // result_control_nets.xdmf, result_contact.xdmf (contact sides), summary.json, contact_<n>.csv. Files are written through io/files.hpp (checked,
 // atomic, HDF5 built in memory, run id). Only rank 0 writes; the solution is brought there
 // with a Tpetra Import.
@@ -46,6 +47,7 @@ class ResultWriter {
   // result_control_nets.xdmf and result_contact.xdmf
   std::vector<std::array<std::string, 3>> xdmf_grids_;
   nlohmann::json history_, files_;
+  FileBatch batch_;   // rank 0: the files of the state being written, committed together
   double max_displacement_ = 0;           // largest |u| at the sample points of the last state written
 };
 

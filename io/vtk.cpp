@@ -79,6 +79,31 @@ void clamp_coefficients(int n, int ncomp, const double* lo, const double* hi, do
     for (int q = 0; q < ncomp; ++q) coef[k * ncomp + q] = std::clamp(coef[k * ncomp + q], lo[q], hi[q]);
 }
 
+namespace {
+
+// First shared Bezier point of each element of one direction, and the number of points. Two
+// adjacent elements share their boundary Bezier points where the knot between them has a
+// multiplicity below p: the displacement is C^1 there, so the stress is continuous and the
+// two elements' stress fits agree on the shared edge. At a C^0 knot (multiplicity p, and
+// every knot at p = 1) each element keeps its own points and the stress may jump.
+std::vector<int> shared_offsets(const std::vector<double>& U, const std::vector<int>& spans, int p, int& count) {
+  std::vector<int> off(spans.size(), 0);
+  for (size_t k = 1; k < spans.size(); ++k) {
+    const double u = U[spans[k]];
+    const auto mult = std::count(U.begin(), U.end(), u);
+    off[k] = off[k - 1] + p + (mult < p ? 0 : 1);
+  }
+  count = spans.empty() ? 0 : off.back() + p + 1;
+  return off;
+}
+
+}  // namespace
+
+int output_samples(const OutputOptions& o, const Patch& pt) {
+  return o.samples(static_cast<int>(pt.element_spans(0).size()), static_cast<int>(pt.element_spans(1).size()),
+                   static_cast<long long>(pt.cp.size()));
+}
+
 BezierMesh bezier_mesh(const Problem& P, const std::vector<std::vector<double>>& cp_displacement) {
   if (cp_displacement.size() != P.bodies.size())
     throw std::invalid_argument("bezier_mesh: one displacement vector per body expected");
@@ -88,7 +113,8 @@ BezierMesh bezier_mesh(const Problem& P, const std::vector<std::vector<double>>&
       throw std::invalid_argument("bezier_mesh: body " + P.bodies[b].name + ": 2 displacements per control point expected");
     m.body_names.push_back(P.bodies[b].name);
   }
-  // cells patch after patch of each body
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  // cells patch after patch of each body; points shared within a patch (shared_offsets)
   for (size_t b = 0; b < P.bodies.size(); ++b)
     for (size_t k = 0; k < P.bodies[b].patches.size(); ++k) {
       const Patch& pt = P.bodies[b].patches[k];
@@ -96,28 +122,42 @@ BezierMesh bezier_mesh(const Problem& P, const std::vector<std::vector<double>>&
       const BodyField field(P, static_cast<int>(b), cp_displacement[b], static_cast<int>(k));
       const std::vector<double> ucp = P.bodies[b].patch_values(static_cast<int>(k), cp_displacement[b]);
       const int p0 = B.degree()[0], p1 = B.degree()[1], n0 = p0 + 1, n = B.points_per_element();
+      int N0 = 0, N1 = 0;
+      const std::vector<int> off0 = shared_offsets(pt.knots[0], pt.element_spans(0), p0, N0);
+      const std::vector<int> off1 = shared_offsets(pt.knots[1], pt.element_spans(1), p1, N1);
+      const size_t base = m.weights.size(), np = static_cast<size_t>(N0) * N1;
+      m.points.resize(3 * (base + np), 0.0);
+      m.weights.resize(base + np);
+      m.displacement.resize(3 * (base + np), 0.0);
+      m.stress.resize(6 * (base + np), 0.0);
+      m.von_mises.resize(base + np);
+      // per shared point: the sum of the elements' fitted coefficients, their number, and the
+      // union of the sampled ranges of the elements that share it
+      std::vector<double> sum(5 * np, 0.0), lo(5 * np, inf), hi(5 * np, -inf);
+      std::vector<int> count(np, 0);
       const auto t = fit_points(p0, p1);
       // the bounds of each cell's fit: the fit points and the output sample grid of the cell
       // (the points result.xdmf shows, s per element and direction, ends included)
-      const int s = std::max(1, P.output.samples_per_element);
+      const int s = output_samples(P.output, pt);
       std::vector<std::array<double, 2>> tb(t);
       for (int j1 = 0; j1 <= s; ++j1)
         for (int j0 = 0; j0 <= s; ++j0) tb.push_back({static_cast<double>(j0) / s, static_cast<double>(j1) / s});
       std::vector<Point3> pts(n);
-      std::vector<double> u(2 * n), w(n), vals(5 * n), coef(5 * n), lo(5), hi(5);
+      std::vector<double> u(2 * n), w(n), vals(5 * n), coef(5 * n), elo(5), ehi(5);
       for (int e = 0; e < B.num_elements(); ++e) {
         B.element_points(e, pts.data());
         B.element_field(e, ucp.data(), 2, u.data());
         const auto r0 = B.range(e, 0), r1 = B.range(e, 1);
         const int s0 = B.span(e, 0), s1 = B.span(e, 1);
-        std::fill(lo.begin(), lo.end(), std::numeric_limits<double>::infinity());
-        std::fill(hi.begin(), hi.end(), -std::numeric_limits<double>::infinity());
+        const int e0 = e % B.num_elements(0), e1 = e / B.num_elements(0);
+        std::fill(elo.begin(), elo.end(), inf);
+        std::fill(ehi.begin(), ehi.end(), -inf);
         for (size_t j = 0; j < tb.size(); ++j) {
           const FieldPoint f = field.eval(r0[0] + tb[j][0] * (r0[1] - r0[0]), r1[0] + tb[j][1] * (r1[1] - r1[0]), s0, s1);
           const double v[5] = {f.sxx, f.syy, f.szz, f.sxy, f.von_mises()};
           for (int q = 0; q < 5; ++q) {
-            lo[q] = std::min(lo[q], v[q]);
-            hi[q] = std::max(hi[q], v[q]);
+            elo[q] = std::min(elo[q], v[q]);
+            ehi[q] = std::max(ehi[q], v[q]);
           }
           if (j < static_cast<size_t>(n)) {
             w[j] = pts[j][2];
@@ -125,36 +165,42 @@ BezierMesh bezier_mesh(const Problem& P, const std::vector<std::vector<double>>&
           }
         }
         fit_rational_bezier(p0, p1, w.data(), 5, vals.data(), coef.data());
-        clamp_coefficients(n, 5, lo.data(), hi.data(), coef.data());
-        // scatter into VTK order
-        const size_t base = m.weights.size();
-        m.points.resize(3 * (base + n));
-        m.weights.resize(base + n);
-        m.displacement.resize(3 * (base + n));
-        m.stress.resize(6 * (base + n));
-        m.von_mises.resize(base + n);
-        for (int k = 0; k < n; ++k) {
-          const size_t q = base + vtk_quad_point_index(k % n0, k / n0, p0, p1);
-          m.points[3 * q] = pts[k][0];
-          m.points[3 * q + 1] = pts[k][1];
-          m.points[3 * q + 2] = 0.0;
-          m.weights[q] = pts[k][2];
-          m.displacement[3 * q] = u[2 * k];
-          m.displacement[3 * q + 1] = u[2 * k + 1];
-          m.displacement[3 * q + 2] = 0.0;
-          const double* c = &coef[5 * k];
-          const double s[6] = {c[0], c[1], c[2], c[3], 0.0, 0.0};
-          std::copy(s, s + 6, &m.stress[6 * q]);
-          m.von_mises[q] = c[4];
+        const size_t cbase = m.connectivity.size();
+        m.connectivity.resize(cbase + n);
+        for (int kk = 0; kk < n; ++kk) {
+          const int i = kk % n0, j = kk / n0;
+          const size_t g = static_cast<size_t>(off0[e0] + i) + static_cast<size_t>(N0) * (off1[e1] + j), q = base + g;
+          m.connectivity[cbase + vtk_quad_point_index(i, j, p0, p1)] = static_cast<std::int64_t>(q);
+          m.points[3 * q] = pts[kk][0];
+          m.points[3 * q + 1] = pts[kk][1];
+          m.weights[q] = pts[kk][2];
+          m.displacement[3 * q] = u[2 * kk];
+          m.displacement[3 * q + 1] = u[2 * kk + 1];
+          ++count[g];
+          for (int c = 0; c < 5; ++c) {
+            sum[5 * g + c] += coef[5 * kk + c];
+            lo[5 * g + c] = std::min(lo[5 * g + c], elo[c]);
+            hi[5 * g + c] = std::max(hi[5 * g + c], ehi[c]);
+          }
         }
-        m.offsets.push_back(static_cast<std::int64_t>(base + n));
+        m.offsets.push_back(static_cast<std::int64_t>(cbase + n));
         m.degrees.insert(m.degrees.end(), {p0, p1, 0});
         m.body.push_back(static_cast<int>(b));
         m.patch.push_back(static_cast<int>(k));
         m.element.push_back(e);
-        m.element_ij.insert(m.element_ij.end(), {e % B.num_elements(0), e / B.num_elements(0)});
+        m.element_ij.insert(m.element_ij.end(), {e0, e1});
         m.knot_span.insert(m.knot_span.end(), {s0, s1});
         m.range.insert(m.range.end(), {r0[0], r0[1], r1[0], r1[1]});
+      }
+      // the shared coefficients: the mean of the elements' fits (equal to round-off where the
+      // stress is continuous), clamped into the union of those elements' sampled ranges
+      for (size_t g = 0; g < np; ++g) {
+        double c[5];
+        for (int q = 0; q < 5; ++q) c[q] = sum[5 * g + q] / count[g];
+        clamp_coefficients(1, 5, &lo[5 * g], &hi[5 * g], c);
+        const double st[6] = {c[0], c[1], c[2], c[3], 0.0, 0.0};
+        std::copy(st, st + 6, &m.stress[6 * (base + g)]);
+        m.von_mises[base + g] = c[4];
       }
     }
   return m;
@@ -255,8 +301,10 @@ std::string vtu_text(const BezierMesh& m, double load_factor, const std::string&
   x << "   <PointData Scalars=\"von_mises\" Vectors=\"displacement\" Tensors=\"stress\" RationalWeights=\"RationalWeights\">\n";
   w.array("Float64", "RationalWeights", 0, m.weights, in);
   w.array("Float64", "displacement", 3, m.displacement, in);
-  w.array("Float64", "stress", 6, m.stress, in);
-  w.array("Float64", "von_mises", 0, m.von_mises, in);
+  // the stress fit is a picture of a field that is not in the spline space: Float32 (the
+  // geometry and the displacement, exact, stay Float64)
+  w.array("Float32", "stress", 6, std::vector<float>(m.stress.begin(), m.stress.end()), in);
+  w.array("Float32", "von_mises", 0, std::vector<float>(m.von_mises.begin(), m.von_mises.end()), in);
   x << "   </PointData>\n"
     << "   <CellData Scalars=\"body\" HigherOrderDegrees=\"HigherOrderDegrees\">\n";
   w.array("Int32", "HigherOrderDegrees", 3, m.degrees, in);
@@ -269,11 +317,14 @@ std::string vtu_text(const BezierMesh& m, double load_factor, const std::string&
   x << "   </CellData>\n   <Points>\n";
   w.array("Float64", "Points", 3, m.points, in);
   x << "   </Points>\n   <Cells>\n";
-  std::vector<std::int64_t> conn(np);
-  for (size_t k = 0; k < np; ++k) conn[k] = static_cast<std::int64_t>(k);
   const std::vector<std::uint8_t> types(nc, 77);  // VTK_BEZIER_QUADRILATERAL
-  w.array("Int64", "connectivity", 0, conn, in);
-  w.array("Int64", "offsets", 0, m.offsets, in);
+  if (m.connectivity.size() < static_cast<size_t>(std::numeric_limits<std::int32_t>::max())) {
+    w.array("Int32", "connectivity", 0, std::vector<std::int32_t>(m.connectivity.begin(), m.connectivity.end()), in);
+    w.array("Int32", "offsets", 0, std::vector<std::int32_t>(m.offsets.begin(), m.offsets.end()), in);
+  } else {
+    w.array("Int64", "connectivity", 0, m.connectivity, in);
+    w.array("Int64", "offsets", 0, m.offsets, in);
+  }
   w.array("UInt8", "types", 0, types, in);
   x << "   </Cells>\n  </Piece>\n </UnstructuredGrid>\n";
   if (enc == VtkEncoding::AppendedRaw) x << " <AppendedData encoding=\"raw\">\n  _" << w.appended() << "\n </AppendedData>\n";

@@ -15,16 +15,21 @@
 //     the element's rational Bezier interpolant equals BodyField's stress at the
 //     (p0 + 1)(p1 + 1) collocation points t = (j0 / p0, j1 / p1) (a small dense solve per
 //     element); von_mises is fitted the same way (it is not recomputed from the tensor).
-//     Then every coefficient is clamped into the range of the element's samples (the
-//     collocation points and the output.samples_per_element grid of result.xdmf), per
-//     component: the field, a convex combination of its coefficients (positive weights),
-//     stays within what was sampled (von Mises >= 0). Corners still interpolate; interior
-//     points where a coefficient was clamped no longer do (docs/paraview.md).
-//   Points are not shared between cells, so each element carries its own stress values and
-//   the (discontinuous across elements, in general) fit is represented exactly.
+//     A coefficient shared by neighbouring cells (below) is the mean of their fits, then
+//     clamped into the union of the ranges of those cells' samples (the collocation points
+//     and the output grid of result.xdmf), per component: the field, a convex combination of
+//     its coefficients (positive weights), stays within what was sampled (von Mises >= 0).
+//     Corners still interpolate; interior points where a coefficient was clamped no longer
+//     do (docs/paraview.md).
+//   Points are shared within a patch where the fields are continuous: neighbouring elements
+//   share their boundary Bezier points where the knot between them has a multiplicity below
+//   p (the displacement is C^1 there, the stress continuous, and the two fits agree on the
+//   edge to round-off); at a C^0 knot (and everywhere at p = 1) each element keeps its own
+//   points, so a stress jump is drawn as one. A patch with ne0 x ne1 elements of degree p
+//   has about (p ne0 + 1)(p ne1 + 1) points instead of (p + 1)^2 ne0 ne1.
 //
 // Layout. Cells are numbered body after body, element e = e0 + e1 * ne0 (xi fastest) within
-// a body; each cell owns (p0 + 1)(p1 + 1) consecutive points in VTK's higher-order
+// a body; each cell lists (p0 + 1)(p1 + 1) points (connectivity) in VTK's higher-order
 // quadrilateral order (vtk_quad_point_index): corners (0,0), (p0,0), (p0,p1), (0,p1), then the
 // interior points of the edges j = 0 (i increasing), i = p0 (j increasing), j = p1 (i
 // increasing), i = 0 (j increasing), then the face-interior points, i fastest.
@@ -32,8 +37,9 @@
 //   Points             N x 3  Float64  Bezier points x, y, 0
 //   RationalWeights    N      Float64  (point attribute RationalWeights)
 //   displacement       N x 3  Float64  (point vectors)
-//   stress             N x 6  Float64  XX, YY, ZZ, XY, YZ, XZ (VTK's symmetric tensor order)
-//   von_mises          N      Float64  (point scalars)
+//   stress             N x 6  Float32  XX, YY, ZZ, XY, YZ, XZ (VTK's symmetric tensor order)
+//   von_mises          N      Float32  (point scalars)
+//   connectivity, offsets     Int32    (Int64 beyond 2^31 entries)
 //   HigherOrderDegrees C x 3  Int32    p0, p1, 0 (cell attribute HigherOrderDegrees)
 //   body               C      Int32    index into Problem::bodies
 //   patch              C      Int32    the body's patch (0 for single-patch bodies)
@@ -80,7 +86,8 @@ struct BezierMesh {
   std::vector<double> displacement;   // 3 per point
   std::vector<double> stress;         // 6 per point: XX, YY, ZZ, XY, YZ, XZ
   std::vector<double> von_mises;      // 1 per point
-  std::vector<std::int64_t> offsets;  // end of each cell's points (VTK "offsets")
+  std::vector<std::int64_t> connectivity;   // (p0 + 1)(p1 + 1) point indices per cell, VTK order
+  std::vector<std::int64_t> offsets;  // end of each cell's connectivity (VTK "offsets")
   std::vector<int> degrees;           // 3 per cell
   std::vector<int> body, patch, element;   // 1 per cell (patch: of its body)
   std::vector<int> element_ij;        // 2 per cell
@@ -90,6 +97,9 @@ struct BezierMesh {
   std::size_t num_points() const { return weights.size(); }
   std::size_t num_cells() const { return body.size(); }
 };
+
+/// Samples per element and direction of the output grid of a patch (OutputOptions::samples).
+int output_samples(const OutputOptions& o, const Patch& pt);
 
 /// Builds the cells. cp_displacement: per body, 2 values per control point (as
 /// gather_displacements returns them on rank 0).

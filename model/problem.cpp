@@ -188,6 +188,14 @@ struct Reader {
   int samples_per_element = 4;   // output.samples_per_element, read before the bodies
   int stages = 1;                // analysis.stages, read before the bodies
 
+  // output.samples_per_element: 1..64, or auto (0)
+  int samples(const YAML::Node& n) const {
+    if (n.IsScalar() && n.Scalar() == "auto") return 0;
+    const int s = integer(n, "output.samples_per_element");
+    if (s < 1 || s > 64) fail("output.samples_per_element", n, "must be 1..64 or auto");
+    return s;
+  }
+
   // Memory of the output sampling of ne0 x ne1 elements: a sampled point costs ~30 doubles
   // on rank 0 (fields, the HDF5 image, the VTK cells).
   double sample_bytes(double ne0, double ne1) const {
@@ -972,9 +980,8 @@ Problem build(Reader& R, const YAML::Node& root) {
   // the output sampling counts in the size checks made while the bodies are refined
   if (root["output"] && root["output"].IsMap() && root["output"]["samples_per_element"]) {
     const YAML::Node n = root["output"]["samples_per_element"];
-    const int s = R.integer(n, "output.samples_per_element");
-    if (s < 1 || s > 64) R.fail("output.samples_per_element", n, "must be 1..64");
-    R.samples_per_element = s;
+    const int s = R.samples(n);
+    if (s > 0) R.samples_per_element = s;   // auto: at most 4, the bound used
   }
 
   if (!root["bodies"]) R.missing("bodies");
@@ -1148,9 +1155,7 @@ Problem build(Reader& R, const YAML::Node& root) {
       if (P.output.directory.empty()) R.fail("output.directory", o["directory"], "must not be empty");
     }
     if (o["samples_per_element"]) {
-      P.output.samples_per_element = R.integer(o["samples_per_element"], "output.samples_per_element");
-      if (P.output.samples_per_element < 1 || P.output.samples_per_element > 64)
-        R.fail("output.samples_per_element", o["samples_per_element"], "must be 1..64");
+      P.output.samples_per_element = R.samples(o["samples_per_element"]);
     }
     if (o["probes"]) {
       const YAML::Node pr = o["probes"];

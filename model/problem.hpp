@@ -137,9 +137,22 @@ struct Probe {
 
 struct OutputOptions {
   std::string directory;
-  int samples_per_element = 4;
+  int samples_per_element = 0;   // 1..64; 0: auto (samples())
   bool all_steps = true;   // output.steps: all (a state per converged load step) | last
   std::vector<Probe> probes;
+
+  /// Samples per element and direction of the sampled grid (result_<n>.h5, result.xdmf) of a
+  /// patch of ne0 x ne1 elements with ncp control points: samples_per_element where the file
+  /// gives it; auto: the largest s <= 4 whose grid (s ne0 + 1)(s ne1 + 1) has at most
+  /// max(ncp, 4096) points. A large patch gets about one sample per control point (its exact
+  /// picture is the rational Bezier cells of result_<n>.vtu), a small one a smooth grid.
+  int samples(int ne0, int ne1, long long ncp) const {
+    if (samples_per_element > 0) return samples_per_element;
+    const double cap = ncp > 4096 ? static_cast<double>(ncp) : 4096.0;
+    for (int s = 4; s > 1; --s)
+      if ((s * static_cast<double>(ne0) + 1) * (s * static_cast<double>(ne1) + 1) <= cap) return s;
+    return 1;
+  }
 };
 
 struct Problem {

@@ -22,7 +22,7 @@ fail=0
 h5range=$(/usr/bin/python3 -c "
 import h5py, numpy as np, sys
 with h5py.File(sys.argv[1]) as f:
-    v = np.concatenate([f['bodies'][b]['syy'][()] for b in f['bodies']])
+    v = np.concatenate([f['bodies'][b]['stress'][()][:, 1] for b in f['bodies']])   # syy: column YY of the tensor
 print('%.17g %.17g' % (v.min(), v.max()))" "$tmp/w/result.h5")
 echo "result.h5: syy in [$h5range]"
 pv() {   # name [args]: render, check the exit status

@@ -47,8 +47,6 @@ for s, lam in enumerate(steps, 1):
         put(f"{g}/{b}/displacement", u, n0, n1)
         sxx, syy, sxy, szz = lam * X, lam * Y, lam * X * Y, 0.3 * lam * (X + Y)
         put(f"{g}/{b}/stress", np.stack([sxx, syy, szz, sxy, 0 * X, 0 * X], -1), n0, n1)
-        for nm, v in (("sxx", sxx), ("syy", syy), ("sxy", sxy), ("szz", szz)):
-            put(f"{g}/{b}/{nm}", v, n0, n1)
         put(f"{g}/{b}/von_mises", np.sqrt(0.5 * ((sxx - syy)**2 + (syy - szz)**2 + (szz - sxx)**2) + 3 * sxy**2), n0, n1)
         c0, c1 = ncp[b]
         put(f"{g}/{b}/control_displacement", np.full((c1 * c0, 3), lam) * [0.01, -0.02, 0], c0, c1)
@@ -134,7 +132,7 @@ for s, lam in enumerate(steps, 1):
               '   <Geometry GeometryType="XYZ">%s</Geometry>' % item("/bodies/%s/xyz" % b, [n, 3]),
               attr("displacement", "Vector", "%s/%s/displacement" % (g, b), [n, 3]),
               attr("stress", "Tensor6", "%s/%s/stress" % (g, b), [n, 6])]
-        o += [attr(a, "Scalar", "%s/%s/%s" % (g, b, a), [n]) for a in ("sxx", "syy", "sxy", "szz", "von_mises")]
+        o += [attr("von_mises", "Scalar", "%s/%s/von_mises" % (g, b), [n])]
         o += [attr("element", "Scalar", "/bodies/%s/element" % b, [(n0 - 1) * (n1 - 1)], "Cell", "Int", 4), '  </Grid>']
         c0, c1 = ncp[b]
         on += ['  <Grid Name="%s_control_net" GridType="Uniform">' % b, quads(b, "control_quads", c0, c1),
