@@ -349,7 +349,7 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
       xml.insert(xml.find('\n') + 1, "<!-- igacontact run_id " + run_id_ + " -->\n");
       return xml;
     };
-    write(name + ".vtu", with_comment(bezier_vtu(P, disp, lambda, run_id_)));
+    write(name + ".vtu", bezier_vtu(P, disp, lambda, run_id_));   // its run id comment is vtu_text's
 
     // the collections over every state written so far, rewritten whole each time
     xdmf_grids_.push_back({grids.str(), nets.str(), points.str()});

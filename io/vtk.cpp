@@ -284,6 +284,7 @@ std::string vtu_text(const BezierMesh& m, double load_factor, const std::string&
   const size_t np = m.num_points(), nc = m.num_cells();
   std::ostringstream x;
   x << "<?xml version=\"1.0\"?>\n"
+    << "<!-- igacontact run_id " << run_id << " -->\n"   // VTK writes string arrays as character codes
     << "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"" << (little_endian() ? "LittleEndian" : "BigEndian")
     << "\" header_type=\"UInt64\">\n"
     << " <UnstructuredGrid>\n"
@@ -327,9 +328,19 @@ std::string vtu_text(const BezierMesh& m, double load_factor, const std::string&
   }
   w.array("UInt8", "types", 0, types, in);
   x << "   </Cells>\n  </Piece>\n </UnstructuredGrid>\n";
-  if (enc == VtkEncoding::AppendedRaw) x << " <AppendedData encoding=\"raw\">\n  _" << w.appended() << "\n </AppendedData>\n";
-  x << "</VTKFile>\n";
-  return x.str();
+  if (enc != VtkEncoding::AppendedRaw) {
+    x << "</VTKFile>\n";
+    return x.str();
+  }
+  // the binary block appended once into a string of its final size (streaming it through
+  // the ostringstream copied tens of MB twice, onto freshly zeroed pages)
+  x << " <AppendedData encoding=\"raw\">\n  _";
+  const char* tail = "\n </AppendedData>\n</VTKFile>\n";
+  std::string out = x.str();
+  out.reserve(out.size() + w.appended().size() + std::strlen(tail));
+  out += w.appended();
+  out += tail;
+  return out;
 }
 
 std::string bezier_vtu(const Problem& P, const std::vector<std::vector<double>>& cp_displacement, double load_factor,
