@@ -25,6 +25,26 @@ int vtk_quad_point_index(int i, int j, int p0, int p1) {
   return 4 + 2 * (p0 - 1 + p1 - 1) + (i - 1) + (p0 - 1) * (j - 1);    // face, i fastest
 }
 
+int vtk_hex_point_index(int i, int j, int k, int p0, int p1, int p2) {
+  const bool ib = (i == 0 || i == p0), jb = (j == 0 || j == p1), kb = (k == 0 || k == p2);
+  const int n0 = p0 - 1, n1 = p1 - 1, n2 = p2 - 1;   // interior points per edge direction
+  const int corner = i ? (j ? 2 : 1) : (j ? 3 : 0);    // of the bottom face, counter-clockwise
+  if (ib && jb && kb) return corner + (k ? 4 : 0);
+  int off = 8;
+  if (jb && kb) return off + (i - 1) + (j ? n0 + n1 : 0) + (k ? 2 * (n0 + n1) : 0);            // edges along i
+  if (ib && kb) return off + (j - 1) + (i ? n0 : 2 * n0 + n1) + (k ? 2 * (n0 + n1) : 0);        // edges along j
+  off += 4 * (n0 + n1);
+  if (ib && jb) return off + (k - 1) + n2 * corner;                                             // edges along k
+  off += 4 * n2;
+  if (ib) return off + (j - 1) + n1 * (k - 1) + (i ? n1 * n2 : 0);                              // faces i = 0, p0
+  off += 2 * n1 * n2;
+  if (jb) return off + (i - 1) + n0 * (k - 1) + (j ? n0 * n2 : 0);                              // faces j = 0, p1
+  off += 2 * n0 * n2;
+  if (kb) return off + (i - 1) + n0 * (j - 1) + (k ? n0 * n1 : 0);                              // faces k = 0, p2
+  off += 2 * n0 * n1;
+  return off + (i - 1) + n0 * ((j - 1) + n1 * (k - 1));                                         // interior
+}
+
 std::vector<std::array<double, 2>> fit_points(int p0, int p1) {
   std::vector<std::array<double, 2>> t;
   for (int j1 = 0; j1 <= p1; ++j1)

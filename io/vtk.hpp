@@ -65,6 +65,15 @@ namespace iga {
 /// quadrilateral of degrees (p0, p1) (vtkHigherOrderQuadrilateral::PointIndexFromIJK).
 int vtk_quad_point_index(int i, int j, int p0, int p1);
 
+/// Offset of Bezier point (i, j, k) in a VTK higher-order hexahedron of degrees (p0, p1, p2)
+/// (VTK_BEZIER_HEXAHEDRON = 79, vtkHigherOrderHexahedron::PointIndexFromIJK): the 8 corners
+/// (bottom k = 0 counter-clockwise, then top), the interior points of the 12 edges (bottom:
+/// along i at j = 0, along j at i = p0, along i at j = p1, along j at i = 0; the same on top;
+/// then along k at the corners 0, 1, 2, 3), of the 6 faces (i = 0, i = p0, j = 0, j = p1,
+/// k = 0, k = p2; the lower remaining index fastest), then the interior, i fastest. For the
+/// 3-D output (issue 35).
+int vtk_hex_point_index(int i, int j, int k, int p0, int p1, int p2);
+
 /// Collocation points of the per-element fit in [0, 1]^2, numbered j0 + j1 (p0 + 1):
 /// (j0 / p0, j1 / p1).
 std::vector<std::array<double, 2>> fit_points(int p0, int p1);

@@ -106,6 +106,36 @@ TEST(VtkOrder, HigherOrderQuadrilateralPointIndex) {
     }
 }
 
+// The hexahedron's order against VTK's own: the tables below are
+// vtkBezierHexahedron::PointIndexFromIJK(i, j, k, order) printed by ParaView 5.11's pvpython,
+// (i, j, k) with i fastest, then j, then k.
+TEST(VtkOrder, HigherOrderHexahedronPointIndexIsVtks) {
+  const std::vector<std::pair<std::array<int, 3>, std::vector<int>>> vtk = {
+      {{2, 2, 2}, {0, 8, 1, 11, 24, 9, 3, 10, 2, 16, 22, 17, 20, 26, 21, 19, 23, 18, 4, 12, 5, 15, 25, 13, 7, 14, 6}},
+      {{3, 2, 1}, {0, 8, 9, 1, 13, 20, 21, 10, 3, 11, 12, 2, 4, 14, 15, 5, 19, 22, 23, 16, 7, 17, 18, 6}},
+      {{1, 3, 2}, {0, 1, 10, 8, 11, 9, 3, 2, 16, 17, 20, 22, 21, 23, 19, 18, 4, 5, 14, 12, 15, 13, 7, 6}}};
+  for (const auto& [p, want] : vtk) {
+    size_t q = 0;
+    for (int k = 0; k <= p[2]; ++k)
+      for (int j = 0; j <= p[1]; ++j)
+        for (int i = 0; i <= p[0]; ++i, ++q)
+          EXPECT_EQ(vtk_hex_point_index(i, j, k, p[0], p[1], p[2]), want[q]) << p[0] << p[1] << p[2] << ": " << i << j << k;
+  }
+  // a permutation for every triple of degrees 1..4
+  for (int p0 = 1; p0 <= 4; ++p0)
+    for (int p1 = 1; p1 <= 4; ++p1)
+      for (int p2 = 1; p2 <= 4; ++p2) {
+        std::set<int> seen;
+        for (int k = 0; k <= p2; ++k)
+          for (int j = 0; j <= p1; ++j)
+            for (int i = 0; i <= p0; ++i) seen.insert(vtk_hex_point_index(i, j, k, p0, p1, p2));
+        const int n = (p0 + 1) * (p1 + 1) * (p2 + 1);
+        ASSERT_EQ(static_cast<int>(seen.size()), n) << p0 << p1 << p2;
+        EXPECT_EQ(*seen.begin(), 0);
+        EXPECT_EQ(*seen.rbegin(), n - 1);
+      }
+}
+
 TEST(VtkBezier, CellsReproduceThePatchAndTheDisplacement) {
   const auto& s = annulus();
   const BezierMesh m = bezier_mesh(s.P, s.disp);
