@@ -52,46 +52,97 @@ std::vector<std::array<double, 2>> fit_points(int p0, int p1) {
   return t;
 }
 
-void fit_rational_bezier(int p0, int p1, const double* w, int ncomp, const double* values, double* coef) {
-  const int n0 = p0 + 1, n1 = p1 + 1, n = n0 * n1;
-  const auto t = fit_points(p0, p1);
-  // M[j][k] = B_k0(t_j0) B_k1(t_j1) w_k / W(t_j), the rational basis at the fit points
-  std::vector<double> M(static_cast<size_t>(n) * n), rhs(values, values + static_cast<size_t>(n) * ncomp);
-  for (int j = 0; j < n; ++j) {
-    double b0[kMaxBasis1D], b1[kMaxBasis1D], W = 0;
-    bernstein(p0, t[j][0], b0);
-    bernstein(p1, t[j][1], b1);
-    for (int k1 = 0; k1 < n1; ++k1)
-      for (int k0 = 0; k0 < n0; ++k0) {
-        const int k = k0 + k1 * n0;
-        M[j * n + k] = b0[k0] * b1[k1] * w[k];
-        W += M[j * n + k];
+namespace {
+
+// The Bernstein collocation matrix of one direction, A[j][k] = B_k(j / p), j, k = 0..p, in LU
+// form (partial pivoting); apply() multiplies and solve() solves one line of a tensor-product
+// array in place (values x[m * stride], m = 0..p).
+class Collocation1D {
+ public:
+  explicit Collocation1D(int p) : n_(p + 1), A_(static_cast<size_t>(n_) * n_), LU_(A_.size()), piv_(n_) {
+    for (int j = 0; j < n_; ++j) bernstein(p, static_cast<double>(j) / p, &A_[static_cast<size_t>(j) * n_]);
+    LU_ = A_;
+    for (int c = 0; c < n_; ++c) {
+      int q = c;
+      for (int r = c + 1; r < n_; ++r)
+        if (std::abs(LU_[r * n_ + c]) > std::abs(LU_[q * n_ + c])) q = r;
+      if (LU_[q * n_ + c] == 0.0) throw std::logic_error("fit_rational_bezier: singular collocation matrix");
+      piv_[c] = q;
+      if (q != c)
+        for (int k = 0; k < n_; ++k) std::swap(LU_[c * n_ + k], LU_[q * n_ + k]);
+      for (int r = c + 1; r < n_; ++r) {
+        LU_[r * n_ + c] /= LU_[c * n_ + c];
+        for (int k = c + 1; k < n_; ++k) LU_[r * n_ + k] -= LU_[r * n_ + c] * LU_[c * n_ + k];
       }
-    for (int k = 0; k < n; ++k) M[j * n + k] /= W;
-  }
-  // Gaussian elimination with partial pivoting on all right-hand sides at once
-  for (int c = 0; c < n; ++c) {
-    int piv = c;
-    for (int r = c + 1; r < n; ++r)
-      if (std::abs(M[r * n + c]) > std::abs(M[piv * n + c])) piv = r;
-    if (M[piv * n + c] == 0.0) throw std::logic_error("fit_rational_bezier: singular collocation matrix");
-    if (piv != c) {
-      for (int k = 0; k < n; ++k) std::swap(M[c * n + k], M[piv * n + k]);
-      for (int q = 0; q < ncomp; ++q) std::swap(rhs[c * ncomp + q], rhs[piv * ncomp + q]);
-    }
-    for (int r = c + 1; r < n; ++r) {
-      const double f = M[r * n + c] / M[c * n + c];
-      if (f == 0.0) continue;
-      for (int k = c; k < n; ++k) M[r * n + k] -= f * M[c * n + k];
-      for (int q = 0; q < ncomp; ++q) rhs[r * ncomp + q] -= f * rhs[c * ncomp + q];
     }
   }
-  for (int r = n - 1; r >= 0; --r)
-    for (int q = 0; q < ncomp; ++q) {
-      double s = rhs[r * ncomp + q];
-      for (int k = r + 1; k < n; ++k) s -= M[r * n + k] * coef[k * ncomp + q];
-      coef[r * ncomp + q] = s / M[r * n + r];
+  void apply(double* x, size_t stride) const {
+    double t[kMaxBasis1D];
+    for (int j = 0; j < n_; ++j) {
+      t[j] = 0;
+      for (int k = 0; k < n_; ++k) t[j] += A_[j * n_ + k] * x[k * stride];
     }
+    for (int j = 0; j < n_; ++j) x[j * stride] = t[j];
+  }
+  void solve(double* x, size_t stride) const {
+    double t[kMaxBasis1D];
+    for (int j = 0; j < n_; ++j) t[j] = x[j * stride];
+    for (int c = 0; c < n_; ++c) std::swap(t[c], t[piv_[c]]);
+    for (int r = 1; r < n_; ++r)
+      for (int k = 0; k < r; ++k) t[r] -= LU_[r * n_ + k] * t[k];
+    for (int r = n_ - 1; r >= 0; --r) {
+      for (int k = r + 1; k < n_; ++k) t[r] -= LU_[r * n_ + k] * t[k];
+      t[r] /= LU_[r * n_ + r];
+    }
+    for (int j = 0; j < n_; ++j) x[j * stride] = t[j];
+  }
+
+ private:
+  int n_;
+  std::vector<double> A_, LU_;
+  std::vector<int> piv_;
+};
+
+// f(x + base, stride) for every line along direction d of an array with counts n[0..dim) and
+// ncomp values per entry, laid out c + ncomp (k0 + n0 (k1 + n1 k2)).
+template <class F>
+void for_each_line(int dim, const int* n, int ncomp, int d, double* x, F f) {
+  size_t stride = static_cast<size_t>(ncomp), outer = 1;
+  for (int e = 0; e < d; ++e) stride *= static_cast<size_t>(n[e]);
+  for (int e = d + 1; e < dim; ++e) outer *= static_cast<size_t>(n[e]);
+  for (size_t o = 0; o < outer; ++o)
+    for (size_t in = 0; in < stride; ++in) f(x + o * stride * static_cast<size_t>(n[d]) + in, stride);
+}
+
+}  // namespace
+
+// The interpolant sum_k B_k(t) w_k c_k / W(t) = v at the tensor grid t_j of fit points means
+// (A_0 x .. x A_{D-1}) (w c) = W v with W = (A_0 x .. x A_{D-1}) w, A_d the Bernstein
+// collocation matrix of direction d: one small solve per line and direction, O(p^{D+1}) per
+// element instead of O(p^{3D}) for the dense system (216 x 216 for a 3-D element at p = 5).
+void fit_rational_bezier(int dim, const int* p, const double* w, int ncomp, const double* values, double* coef) {
+  int n[3] = {1, 1, 1};
+  size_t N = 1;
+  std::vector<Collocation1D> A;
+  for (int d = 0; d < dim; ++d) {
+    n[d] = p[d] + 1;
+    N *= static_cast<size_t>(n[d]);
+    A.emplace_back(p[d]);
+  }
+  std::vector<double> W(w, w + N);
+  for (int d = 0; d < dim; ++d)
+    for_each_line(dim, n, 1, d, W.data(), [&](double* x, size_t s) { A[d].apply(x, s); });
+  for (size_t j = 0; j < N; ++j)
+    for (int q = 0; q < ncomp; ++q) coef[j * ncomp + q] = W[j] * values[j * ncomp + q];
+  for (int d = 0; d < dim; ++d)
+    for_each_line(dim, n, ncomp, d, coef, [&](double* x, size_t s) { A[d].solve(x, s); });
+  for (size_t k = 0; k < N; ++k)
+    for (int q = 0; q < ncomp; ++q) coef[k * ncomp + q] /= w[k];
+}
+
+void fit_rational_bezier(int p0, int p1, const double* w, int ncomp, const double* values, double* coef) {
+  const int p[2] = {p0, p1};
+  fit_rational_bezier(2, p, w, ncomp, values, coef);
 }
 
 void clamp_coefficients(int n, int ncomp, const double* lo, const double* hi, double* coef) {

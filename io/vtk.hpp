@@ -49,8 +49,9 @@
 //   parametric_range   C x 4  Float64  u_a, u_b, v_a, v_b of the element
 //   field data: TimeValue (Float64, 1: the load factor), run_id (String, 1),
 //               body_names (String, one per body)
-// Cost: O(C ((p0+1)(p1+1))^3) for the fits (at most 36 x 36 per element), plus one
-// BodyField evaluation per point and per sample of the bounds.
+// Cost: O(C (p0 + p1 + 2)(p0 + 1)(p1 + 1)) for the fits (tensor-product solves of the
+// Bernstein collocation matrices), plus one BodyField evaluation per fit point and per
+// sample of the bounds.
 #include <array>
 #include <cstdint>
 #include <string>
@@ -82,6 +83,10 @@ std::vector<std::array<double, 2>> fit_points(int p0, int p1);
 /// weights w (per Bezier point, k = k0 + k1 (p0 + 1)) that interpolate `values`
 /// (values[j * ncomp + c] at fit_points(p0, p1)[j]): coef[k * ncomp + c].
 void fit_rational_bezier(int p0, int p1, const double* w, int ncomp, const double* values, double* coef);
+/// The same in dim = 1, 2 or 3 directions of degrees p[d]: points, weights and values numbered
+/// k0 + (p0 + 1)(k1 + (p1 + 1) k2), fit points (j0 / p0, j1 / p1, j2 / p2). Tensor-product
+/// solves, O(p^(dim+1)) per call.
+void fit_rational_bezier(int dim, const int* p, const double* w, int ncomp, const double* values, double* coef);
 
 /// Clamps coefficient k, component q into [lo[q], hi[q]] (coef[k * ncomp + q], k < n). A
 /// rational Bezier field with positive weights is a convex combination of its coefficients,

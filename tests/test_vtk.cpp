@@ -325,6 +325,42 @@ TEST(VtkBezier, StressFitIsExactForAFieldInTheSpace) {
   }
 }
 
+// The tensor-product fit recovers the coefficients of any field of the rational Bezier space
+// (random weights in [0.5, 2], random coefficients) in 1, 2 and 3 directions, p = 1..5.
+TEST(VtkBezier, FitRecoversCoefficientsInEveryDimension) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> U(-1, 1), Wd(0.5, 2.0);
+  for (int dim = 1; dim <= 3; ++dim)
+    for (int deg = 1; deg <= 5; ++deg) {
+      const int p[3] = {deg, std::max(1, deg - 1), deg == 5 ? 2 : deg};
+      int n[3] = {1, 1, 1};
+      size_t N = 1;
+      for (int d = 0; d < dim; ++d) N *= static_cast<size_t>(n[d] = p[d] + 1);
+      std::vector<double> w(N), c(2 * N), v(2 * N), fit(2 * N);
+      for (auto& x : w) x = Wd(rng);
+      for (auto& x : c) x = U(rng);
+      // the field at the fit points (j0 / p0, j1 / p1, j2 / p2)
+      for (size_t j = 0; j < N; ++j) {
+        int jj[3] = {0, 0, 0};
+        size_t r = j;
+        for (int d = 0; d < dim; ++d) jj[d] = static_cast<int>(r % n[d]), r /= n[d];
+        double b[3][kMaxBasis1D];
+        for (int d = 0; d < dim; ++d) bernstein(p[d], static_cast<double>(jj[d]) / p[d], b[d]);
+        double W = 0, s[2] = {0, 0};
+        for (size_t k = 0; k < N; ++k) {
+          size_t rk = k;
+          double B = w[k];
+          for (int d = 0; d < dim; ++d) B *= b[d][rk % n[d]], rk /= n[d];
+          W += B;
+          for (int q = 0; q < 2; ++q) s[q] += B * c[2 * k + q];
+        }
+        for (int q = 0; q < 2; ++q) v[2 * j + q] = s[q] / W;
+      }
+      fit_rational_bezier(dim, p, w.data(), 2, v.data(), fit.data());
+      for (size_t k = 0; k < 2 * N; ++k) EXPECT_NEAR(fit[k], c[k], 1e-11) << "dim " << dim << " p " << deg << " k " << k;
+    }
+}
+
 TEST(VtkBezier, WritesQuarterAnnulusFiles) {
   const auto& s = annulus();
   const char* env = std::getenv("IGACONTACT_VTU_OUT");
