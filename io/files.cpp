@@ -45,7 +45,7 @@ void FileBatch::add(const std::string& path, const std::string& bytes) {
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) {
     const int e = errno;
-    discard();
+    abandon();
     throw OutputError("cannot write " + tmp + ": " + errno_text(e));
   }
   int err = 0;
@@ -53,7 +53,7 @@ void FileBatch::add(const std::string& path, const std::string& bytes) {
   if (::close(fd) != 0 && !err) err = errno;
   paths_.push_back(path);
   if (err) {
-    discard();
+    abandon();
     throw OutputError("cannot write " + path + ": " + errno_text(err));
   }
 }
@@ -69,7 +69,7 @@ void FileBatch::commit() {
   if (dfd >= 0) ::close(dfd);
   if (err) {
     const std::string first = paths_.front();
-    discard();
+    abandon();
     throw OutputError("cannot write " + first + ": " + errno_text(err));
   }
   for (size_t k = 0; k < paths_.size(); ++k)
@@ -77,18 +77,18 @@ void FileBatch::commit() {
       err = errno;
       const std::string failed = paths_[k];
       paths_.erase(paths_.begin(), paths_.begin() + static_cast<std::ptrdiff_t>(k));
-      discard();
+      abandon();
       throw OutputError("cannot write " + failed + ": " + errno_text(err));
     }
   paths_.clear();
 }
 
-void FileBatch::discard() noexcept {
+void FileBatch::abandon() noexcept {
   for (const std::string& p : paths_) ::unlink((p + ".part").c_str());
   paths_.clear();
 }
 
-FileBatch::~FileBatch() { discard(); }
+FileBatch::~FileBatch() { abandon(); }
 
 void write_file_atomic(const std::string& path, const std::string& bytes) {
   FileBatch b;

@@ -49,10 +49,11 @@ class FileBatch {
   FileBatch& operator=(const FileBatch&) = delete;
   void add(const std::string& path, const std::string& bytes);
   void commit();
+  /// Removes the .part files added since the last commit.
+  void abandon() noexcept;
 
  private:
   std::vector<std::string> paths_;   // written to <path>.part, not yet renamed
-  void discard() noexcept;
 };
 
 /// CRC-32 (zlib) of bytes, as 8 hex digits.

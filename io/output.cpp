@@ -183,6 +183,17 @@ void ResultWriter::step(const StepState& st) {
   if (sys_.problem().output.all_steps) write_state(st.step, st.lambda, *st.u, *st.contact);
 }
 
+void ResultWriter::root_write(const std::function<void()>& f) {
+  on_root(*sys_.comm(), [&] {
+    try {
+      f();
+    } catch (...) {
+      batch_.abandon();   // no .part file of a half-written state stays behind
+      throw;
+    }
+  });
+}
+
 void ResultWriter::write(const std::string& name, const std::string& bytes) {
   batch_.add((fs::path(dir_) / name).string(), bytes);
   files_[name] = {{"bytes", bytes.size()}, {"crc32", crc32_hex(bytes)}};
@@ -194,7 +205,7 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
   std::vector<ContactPointState> cstate;
   for (const auto& c : contact) cstate.push_back(c.state(true));   // the points with a projection
   written_.push_back({step, lambda});   // on every rank: finish() decides collectively from it
-  on_root(*sys_.comm(), [&] {
+  root_write([&] {
     const std::string name = step_name(step), h5name = name + ".h5";
     H5Memory f(h5name);
     f.attribute("run_id", run_id_);
@@ -403,7 +414,7 @@ nlohmann::json ResultWriter::finish(const SolveResult& res) {
   std::vector<ContactPointState> cstate;
   for (const auto& c : res.contact) cstate.push_back(c.state(true));   // the points with a projection
 
-  on_root(*sys_.comm(), [&] {
+  root_write([&] {
     // result.h5: the kept state, the same file as its result_<n>.h5 (a hard link; a copy
     // where the file system has none)
     const std::string last = step_name(kept) + ".h5";

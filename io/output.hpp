@@ -5,6 +5,7 @@
 // atomic, HDF5 built in memory, run id). Only rank 0 writes; the solution is brought there
 // with a Tpetra Import.
 #include <array>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,7 @@ class ResultWriter {
  private:
   void write_state(int step, double lambda, const Vector& u, const std::vector<ContactPairData>& contact);
   void write(const std::string& name, const std::string& bytes);   // rank 0
+  void root_write(const std::function<void()>& f);   // on_root; a failure abandons the batch
   nlohmann::json contact_json(const std::vector<ContactPairData>& contact) const;
   const System& sys_;
   std::string dir_, problem_file_, run_id_;
