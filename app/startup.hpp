@@ -85,7 +85,7 @@ inline bool under_mpi_launcher() {
 //    it needs no transport but `self`, and no I/O devices in hwloc's topology (its PCI,
 //    OpenCL, GL and libxml plugins, loaded and run at start);
 //  - on every rank the cm PML tried its matching transports, PSM and PSM2 (Intel True Scale
-//    and Omni-Path) probing about 0.1 s each, and OFI (libfabric) when they were left out:
+//    and Omni-Path) probing about 0.1 s each (leaving only those two out was slower still):
 //    where /dev has no such fabric (no hfi1, ipath or infiniband device) the ob1 PML over
 //    shared memory and TCP is what runs anyway.
 // Only variables the user has not set are set (setenv without overwrite), before MPI_Init
