@@ -180,14 +180,6 @@ bool light_command(int argc, char** argv) {
   return argc > 1 && (std::strcmp(argv[1], "check") == 0 || std::strcmp(argv[1], "export") == 0);
 }
 
-// Started by mpiexec / mpirun (Open MPI, MPICH's Hydra, PMIx): then MPI is started, so that
-// every rank agrees on who prints and writes.
-bool under_mpi_launcher() {
-  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"})
-    if (std::getenv(v) != nullptr) return true;
-  return false;
-}
-
 // When the process started: the launcher's time (IGACONTACT_START_NS, app/launcher.cpp), or
 // main's entry when the solver is run directly.
 std::int64_t g_start_ns = 0;
@@ -380,10 +372,11 @@ int main(int argc, char** argv) {
   // check and export read the problem (and export writes the geometry) on one process: they
   // start neither MPI nor Kokkos (about 0.5 s of a run's start-up), unless an MPI launcher
   // started several processes, which then take the parallel path (rank 0 prints and writes)
-  if (light_command(argc, argv) && !under_mpi_launcher()) return guarded(Teuchos::rcp(new Teuchos::SerialComm<int>()));
+  if (light_command(argc, argv) && !iga::app::under_mpi_launcher()) return guarded(Teuchos::rcp(new Teuchos::SerialComm<int>()));
   bool kokkos_help = false;   // Kokkos prints its options (and removes the argument)
   for (int i = 1; i < argc; ++i) kokkos_help = kokkos_help || std::string(argv[i]) == "--kokkos-help";
   int code = 0;
+  iga::app::set_mpi_startup_variables();   // before MPI_Init reads them (app/startup.hpp)
   {
     Tpetra::ScopeGuard guard(&argc, &argv);
     if (kokkos_help) return 0;

@@ -2,6 +2,8 @@
 // What the command `igacontact` (app/launcher.cpp) and the solver it runs
 // (igacontact-solver, app/main.cpp) share: the usage text, the version line, the request for
 // transparent huge pages, and the start time of the process (which execv keeps).
+#include <glob.h>
+
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
@@ -66,6 +68,42 @@ inline bool set_huge_pages_tunable() {
   std::string value = tun && *tun ? std::string(tun) + ":" : std::string();
   value += "glibc.malloc.hugetlb=1";
   return setenv("GLIBC_TUNABLES", value.c_str(), 1) == 0;
+}
+
+/// Started by mpiexec / mpirun (Open MPI, MPICH's Hydra, PMIx): several processes may run.
+inline bool under_mpi_launcher() {
+  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"})
+    if (std::getenv(v) != nullptr) return true;
+  return false;
+}
+
+// Open MPI's start-up, cut to what a run uses (issue 34; docs/performance.md, "Start-up:
+// what MPI_Init did"). Of a 1-rank run's 0.4-0.7 s start-up on our 2-core VM, MPI_Init spent
+// most on work the run never uses:
+//  - one process started without a launcher (a singleton) forked the daemon orted (there for
+//    a later MPI_Comm_spawn; igacontact never spawns), which discovered the machine again;
+//    it needs no transport but `self`, and no I/O devices in hwloc's topology (its PCI,
+//    OpenCL, GL and libxml plugins, loaded and run at start);
+//  - on every rank the cm PML tried its matching transports, PSM and PSM2 (Intel True Scale
+//    and Omni-Path) probing about 0.1 s each (leaving only those two out was slower still):
+//    where /dev has no such fabric (no hfi1, ipath or infiniband device) the ob1 PML over
+//    shared memory and TCP is what runs anyway.
+// Only variables the user has not set are set (setenv without overwrite), before MPI_Init
+// reads them.
+inline bool any_device(const char* pattern) {
+  glob_t g;
+  const bool found = glob(pattern, 0, nullptr, &g) == 0 && g.gl_pathc > 0;
+  globfree(&g);
+  return found;
+}
+inline void set_mpi_startup_variables() {
+  if (!under_mpi_launcher()) {
+    setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
+    setenv("OMPI_MCA_btl", "self", 0);
+    setenv("HWLOC_PLUGINS_BLACKLIST", "hwloc_pci,hwloc_opencl,hwloc_gl,hwloc_xml_libxml", 0);
+  }
+  if (!any_device("/dev/hfi1*") && !any_device("/dev/ipath*") && !any_device("/dev/infiniband"))
+    setenv("OMPI_MCA_pml", "ob1", 0);
 }
 
 /// CLOCK_REALTIME in nanoseconds.

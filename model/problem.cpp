@@ -39,8 +39,26 @@ bool Problem::has_friction() const {
   return std::any_of(contact.begin(), contact.end(), [](const ContactPair& c) { return c.friction > 0; });
 }
 
+// solver.linear.method: auto takes MUMPS up to this many dofs and GMRES/CG + BoomerAMG above:
+// where the two cost the same, measured per degree p (the highest of any patch) by
+// benchmarks/auto_crossover.py (docs/performance.md, "auto by degree"). A linear problem (small
+// strain, no contact) is one CG solve to the fixed tolerance, and there the factorisation stays
+// ahead far longer, the more so at high degree (on the Lame cylinder MUMPS was ahead or even
+// up to 6e4-2.4e5 dofs at p = 2, 1.2e5-2.4e5 at p = 3, 4, and past 2.4e5 at p = 5; a plate
+// at p = 1: 6e4). A nonlinear one (contact, finite strain) is solved by GMRES with inexact
+// Newton, which won on two blocks in contact from 1e4 dofs at p <= 3 and from 1.5e4-3e4 at
+// p = 4, 5. With friction the Krylov solves keep the fixed tolerance and MUMPS was 2x faster
+// at 55,272 dofs: kAutoDirectMaxDofsFriction.
 long long Problem::auto_direct_max_dofs() const {
-  return has_friction() ? kAutoDirectMaxDofsFriction : kAutoDirectMaxDofs;
+  if (has_friction()) return kAutoDirectMaxDofsFriction;
+  int p = 1;
+  for (const Body& b : bodies)
+    for (const Patch& pt : b.patches) p = std::max(p, std::max(pt.degree[0], pt.degree[1]));
+  const bool linear = contact.empty() && kinematics == Kinematics::Small;
+  //                                                 p = 1      2       3       4       5
+  static constexpr long long kMaxDofs[2][5] = {/* nonlinear */ {10000, 10000, 20000, 20000, 30000},
+                                               /* linear */ {60000, 60000, 150000, 150000, 240000}};
+  return kMaxDofs[linear ? 1 : 0][std::min(p, 5) - 1];
 }
 
 const char* linear_method_name(LinearMethod m) {

@@ -56,14 +56,8 @@ ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 PY=/usr/bin/python3
 IGA=$ROOT/build/bin/igacontact
 YAML=$ROOT/examples/lame_cylinder.yaml
-PEERS=$ROOT/build-peers
-DEAL=$PEERS/dealii_assembly
 [ -x "$IGA" ] || { echo "compare_assembly.sh: $IGA not built" >&2; exit 1; }
-if [ ! -x "$DEAL" ]; then
-  echo "building $DEAL" >&2
-  nice cmake -S "$ROOT/benchmarks/peers" -B "$PEERS" -DCMAKE_BUILD_TYPE=Release >&2
-  nice cmake --build "$PEERS" -j1 >&2
-fi
+DEAL=$("$ROOT/benchmarks/peers/build_peers.sh" dealii_assembly)
 
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT

@@ -74,15 +74,13 @@
 #include <string>
 #include <vector>
 
+#include "lame_mesh.hpp"
+
 using namespace dealii;
 
 namespace {
 
-// examples/lame_cylinder.yaml
-constexpr double inner_radius = 1.0;
-constexpr double outer_radius = 2.0;
-constexpr double youngs_modulus = 2.0e5;
-constexpr double poisson_ratio = 0.3;
+using namespace lame;
 
 struct Options {
   unsigned int degree = 2;
@@ -147,33 +145,9 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-// vector dofs of FESystem(FE_Q(p), 2) on nt x nr cells
-unsigned long long n_dofs_of(unsigned p, unsigned nt, unsigned nr) {
-  return 2ULL * (1ULL * p * nt + 1) * (1ULL * p * nr + 1);
-}
-
-// NT ~ 2 NR (lame_cylinder.yaml's aspect), nearest the target
 void choose_subdivision(Options& o) {
   if (o.nt > 0 && o.nr > 0) return;
-  double best = 1e300;
-  for (unsigned nr = 1; nr < 100000; ++nr) {
-    if (n_dofs_of(o.degree, 2 * nr - 1, nr) > 4 * o.dofs) break;
-    for (unsigned nt : {2 * nr - 1, 2 * nr, 2 * nr + 1}) {
-      if (nt < 1) continue;
-      const double d = std::abs(static_cast<double>(n_dofs_of(o.degree, nt, nr)) - o.dofs);
-      if (d < best) { best = d; o.nt = nt; o.nr = nr; }
-    }
-  }
-}
-
-void make_mesh(Triangulation<2>& tria, unsigned nt, unsigned nr) {
-  // (r, theta) rectangle: x = r, y = theta; repetitions {nr, nt}
-  GridGenerator::subdivided_hyper_rectangle(tria, {nr, nt}, Point<2>(inner_radius, 0.0),
-                                            Point<2>(outer_radius, 0.5 * numbers::PI));
-  GridTools::transform([](const Point<2>& q) { return Point<2>(q[0] * std::cos(q[1]), q[0] * std::sin(q[1])); },
-                       tria);
-  tria.set_all_manifold_ids(0);
-  tria.set_manifold(0, PolarManifold<2>(Point<2>(0.0, 0.0)));
+  lame::choose_subdivision(o.degree, o.dofs, o.nt, o.nr);
 }
 
 class Rotation : public Function<2> {
@@ -254,7 +228,6 @@ int main(int argc, char** argv) {
     std::vector<double> gx(nb), gy(nb), wgx(nb), wgy(nb);
     std::vector<double> Sxx(nb * nb), Sxy(nb * nb), Syx(nb * nb), Syy(nb * nb);
     // extractor form
-    const FEValuesExtractors::Vector disp(0);
     std::vector<SymmetricTensor<2, 2>> eps(dpc);
     std::vector<double> div(dpc);
     for (const auto& cell : dof_handler.active_cell_iterators()) {
@@ -307,21 +280,7 @@ int main(int argc, char** argv) {
           }
         }
       } else {
-        cell_matrix = 0;
-        for (unsigned q = 0; q < nq; ++q) {
-          const double w = fe_values.JxW(q);
-          for (unsigned i = 0; i < dpc; ++i) {
-            eps[i] = fe_values[disp].symmetric_gradient(i, q);
-            div[i] = fe_values[disp].divergence(i, q);
-          }
-          for (unsigned i = 0; i < dpc; ++i) {
-            const SymmetricTensor<2, 2> e = 2 * mu * w * eps[i];
-            const double d = lambda * w * div[i];
-            for (unsigned j = i; j < dpc; ++j) cell_matrix(i, j) += d * div[j] + e * eps[j];
-          }
-        }
-        for (unsigned i = 0; i < dpc; ++i)
-          for (unsigned j = i + 1; j < dpc; ++j) cell_matrix(j, i) = cell_matrix(i, j);
+        extractor_local_matrix(fe_values, lambda, mu, eps, div, cell_matrix);
       }
       cell->get_dof_indices(dof_indices);
       if (opt.add == "direct") matrix.add(dof_indices, cell_matrix);
