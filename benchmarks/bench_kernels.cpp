@@ -46,7 +46,7 @@ void BM_Basis(benchmark::State& st) {
   const Problem prob = block_problem(P, elements_for(P));
   System sys(prob, Tpetra::getDefaultComm());
   EvaluateBasis<P> k;
-  k.pd = sys.blocks()[0].pd; k.g0 = gauss_rule(P + 1); k.g1 = gauss_rule(P + 1);
+  k.pd = sys.blocks()[0].pd; k.g[0] = gauss_rule(P + 1); k.g[1] = gauss_rule(P + 1);
   const int ne = prob.bodies[0].patches[0].num_elements();
   k.run(ne);
   for (auto _ : st) { k.run(ne); Kokkos::fence(); }
