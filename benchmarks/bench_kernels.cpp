@@ -9,11 +9,12 @@
 //   BM_Formation<P>/rows:r  dofs/s, quadrature points/s of the whole tangent (stage 2.2, refilled in place)
 //                           on a curved rational patch (quarter annulus, ~ 1.4e4 dofs, spline rule):
 //                           r = 0 the element loop, 1 row-wise sum factorisation (solver.formation)
-//   BM_Formation3D<P>/m     the 3-D element loop (AssembleInternalT<3, P>: internal force and tangent,
+//   BM_Formation3D<P>/m/sf  the 3-D element loop (AssembleInternalT<3, P>: internal force and tangent,
 //                           element matrices in the batched work view, summed into a KokkosSparse
 //                           matrix) on a box of n^3 elements, Gauss (P + 1)^3 points, at a smooth
-//                           displacement; m = 0 linear, 2 neo-Hookean. dofs/s, elements/s and
-//                           GFLOP/s from the cost model in kernels/elasticity.hpp (D = 3)
+//                           displacement; m = 0 linear, 2 neo-Hookean; sf = 1: the tangent by
+//                           element-wise sum factorisation (kernels/elasticity_sf3.hpp). dofs/s,
+//                           elements/s and GFLOP/s (the element loop's flop count, kernels/elasticity.hpp)
 //   BM_ContactProjection/M  projections/s on a degree-2 master curve of M elements
 //   BM_SpMV / BM_StreamCopy GB/s of the assembled elasticity matrix, and the copy limit
 // Rates are per wall-clock second (UseRealTime), so that threaded runs count every thread.
@@ -200,6 +201,7 @@ void BM_Formation3D(benchmark::State& st) {
   k.u = test3d::to_view<double, MemSpace>("u", u);
   k.f = Kokkos::View<double*, MemSpace>("f", 3 * ncp);
   k.force = k.tangent = true;
+  k.sum_factorized = st.range(1) != 0;
   for (auto _ : st) {
     Kokkos::deep_copy(K.values, 0.0);
     Kokkos::deep_copy(k.f, 0.0);
@@ -208,7 +210,8 @@ void BM_Formation3D(benchmark::State& st) {
   }
   constexpr double nen = (P + 1) * (P + 1) * (P + 1);
   const double qp = static_cast<double>(ne) * nen * st.iterations();   // (P + 1)^3 Gauss points
-  // basis 41 nen + 80, gradient 18 nen, material ~ 900 (neo-Hookean; linear ~ 54), force
+  // the element loop's count, whichever way the tangent is formed (so that GFLOP/s compares as
+  // time): basis 41 nen + 80, gradient 18 nen, material ~ 900 (neo-Hookean; linear ~ 54), force
   // 18 nen, tangent rows 162 nen + blocks a <= b 27 nen (nen + 1) (kernels/elasticity.hpp)
   const double flops = 41 * nen + 80 + 18 * nen + (st.range(0) == 0 ? 54 : 900) + 18 * nen + 162 * nen + 27 * nen * (nen + 1);
   st.counters["dofs/s"] = benchmark::Counter(3.0 * ncp * st.iterations(), benchmark::Counter::kIsRate);
@@ -310,10 +313,10 @@ BENCHMARK_TEMPLATE(BM_Formation, 2)->ArgName("rows")->Arg(0)->Arg(1)->Unit(bench
 BENCHMARK_TEMPLATE(BM_Formation, 3)->ArgName("rows")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_TEMPLATE(BM_Formation, 4)->ArgName("rows")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_TEMPLATE(BM_Formation, 5)->ArgName("rows")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_TEMPLATE(BM_Formation3D, 1)->ArgName("model")->Arg(0)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_TEMPLATE(BM_Formation3D, 2)->ArgName("model")->Arg(0)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_TEMPLATE(BM_Formation3D, 3)->ArgName("model")->Arg(0)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_TEMPLATE(BM_Formation3D, 4)->ArgName("model")->Arg(0)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_Formation3D, 1)->ArgNames({"model", "sf"})->ArgsProduct({{0, 2}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_Formation3D, 2)->ArgNames({"model", "sf"})->ArgsProduct({{0, 2}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_Formation3D, 3)->ArgNames({"model", "sf"})->ArgsProduct({{0, 2}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_Formation3D, 4)->ArgNames({"model", "sf"})->ArgsProduct({{0, 2}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_ContactProjection)->ArgNames({"M", "warm"})->ArgsProduct({{16, 64, 256, 1024, 4096}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_SpMV)->Arg(64)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_StreamCopy)->Arg(1 << 16)->Arg(1 << 25)->Unit(benchmark::kMillisecond)->UseRealTime();

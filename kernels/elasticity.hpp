@@ -40,12 +40,15 @@
 // big for a stack or GPU local memory, so AssembleInternalT<3> gives each element of a batch
 // one row of a work View Kw(slot, (D nen_max)^2) (batches of up to ~64 MB, at least the
 // concurrency); the other per-element arrays are nen-sized (R, dR[nen][3], cw[nen][4],
-// ue[nen][3], fe[3 nen]: ~ 25 kB at P = 5). The row-wise sum-factorised formation
-// (kernels/elasticity_sf.hpp) is 2-D only: 3-D tangents are formed here.
+// ue[nen][3], fe[3 nen]: ~ 25 kB at P = 5). 3-D tangents: this element loop, or (sum_factorized)
+// the element-wise sum factorisation of kernels/elasticity_sf3.hpp, O(p^7) per element, whose
+// point fields sit in the same work view row after Ke. The row-wise sum-factorised formation
+// over a whole patch (kernels/elasticity_sf.hpp) is 2-D only.
 #include <KokkosSparse_CrsMatrix.hpp>
 
 #include <algorithm>
 
+#include "kernels/elasticity_sf3.hpp"
 #include "kernels/material.hpp"
 #include "kernels/scatter.hpp"
 #include "kernels/types.hpp"
@@ -185,6 +188,9 @@ struct AssembleInternalT {
   /// 3-D: the element matrices of one batch of elements, Kw(slot, r ldk + c) (see the header).
   Kokkos::View<double**, Kokkos::LayoutRight, MemSpace> Kw = {};
   int batch_elements = 0;   // 3-D: elements per batch (0: as many as ~ 64 MB hold, at least the concurrency)
+  /// 3-D: the tangent by element-wise sum factorisation (kernels/elasticity_sf3.hpp, O(p^7)), the
+  /// force by the element loop.
+  bool sum_factorized = false;
 
   static constexpr int MaxNen = kNen<D, P>;
   static constexpr int MaxDof = D * MaxNen;
@@ -205,13 +211,35 @@ struct AssembleInternalT {
     }
     const GaussRule* gp[D];
     for (int d = 0; d < D; ++d) gp[d] = &g[d];
-    element_internal<P, Force, Tangent>(pd, mat, gp, e, have_u ? ue : nullptr, fe, Ke, MaxDof);
+    if constexpr (D == 3) {
+      if (Tangent && sum_factorized) {
+        if (Force) element_internal<P, true, false>(pd, mat, gp, e, have_u ? ue : nullptr, fe, nullptr, MaxDof);
+        element_tangent_sf3<P>(pd, mat, gp, e, have_u ? ue : nullptr, Ke, MaxDof, Ke + static_cast<size_t>(MaxDof) * MaxDof);
+      } else {
+        element_internal<P, Force, Tangent>(pd, mat, gp, e, have_u ? ue : nullptr, fe, Ke, MaxDof);
+      }
+    } else {
+      element_internal<P, Force, Tangent>(pd, mat, gp, e, have_u ? ue : nullptr, fe, Ke, MaxDof);
+    }
     if (Force)
       for (int a = 0; a < nen; ++a) {
         const int l = pd.lid(cps[a]);
         for (int c = 0; c < D; ++c) Kokkos::atomic_add(&f(dof_of(l, c, D)), fe[D * a + c]);
       }
     if (Tangent) scatter.template add<MaxNen, D>(pd.lid, cps, nen, Ke, MaxDof);
+  }
+
+  /// The sum factorisation's work doubles per element (3-D): the largest element rule of each direction.
+  size_t sf3_work() const {
+    int nq[3] = {1, 1, 1};
+    for (int d = 0; d < D; ++d) {
+      nq[d] = g[d].n;
+      if (pd.qoff[d].extent(0) > 0) {
+        auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.qoff[d]);
+        for (size_t k = 0; k + 1 < h.extent(0); ++k) nq[d] = std::max(nq[d], h(k + 1) - h(k));
+      }
+    }
+    return sf3_work_size(nq);
   }
 
   template <bool Force, bool Tangent>
@@ -231,12 +259,12 @@ struct AssembleInternalT {
     // batches: all elements at once where Ke is on the stack, else as many as the work view holds
     int batch = n;
     if (!kStackKe) {
-      const double bytes = 8.0 * MaxDof * MaxDof;
+      const double bytes = 8.0 * MaxDof * MaxDof + 8.0 * (sum_factorized ? sf3_work() : 0);
       const int conc = std::min(ExecSpace().concurrency(), 4096);
       batch = std::min(n, batch_elements > 0 ? batch_elements : std::max(conc, static_cast<int>(64e6 / bytes)));
-      if (Kw.extent(0) < static_cast<size_t>(batch) || Kw.extent(1) != static_cast<size_t>(MaxDof) * MaxDof)
-        Kw = decltype(Kw)(Kokkos::ViewAllocateWithoutInitializing("iga::AssembleInternal::Kw"), batch,
-                          static_cast<size_t>(MaxDof) * MaxDof);
+      const size_t row = static_cast<size_t>(MaxDof) * MaxDof + (sum_factorized ? sf3_work() : 0);
+      if (Kw.extent(0) < static_cast<size_t>(batch) || Kw.extent(1) != row)
+        Kw = decltype(Kw)(Kokkos::ViewAllocateWithoutInitializing("iga::AssembleInternal::Kw"), batch, row);
     }
     for (int b = e_begin; b < e_end; b += batch) {
       const int m = std::min(batch, e_end - b);

@@ -1,9 +1,10 @@
 #pragma once
 // Tangent of plane elasticity on a NURBS patch by sum factorisation over the whole patch, row
 // by row (solver.formation: sum_factorized, the default). 2-D only (PatchData = PatchDataT<2>):
-// in 3-D the tangent is formed by the element loop (kernels/elasticity.hpp, AssembleInternalT<3>);
-// the 3-D form of this algorithm (q3, q2, q1 contractions, 96 fields, planes (a2, a3)) is not
-// written yet. The same matrix as the element loop
+// in 3-D the tangent is formed element by element (kernels/elasticity.hpp, AssembleInternalT<3>),
+// by the element loop or by the element-wise sum factorisation (kernels/elasticity_sf3.hpp); the
+// patch-wide row-wise form of this algorithm in 3-D (q3, q2, q1 contractions, planes (a2, a3))
+// is not written. The same matrix as the element loop
 // (kernels/elasticity.hpp, solver.formation: elements, the reference) up to round-off, for
 // every material and either element rule; the internal force stays with the element loop.
 //

@@ -18,6 +18,7 @@
 #include <KokkosSparse_CrsMatrix.hpp>
 
 #include <algorithm>
+#include <cstdio>
 #include <array>
 #include <cmath>
 #include <set>
@@ -25,6 +26,7 @@
 
 #include "kernels/basis.hpp"
 #include "kernels/elasticity.hpp"
+#include "kernels/elasticity_sf3.hpp"
 #include "model/nurbs.hpp"
 #include "patches3d.hpp"
 
@@ -340,6 +342,8 @@ TEST(PatchTest3D, LinearFieldGivesConstantStressAndBalancedInteriorRows) {
       // interior rows: sums of nq x nen-element contributions of size ~ fmax
       EXPECT_LT(worst_row, 1e-12 * fmax) << name(b) << " model " << model << " |f|max " << fmax;
       EXPECT_GT(fmax, 1e-4) << name(b);   // the boundary rows carry the tractions
+      std::printf("  patch test: %s model %d: |H - G| %.1e, |P - P(G)| %.1e, interior rows / max |f| %.1e\n", name(b).c_str(),
+                  model, worst_H, worst_P, worst_row / fmax);
     }
   }
 }
@@ -393,6 +397,8 @@ TEST(Tangent3D, AgainstCentralDifferencesOfTheResidual) {
             for (int r = 0; r < nd; ++r) err[t] = std::max(err[t], std::abs(K[r * nd + j] - (fp[r] - fm[r]) / (2 * h)));
           }
         }
+        std::printf("  FD: %s model %d: max |K - FD| / max |K| = %.1e (h = 1e-3), %.1e (h = 5e-4)\n", name(b).c_str(), model,
+                    err[0] / Kmax, err[1] / Kmax);
         if (model == Material::kLinear) {
           // f is linear in u: the difference quotient is exact up to round-off
           EXPECT_LT(err[0], 1e-10 * Kmax) << name(b);
@@ -486,6 +492,8 @@ TEST(Tangent3D, SymmetricWithExactlySixRigidBodyModes) {
       for (int i = 0; i < 6; ++i) EXPECT_LT(std::abs(ev[i]), 1e-12 * emax) << name(b) << " eigenvalue " << i;
       EXPECT_GT(ev[6], 1e-4 * emax) << name(b);
       EXPECT_GT(ev[0], -1e-12 * emax) << name(b);   // positive semi-definite
+      std::printf("  rigid modes: %s model %d: |K r| %.1e, eigenvalues / max: %.1e .. %.1e, 7th %.1e\n", name(b).c_str(), model,
+                  worst, ev[0] / emax, ev[5] / emax, ev[6] / emax);
     }
   }
 }
@@ -493,7 +501,7 @@ TEST(Tangent3D, SymmetricWithExactlySixRigidBodyModes) {
 // ---------------------------------------------------------------------------------------------
 
 template <int P>
-void check_assembly(const Block3& b, const Material& m, int batch) {
+void check_assembly(const Block3& b, const Material& m, int batch, bool sum_factorized = false) {
   const HostPatchData3 hpd = patch_data<Kokkos::HostSpace>(b);
   const int n = static_cast<int>(b.cp.size()), N = 3 * n;
   std::vector<double> u(N);
@@ -512,6 +520,7 @@ void check_assembly(const Block3& b, const Material& m, int batch) {
   k.f = Kokkos::View<double*, MemSpace>("f", N);
   k.force = k.tangent = true;
   k.batch_elements = batch;
+  k.sum_factorized = sum_factorized;
   k.run(hpd.num_elements());
   Kokkos::fence();
   auto f = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), k.f);
@@ -532,7 +541,8 @@ void check_assembly(const Block3& b, const Material& m, int batch) {
   }
   // the same element functions summed in another order: round-off of a few terms
   EXPECT_LT(df, 1e-14 * fmax) << name(b) << " batch " << batch;
-  EXPECT_LT(dK, 1e-14 * Kmax) << name(b) << " batch " << batch;
+  // the sum-factorised tangent sums the same products in another order: ~ nq nen eps
+  EXPECT_LT(dK, (sum_factorized ? 1e-13 : 1e-14) * Kmax) << name(b) << " batch " << batch << " sf " << sum_factorized;
 }
 
 TEST(Assembly3D, KernelEqualsSumOfElementMatrices) {
@@ -542,6 +552,48 @@ TEST(Assembly3D, KernelEqualsSumOfElementMatrices) {
   check_assembly<2>(box({2, 2, 2}, {2, 2, 2}), nh, 0);
   check_assembly<2>(box({2, 2, 2}, {2, 2, 2}), nh, 3);   // batches of 3 elements through the work view
   check_assembly<3>(shell(3, {2, 1, 1}, 2), nh, 1);
+  check_assembly<2>(box({2, 2, 2}, {2, 2, 2}), nh, 3, true);
+  check_assembly<3>(shell(3, {2, 1, 1}, 2), nh, 0, true);
+}
+
+// The element-wise sum-factorised tangent (kernels/elasticity_sf3.hpp) equals the element loop's
+// to round-off: both sum the same products over the same points, in another order.
+TEST(SumFactorized3D, EqualsElementTangent) {
+  std::vector<Block3> gs = geometries();
+  gs.push_back(shell(4, {1, 1, 1}, 1));
+  gs.push_back(box({1, 4, 2}, {1, 1, 2}));
+  for (const Block3& b : gs) {
+    const HostPatchData3 pd = patch_data<Kokkos::HostSpace>(b);
+    for (int model : {Material::kLinear, Material::kSaintVenantKirchhoff, Material::kNeoHookean}) {
+      const Material m = Material::solid(model, kE, kNu);
+      for_degree(pmax(b), [&](auto PP) {
+        constexpr int P = decltype(PP)::value;
+        constexpr int MaxDof = 3 * kNen<3, P>;
+        GaussRule gr[3];
+        for (int d = 0; d < 3; ++d) gr[d] = gauss_rule(b.p[d] + 1);
+        const GaussRule* g[3] = {&gr[0], &gr[1], &gr[2]};
+        int nq[3] = {gr[0].n, gr[1].n, gr[2].n};
+        std::vector<double> K1(MaxDof * MaxDof), K2(MaxDof * MaxDof), work(sf3_work_size(nq));
+        std::vector<std::array<double, 3>> ue(kNen<3, P>);
+        double worst = 0, Kmax = 0;
+        for (int e = 0; e < pd.num_elements(); ++e) {
+          for (int a = 0; a < pd.nen(); ++a)
+            for (int c = 0; c < 3; ++c) ue[a][c] = model == Material::kLinear ? 0.0 : 0.05 * std::sin(1.1 * a + 2.3 * c + e);
+          const auto* up = reinterpret_cast<const double(*)[3]>(ue.data());
+          ASSERT_TRUE((element_internal<P, false, true>(pd, m, g, e, up, nullptr, K1.data(), MaxDof)));
+          ASSERT_TRUE((element_tangent_sf3<P>(pd, m, g, e, up, K2.data(), MaxDof, work.data())));
+          const int nd = 3 * pd.nen();
+          for (int r = 0; r < nd; ++r)
+            for (int c = 0; c < nd; ++c) {
+              Kmax = std::max(Kmax, std::abs(K1[r * MaxDof + c]));
+              worst = std::max(worst, std::abs(K1[r * MaxDof + c] - K2[r * MaxDof + c]));
+            }
+        }
+        EXPECT_LT(worst, 1e-13 * Kmax) << name(b) << " model " << model;
+        std::printf("  sum-factorised: %s model %d: max |K_sf - K| / max |K| = %.1e\n", name(b).c_str(), model, worst / Kmax);
+      });
+    }
+  }
 }
 
 }  // namespace
