@@ -35,7 +35,7 @@ struct EvaluateBasisT {
     int ei[D], s[D], qi[D], nq[D];
     pd.element_spans(e, ei, s);
     for (int d = 0; d < D; ++d) nq[d] = g[d].n;
-    tensor_ij(q, nq, D, qi);
+    tensor_ij_d<D>(q, nq, qi);
     double xi[D], h[D];
     for (int d = 0; d < D; ++d) {
       const double a = pd.U[d](s[d]), b = pd.U[d](s[d] + 1);

@@ -204,8 +204,12 @@ struct AssembleInternalT {
     double Ks[Tangent && kStackKe ? MaxDof : 1][Tangent && kStackKe ? MaxDof : 1];
     double* Ke = !Tangent ? nullptr : kStackKe ? &Ks[0][0] : &Kw(slot, 0);
     const bool have_u = u.extent(0) > 0;
+    {
+      int ei[D], s[D];
+      pd.element_spans(e, ei, s);
+      pd.local_cps(s, cps);
+    }
     for (int a = 0; a < nen; ++a) {
-      cps[a] = element_cp(pd, e, a);
       const int l = pd.lid(cps[a]);
       for (int c = 0; c < D; ++c) ue[a][c] = have_u ? u(dof_of(l, c, D)) : 0.0;
     }

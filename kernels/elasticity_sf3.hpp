@@ -80,8 +80,10 @@ KOKKOS_INLINE_FUNCTION bool element_tangent_sf3(const PD& pd, const Material& ma
   // homogeneous control points and weighted displacements: (w x, w y, w z, w, w u_x, w u_y, w u_z)
   double cwu[MaxNen][7];
   double wa[MaxNen];
+  int gs[MaxNen];
+  pd.local_cps(s, gs);
   for (int a = 0; a < nen; ++a) {
-    const int gcp = pd.local_cp(s, a);
+    const int gcp = gs[a];
     const double w = pd.cp(gcp, 3);
     wa[a] = w;
     for (int k = 0; k < 3; ++k) {

@@ -22,6 +22,17 @@ namespace iga {
 using ExecSpace = Kokkos::DefaultExecutionSpace;
 using MemSpace = ExecSpace::memory_space;
 
+/// tensor_ij (kernels/numbering.hpp) for a compile-time dimension D: the last direction's index
+/// needs no division (e < n0 n1 .. holds), which matters in per-point index arithmetic.
+template <int D>
+KOKKOS_INLINE_FUNCTION void tensor_ij_d(int e, const int* n, int* ij) {
+  for (int d = 0; d < D - 1; ++d) {
+    ij[d] = e % n[d];
+    e /= n[d];
+  }
+  ij[D - 1] = e;
+}
+
 /// (P + 1)^D: the basis functions of an element of degree P in every direction (the size of
 /// the kernels' per-element arrays).
 template <int D, int P>
@@ -59,14 +70,27 @@ struct PatchDataT {
   }
   /// The element's index per direction ei[d] and its spans s[d].
   KOKKOS_INLINE_FUNCTION void element_spans(int e, int ei[D], int s[D]) const {
-    tensor_ij(e, ne, D, ei);
+    tensor_ij_d<D>(e, ne, ei);
     for (int d = 0; d < D; ++d) s[d] = span[d](ei[d]);
+  }
+  /// The control points g[a] of all local functions a = l0 + (p0 + 1)(l1 + (p1 + 1) l2) of the
+  /// element with spans s (nested loops: no division per function).
+  KOKKOS_INLINE_FUNCTION void local_cps(const int s[D], int* g) const {
+    const int m2 = D == 3 ? p[D - 1] + 1 : 1;
+    int a = 0;
+    for (int l2 = 0; l2 < m2; ++l2) {
+      const int k = D == 3 ? s[D - 1] - p[D - 1] + l2 : 0;
+      for (int l1 = 0; l1 <= p[1]; ++l1) {
+        int gg = s[0] - p[0] + n[0] * (s[1] - p[1] + l1 + n[1] * k);
+        for (int l0 = 0; l0 <= p[0]; ++l0) g[a++] = gg++;
+      }
+    }
   }
   /// Control point of local function a (a = l0 + (p0 + 1)(l1 + ...)) of the element with spans s.
   KOKKOS_INLINE_FUNCTION int local_cp(const int s[D], int a) const {
     int l[D], m[D], g[D];
     for (int d = 0; d < D; ++d) m[d] = p[d] + 1;
-    tensor_ij(a, m, D, l);
+    tensor_ij_d<D>(a, m, l);
     for (int d = 0; d < D; ++d) g[d] = s[d] - p[d] + l[d];
     return tensor_index(g, n, D);
   }
@@ -166,8 +190,10 @@ KOKKOS_INLINE_FUNCTION void element_homogeneous_cp(const PD& pd, const int s[PD:
                                                    double cw[][PD::dim + 1]) {
   constexpr int D = PD::dim;
   const int nen = pd.nen();
+  int gs[kNen<D, P>];
+  pd.local_cps(s, gs);
   for (int a = 0; a < nen; ++a) {
-    const int g = pd.local_cp(s, a);
+    const int g = gs[a];
     const double w = pd.cp(g, D);
     double* c = cw[a];
     for (int k = 0; k < D; ++k) c[k] = w * pd.cp(g, k);
@@ -183,7 +209,7 @@ KOKKOS_INLINE_FUNCTION void element_homogeneous_cp(const PD& pd, int s0, int s1,
 
 /// det A and A^-1 of a D x D matrix (adjugate over the determinant).
 template <int D>
-KOKKOS_INLINE_FUNCTION double det_inverse(const double A[D][D], double Ai[D][D]) {
+KOKKOS_FORCEINLINE_FUNCTION double det_inverse(const double A[D][D], double Ai[D][D]) {
   if constexpr (D == 2) {
     const double det = A[0][0] * A[1][1] - A[0][1] * A[1][0], idet = 1.0 / det;
     Ai[0][0] = A[1][1] * idet;
@@ -215,7 +241,7 @@ KOKKOS_INLINE_FUNCTION double det_inverse(const double A[D][D], double Ai[D][D])
 /// returns det(dx/dxi). Shared by nurbs_grad and the row-wise formation's point fields
 /// (kernels/elasticity_sf.hpp). Cost: D (D + 1) 3 + det/inverse (2-D: 10, 3-D: ~ 45) flops.
 template <int D>
-KOKKOS_INLINE_FUNCTION double rational_map(const double* const S[D + 1], double x[D], double Ji[D][D]) {
+KOKKOS_FORCEINLINE_FUNCTION double rational_map(const double* const S[D + 1], double x[D], double Ji[D][D]) {
   const double iW = 1.0 / S[0][D];
   for (int J = 0; J < D; ++J) x[J] = S[0][J] * iW;
   double Jac[D][D];   // Jac[J][alpha] = d x_J / d xi_alpha
@@ -241,7 +267,7 @@ KOKKOS_INLINE_FUNCTION double rational_map(const double S[3], const double Su[3]
 /// components (homogeneous control points, K = D + 1, or more). Contraction over l0 first, then
 /// l1 (then l2): cost 2 K nen + 3 K nen / (p0 + 1) + 4 K (p2 + 1) multiply-adds.
 template <int D, int K>
-KOKKOS_INLINE_FUNCTION void homogeneous_sums(const int p[D], const double (*const B[D])[kMaxBasis1D],
+KOKKOS_FORCEINLINE_FUNCTION void homogeneous_sums(const int p[D], const double (*const B[D])[kMaxBasis1D],
                                              const double (*cw)[K], double S[D + 1][K]) {
   const int m0 = p[0] + 1, m1 = p[1] + 1, m2 = D == 3 ? p[D - 1] + 1 : 1;
   for (int s = 0; s <= D; ++s)
