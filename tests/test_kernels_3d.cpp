@@ -137,32 +137,39 @@ TEST(Basis3D, PartitionOfUnityGeometryAndVolume) {
 // the (p + 1)-point rule (exact on the box).
 TEST(Basis3D, EvaluateBasisKernel) {
   for (const Block3& b : {box({2, 2, 2}, {3, 2, 2}), box({1, 3, 2}, {2, 2, 3}), shell(3, {2, 2, 1}, 2)}) {
-    for_degree(pmax(b), [&](auto PP) {
-      constexpr int P = decltype(PP)::value;
-      EvaluateBasisT<3, P> k;
-      k.pd = patch_data<MemSpace>(b);
-      for (int d = 0; d < 3; ++d) k.g[d] = gauss_rule(b.p[d] + 1);
-      k.run(k.pd.num_elements());
-      auto R = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), k.R);
-      auto dR = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), k.dR);
-      auto J = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), k.JxW);
-      double worst_sum = 0, worst_grad = 0, vol = 0;
-      for (size_t e = 0; e < R.extent(0); ++e)
-        for (size_t q = 0; q < R.extent(1); ++q) {
-          double s = 0, gsum[3] = {0, 0, 0};
-          for (size_t a = 0; a < R.extent(2); ++a) {
-            s += R(e, q, a);
-            for (int c = 0; c < 3; ++c) gsum[c] += dR(e, q, a, c);
+    dispatch(3, pmax(b), [&](auto DD, auto PP) {   // the run-time (dim, p) to compile-time (D, P)
+      constexpr int D = decltype(DD)::value, P = decltype(PP)::value;
+      if constexpr (D == 3) {
+        EvaluateBasisT<D, P> k;
+        k.pd = patch_data<MemSpace>(b);
+        for (int d = 0; d < 3; ++d) k.g[d] = gauss_rule(b.p[d] + 1);
+        k.run(k.pd.num_elements());
+        auto R = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), k.R);
+        auto dR = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), k.dR);
+        auto J = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), k.JxW);
+        double worst_sum = 0, worst_grad = 0, vol = 0;
+        for (size_t e = 0; e < R.extent(0); ++e)
+          for (size_t q = 0; q < R.extent(1); ++q) {
+            double s = 0, gsum[3] = {0, 0, 0};
+            for (size_t a = 0; a < R.extent(2); ++a) {
+              s += R(e, q, a);
+              for (int c = 0; c < 3; ++c) gsum[c] += dR(e, q, a, c);
+            }
+            worst_sum = std::max(worst_sum, std::abs(s - 1));
+            worst_grad = std::max({worst_grad, std::abs(gsum[0]), std::abs(gsum[1]), std::abs(gsum[2])});
+            vol += J(e, q);
           }
-          worst_sum = std::max(worst_sum, std::abs(s - 1));
-          worst_grad = std::max({worst_grad, std::abs(gsum[0]), std::abs(gsum[1]), std::abs(gsum[2])});
-          vol += J(e, q);
-        }
-      EXPECT_LT(worst_sum, 1e-14) << name(b);
-      EXPECT_LT(worst_grad, 1e-12) << name(b);
-      // the box: exact; the shell with the (p + 1)-point rule: the rational Jacobian's
-      // quadrature error (~ 1e-7 relative here, observed 2-D: 3e-9 on 5 x 3 elements)
-      EXPECT_NEAR(vol, volume(b), (b.curved ? 1e-5 : 1e-14) * volume(b)) << name(b);
+        EXPECT_LT(worst_sum, 1e-14) << name(b);
+        EXPECT_LT(worst_grad, 1e-12) << name(b);
+        // the box: exact (round-off); the shell with the (p + 1)-point rule: the quadrature error of
+        // the rational Jacobian, which 12 points remove (PartitionOfUnityGeometryAndVolume); the
+        // 2-D annulus shows 3e-9 at p = 2 on 5 x 3 elements (test_kernels), so 1e-7 bounds it here
+        EXPECT_NEAR(vol, volume(b), (b.curved ? 1e-7 : 1e-14) * volume(b)) << name(b);
+        std::printf("  basis kernel: %s: |sum R - 1| %.1e, |sum grad R| %.1e, volume error %.1e\n", name(b).c_str(),
+                    worst_sum, worst_grad, std::abs(vol - volume(b)) / volume(b));
+      } else {
+        ADD_FAILURE() << "dispatch(3, ..) called the D = " << D << " branch";
+      }
     });
   }
 }
