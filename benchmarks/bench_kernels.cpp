@@ -9,6 +9,12 @@
 //   BM_Formation<P>/rows:r  dofs/s, quadrature points/s of the whole tangent (stage 2.2, refilled in place)
 //                           on a curved rational patch (quarter annulus, ~ 1.4e4 dofs, spline rule):
 //                           r = 0 the element loop, 1 row-wise sum factorisation (solver.formation)
+//   BM_Formation3D<P>/m/sf  the 3-D element loop (AssembleInternalT<3, P>: internal force and tangent,
+//                           element matrices in the batched work view, summed into a KokkosSparse
+//                           matrix) on a box of n^3 elements, Gauss (P + 1)^3 points, at a smooth
+//                           displacement; m = 0 linear, 2 neo-Hookean; sf = 1: the tangent by
+//                           element-wise sum factorisation (kernels/elasticity_sf3.hpp). dofs/s,
+//                           elements/s and GFLOP/s (the element loop's flop count, kernels/elasticity.hpp)
 //   BM_ContactProjection/M  projections/s on a degree-2 master curve of M elements
 //   BM_SpMV / BM_StreamCopy GB/s of the assembled elasticity matrix, and the copy limit
 // Rates are per wall-clock second (UseRealTime), so that threaded runs count every thread.
@@ -23,6 +29,7 @@
 #include "kernels/elasticity.hpp"
 #include "solver/contact.hpp"
 #include "solver/system.hpp"
+#include "tests/patches3d.hpp"
 
 using namespace iga;
 
@@ -46,7 +53,7 @@ void BM_Basis(benchmark::State& st) {
   const Problem prob = block_problem(P, elements_for(P));
   System sys(prob, Tpetra::getDefaultComm());
   EvaluateBasis<P> k;
-  k.pd = sys.blocks()[0].pd; k.g0 = gauss_rule(P + 1); k.g1 = gauss_rule(P + 1);
+  k.pd = sys.blocks()[0].pd; k.g[0] = gauss_rule(P + 1); k.g[1] = gauss_rule(P + 1);
   const int ne = prob.bodies[0].patches[0].num_elements();
   k.run(ne);
   for (auto _ : st) { k.run(ne); Kokkos::fence(); }
@@ -175,6 +182,44 @@ void BM_Scatter(benchmark::State& st) {
   st.counters["matrix nnz"] = static_cast<double>(A->getGlobalNumEntries());
 }
 
+// 3-D: the element loop on a box of n^3 elements of degree P (tests/patches3d.hpp).
+template <int P>
+void BM_Formation3D(benchmark::State& st) {
+  const int n = P == 1 ? 12 : P == 2 ? 8 : P == 3 ? 5 : 3;
+  const test3d::Block3 b = test3d::box({P, P, P}, {n, n, n});
+  const HostPatchData3 hpd = test3d::patch_data<Kokkos::HostSpace>(b);
+  const int ncp = static_cast<int>(b.cp.size()), ne = hpd.num_elements();
+  std::vector<double> u(3 * ncp);
+  for (int a = 0; a < ncp; ++a)
+    for (int c = 0; c < 3; ++c) u[3 * a + c] = 0.05 * std::sin(b.cp[a][(c + 1) % 3] + c);
+  test3d::Crs K = test3d::make_matrix(hpd);
+  const GaussRule g = gauss_rule(P + 1);
+  AssembleInternalT<3, P, test3d::Crs> k{test3d::patch_data<MemSpace>(b), Material::solid(static_cast<int>(st.range(0)), 1.0, 0.3),
+                                         {g, g, g}, 0};
+  k.scatter.A = K;
+  k.scatter.sorted_A = true;
+  k.u = test3d::to_view<double, MemSpace>("u", u);
+  k.f = Kokkos::View<double*, MemSpace>("f", 3 * ncp);
+  k.force = k.tangent = true;
+  k.sum_factorized = st.range(1) != 0;
+  for (auto _ : st) {
+    Kokkos::deep_copy(K.values, 0.0);
+    Kokkos::deep_copy(k.f, 0.0);
+    k.run(ne);
+    Kokkos::fence();
+  }
+  constexpr double nen = (P + 1) * (P + 1) * (P + 1);
+  const double qp = static_cast<double>(ne) * nen * st.iterations();   // (P + 1)^3 Gauss points
+  // the element loop's count, whichever way the tangent is formed (so that GFLOP/s compares as
+  // time): basis 41 nen + 80, gradient 18 nen, material ~ 900 (neo-Hookean; linear ~ 54), force
+  // 18 nen, tangent rows 162 nen + blocks a <= b 27 nen (nen + 1) (kernels/elasticity.hpp)
+  const double flops = 41 * nen + 80 + 18 * nen + (st.range(0) == 0 ? 54 : 900) + 18 * nen + 162 * nen + 27 * nen * (nen + 1);
+  st.counters["dofs/s"] = benchmark::Counter(3.0 * ncp * st.iterations(), benchmark::Counter::kIsRate);
+  st.counters["elements/s"] = benchmark::Counter(static_cast<double>(ne) * st.iterations(), benchmark::Counter::kIsRate);
+  st.counters["GFLOP/s"] = benchmark::Counter(qp * flops * 1e-9, benchmark::Counter::kIsRate);
+  st.counters["dofs"] = 3.0 * ncp;
+}
+
 // Master: the outer arc (radius 2, 0..90 degrees) of a ring of M degree-2 elements. Slave: the
 // inner arc of a concentric ring 1e-3 outside it, 1024 degree-2 elements x 4 Gauss points =
 // 4096 slave points, every one with its closest point on the master. One iteration is
@@ -268,6 +313,10 @@ BENCHMARK_TEMPLATE(BM_Formation, 2)->ArgName("rows")->Arg(0)->Arg(1)->Unit(bench
 BENCHMARK_TEMPLATE(BM_Formation, 3)->ArgName("rows")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_TEMPLATE(BM_Formation, 4)->ArgName("rows")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_TEMPLATE(BM_Formation, 5)->ArgName("rows")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_Formation3D, 1)->ArgNames({"model", "sf"})->ArgsProduct({{0, 2}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_Formation3D, 2)->ArgNames({"model", "sf"})->ArgsProduct({{0, 2}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_Formation3D, 3)->ArgNames({"model", "sf"})->ArgsProduct({{0, 2}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_Formation3D, 4)->ArgNames({"model", "sf"})->ArgsProduct({{0, 2}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_ContactProjection)->ArgNames({"M", "warm"})->ArgsProduct({{16, 64, 256, 1024, 4096}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_SpMV)->Arg(64)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_StreamCopy)->Arg(1 << 16)->Arg(1 << 25)->Unit(benchmark::kMillisecond)->UseRealTime();

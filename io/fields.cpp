@@ -21,8 +21,8 @@ BodyField::BodyField(const Problem& P, int body, const std::vector<double>& u, i
       u_(P.bodies[body].patch_values(patch, u)) {}
 
 FieldPoint BodyField::eval(double u, double v, int s0, int s1) const {
-  if (s0 < 0) s0 = find_span(pd_.n[0], pd_.p[0], u, pd_.U0.data());
-  if (s1 < 0) s1 = find_span(pd_.n[1], pd_.p[1], v, pd_.U1.data());
+  if (s0 < 0) s0 = find_span(pd_.n[0], pd_.p[0], u, pd_.U[0].data());
+  if (s1 < 0) s1 = find_span(pd_.n[1], pd_.p[1], v, pd_.U[1].data());
   FieldPoint f;
   double g[2][2] = {{0, 0}, {0, 0}};
   dispatch_degree(std::max(pd_.p[0], pd_.p[1]), [&](auto PP) {

@@ -67,8 +67,8 @@ struct AssembleSideLoad {
     if (pe < e_begin || pe >= e_end) return;
     const int d = (load.side <= 1) ? 1 : 0;  // parameter direction along the side
     const int p = pd.p[d], nb = pd.n[d];
-    const double* U = d == 0 ? pd.U0.data() : pd.U1.data();
-    const int s = d == 0 ? pd.span0(k) : pd.span1(k);
+    const double* U = pd.U[d].data();
+    const int s = pd.span[d](k);
     const double a = U[s], b = U[s + 1], h = 0.5 * (b - a);
     const double umin = U[0], umax = U[nb + p];
     for (int q = 0; q < g.n; ++q) {
@@ -126,8 +126,8 @@ struct AssembleFollowerPressure {
     if (pe < e_begin || pe >= e_end) return;
     const int d = (load.side <= 1) ? 1 : 0;
     const int p = pd.p[d], nb = pd.n[d];
-    const double* U = d == 0 ? pd.U0.data() : pd.U1.data();
-    const int s = d == 0 ? pd.span0(k) : pd.span1(k);
+    const double* U = pd.U[d].data();
+    const int s = pd.span[d](k);
     const double a = U[s], b = U[s + 1], h = 0.5 * (b - a);
     const double umin = U[0], umax = U[nb + p];
     const double sgn = ((load.side == 1 || load.side == 2) ? 1.0 : -1.0) * load.orientation;

@@ -1,6 +1,10 @@
 #pragma once
 // Tangent of plane elasticity on a NURBS patch by sum factorisation over the whole patch, row
-// by row (solver.formation: sum_factorized, the default). The same matrix as the element loop
+// by row (solver.formation: sum_factorized, the default). 2-D only (PatchData = PatchDataT<2>):
+// in 3-D the tangent is formed element by element (kernels/elasticity.hpp, AssembleInternalT<3>),
+// by the element loop or by the element-wise sum factorisation (kernels/elasticity_sf3.hpp); the
+// patch-wide row-wise form of this algorithm in 3-D (q3, q2, q1 contractions, planes (a2, a3))
+// is not written. The same matrix as the element loop
 // (kernels/elasticity.hpp, solver.formation: elements, the reference) up to round-off, for
 // every material and either element rule; the internal force stays with the element loop.
 //
@@ -52,6 +56,10 @@
 
 namespace iga {
 
+/// 2-D only (the 3-D tangent is formed by the element loop, AssembleInternalT<3, ..>): the
+/// weight's index in PatchData::cp.
+constexpr int kW = 2;
+
 /// The 1-D tables of one patch and element range (see the header): built on the host once.
 struct SumFactorTables {
   int nq[2] = {0, 0};
@@ -81,7 +89,7 @@ inline void build_direction(const PD& pd, int d, const GaussRule& g, Kokkos::Vie
                             Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>& B, int& nq,
                             SumFactorRows* host) {
   const int ne = pd.ne[d], p = pd.p[d], n = pd.n[d];
-  const auto& off_dev = d == 0 ? pd.qoff0 : pd.qoff1;
+  const auto& off_dev = pd.qoff[d];
   std::vector<int> h_off(ne + 1);
   if (off_dev.extent(0) > 0) {
     auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), off_dev);
@@ -90,7 +98,7 @@ inline void build_direction(const PD& pd, int d, const GaussRule& g, Kokkos::Vie
     for (int k = 0; k <= ne; ++k) h_off[k] = k * g.n;
   }
   nq = h_off[ne];
-  auto h_span = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), d == 0 ? pd.span0 : pd.span1);
+  auto h_span = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.span[d]);
   std::vector<int> h_qel(nq), h_flo(n), h_fhi(n);
   for (int k = 0; k < ne; ++k)
     for (int q = h_off[k]; q < h_off[k + 1]; ++q) h_qel[q] = k;
@@ -117,8 +125,8 @@ inline void build_direction(const PD& pd, int d, const GaussRule& g, Kokkos::Vie
   B = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>("sf::B", nq, 2 * (p + 1));
   const auto wv = w;
   const auto Bv = B;
-  const auto span = d == 0 ? pd.span0 : pd.span1;
-  const auto U = d == 0 ? pd.U0 : pd.U1;
+  const auto span = pd.span[d];
+  const auto U = pd.U[d];
   const auto off = qoff;
   const PD pdc = pd;
   Kokkos::parallel_for(
@@ -184,7 +192,7 @@ inline SumFactorPatch sum_factor_tables(const PatchData& pd, const GaussRule& g0
   sf_detail::build_direction(pd, 1, g1, t.w1, t.qel1, t.qoff1, t.flo1, t.fhi1, t.B1, t.nq[1], &h);
   auto cp = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.cp);
   for (size_t a = 1; a < cp.extent(0); ++a)
-    if (cp(a, 2) != cp(0, 2)) t.rational = true;
+    if (cp(a, kW) != cp(0, kW)) t.rational = true;
   Kokkos::fence();
   return sp;
 }
@@ -216,7 +224,7 @@ struct SumFactorizedTangent {
       return;
     }
     const int p0 = pd.p[0], p1 = pd.p[1];
-    const int s0 = pd.span0(e0), s1 = pd.span1(e1);
+    const int s0 = pd.span[0](e0), s1 = pd.span[1](e1);
     double N[2][P + 1], M[2][P + 1];
     for (int l = 0; l <= p0; ++l) {
       N[0][l] = t.B0(q1, l);
@@ -235,12 +243,12 @@ struct SumFactorizedTangent {
       double A[5] = {0, 0, 0, 0, 0}, Bd[5] = {0, 0, 0, 0, 0};
       for (int i = 0; i <= p0; ++i) {
         const int g = s0 - p0 + i + (s1 - p1 + j) * pd.n[0];
-        const double w = pd.cp(g, 2);
+        const double w = pd.cp(g, kW);
         double c[5] = {w * pd.cp(g, 0), w * pd.cp(g, 1), w, 0.0, 0.0};
         if (have_u) {
           const int l = pd.lid(g);
-          c[3] = w * u(2 * l);
-          c[4] = w * u(2 * l + 1);
+          c[3] = w * u(dof_of(l, 0, 2));
+          c[4] = w * u(dof_of(l, 1, 2));
         }
         for (int k = 0; k < nk; ++k) {
           A[k] += N[0][i] * c[k];
@@ -293,7 +301,7 @@ struct SumFactorizedTangent {
     const int elo = t.flo1(a2) > ec0 ? t.flo1(a2) : ec0, ehi = t.fhi1(a2) < ec1 ? t.fhi1(a2) : ec1;
     const int ldc = static_cast<int>(C.extent(2));
     for (int e1 = elo; e1 < ehi; ++e1) {
-      const int la = a2 - (pd.span1(e1) - p1);
+      const int la = a2 - (pd.span[1](e1) - p1);
       for (int q2 = t.qoff1(e1); q2 < t.qoff1(e1 + 1); ++q2) {
         const double ma0 = t.B1(q2, la), ma1 = t.B1(q2, p1 + 1 + la);
         const double* Cq = &C(q2 - q2base, 0, 0);
@@ -318,7 +326,7 @@ struct SumFactorizedTangent {
       for (int e0 = t.flo0(a1); e0 < t.fhi0(a1); ++e0) {
         // the element's points: products N^(xa)_a1 N^(xb)_b1 per point and b1, then per (t, b1)
         // the sum over the points in registers
-        const int s0 = pd.span0(e0), la = a1 - (s0 - p0);
+        const int s0 = pd.span[0](e0), la = a1 - (s0 - p0);
         const int qb = t.qoff0(e0), nqe = t.qoff0(e0 + 1) - qb;
         double nn[kMaxGauss][P + 1][4];
         for (int q = 0; q < nqe; ++q) {
@@ -354,7 +362,7 @@ struct SumFactorizedTangent {
     for (int a1 = 0; a1 < n0; ++a1) {
       const int ca = a1 + n0 * a2;
       if (pd.lid(ca) < 0) continue;
-      const double wa = pd.cp(ca, 2);
+      const double wa = pd.cp(ca, kW);
       const double* acc = &Ac(slot, a1, 0);
       int cps[(P + 1) * W1];
       double vals[2][2 * (P + 1) * W1];
@@ -363,7 +371,7 @@ struct SumFactorizedTangent {
         for (int b1 = (tt == 0 ? a1 : (a1 > p0 ? a1 - p0 : 0)); b1 <= a1 + p0 && b1 < n0; ++b1) {
           const int cb = b1 + n0 * (a2 + tt);
           if (pd.lid(cb) < 0) continue;
-          const double sc = wa * pd.cp(cb, 2);
+          const double sc = wa * pd.cp(cb, kW);
           const double* o = acc + (tt * W + b1 - a1 + p0) * 4;
           cps[nb] = cb;
           for (int i = 0; i < 2; ++i)
@@ -378,7 +386,7 @@ struct SumFactorizedTangent {
       for (int b1 = 0; b1 < n0; ++b1) {
         const int cb = b1 + n0 * (a2 + tt);
         if (pd.lid(cb) < 0) continue;
-        const double wb = pd.cp(cb, 2);
+        const double wb = pd.cp(cb, kW);
         int cps[W1];
         double vals[2][2 * W1];
         int na = 0;
@@ -386,7 +394,7 @@ struct SumFactorizedTangent {
         for (int a1 = (b1 > p0 ? b1 - p0 : 0); a1 <= hi && a1 < n0; ++a1) {
           const int ca = a1 + n0 * a2;
           if (pd.lid(ca) < 0) continue;
-          const double sc = wb * pd.cp(ca, 2);
+          const double sc = wb * pd.cp(ca, kW);
           const double* o = &Ac(slot, a1, (tt * W + b1 - a1 + p0) * 4);
           cps[na] = ca;
           for (int k = 0; k < 2; ++k)

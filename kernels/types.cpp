@@ -53,4 +53,17 @@ Material Material::finite(int model, double E, double nu, double t) {
   return m;
 }
 
+Material Material::solid(int model, double E, double nu) {
+  Material m;
+  m.model = model;
+  m.lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
+  m.mu = E / (2 * (1 + nu));
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) m.D[i][j] = m.lambda;
+    m.D[i][i] = m.lambda + 2 * m.mu;
+    m.D[3 + i][3 + i] = m.mu;
+  }
+  return m;
+}
+
 }  // namespace iga

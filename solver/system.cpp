@@ -40,10 +40,10 @@ void set_patch_shape(PD& pd, const Patch& P) {
 PatchData make_patch_data(const Patch& P) {
   PatchData pd;
   set_patch_shape(pd, P);
-  pd.U0 = to_device("U0", P.knots[0]);
-  pd.U1 = to_device("U1", P.knots[1]);
-  pd.span0 = to_device("span0", P.element_spans(0));
-  pd.span1 = to_device("span1", P.element_spans(1));
+  pd.U[0] = to_device("U0", P.knots[0]);
+  pd.U[1] = to_device("U1", P.knots[1]);
+  pd.span[0] = to_device("span0", P.element_spans(0));
+  pd.span[1] = to_device("span1", P.element_spans(1));
   Kokkos::View<double* [3], MemSpace> cp("cp", P.cp.size());
   auto h = Kokkos::create_mirror_view(cp);
   for (size_t a = 0; a < P.cp.size(); ++a)
@@ -70,9 +70,9 @@ void set_quadrature(PatchBlock& bd, const Patch& pt, Quadrature q) {
     }
     what[d] = "spline";
     nodes[d] = static_cast<int>(r.x.size());
-    (d == 0 ? bd.pd.qx0 : bd.pd.qx1) = to_device(d == 0 ? "qx0" : "qx1", r.x);
-    (d == 0 ? bd.pd.qw0 : bd.pd.qw1) = to_device(d == 0 ? "qw0" : "qw1", r.w);
-    (d == 0 ? bd.pd.qoff0 : bd.pd.qoff1) = to_device(d == 0 ? "qoff0" : "qoff1", r.off);
+    bd.pd.qx[d] = to_device(d == 0 ? "qx0" : "qx1", r.x);
+    bd.pd.qw[d] = to_device(d == 0 ? "qw0" : "qw1", r.w);
+    bd.pd.qoff[d] = to_device(d == 0 ? "qoff0" : "qoff1", r.off);
   }
   bd.quadrature_points = nodes[0] * nodes[1];
   bd.quadrature = what[0] == what[1] ? what[0] : what[0] + " x " + what[1];
@@ -570,8 +570,8 @@ void System::assemble_internal(const Vector* u, Vector* f_int, RCP<Matrix>* K, c
 HostPatchData host_patch_data(const Patch& P) {
   HostPatchData pd;
   set_patch_shape(pd, P);
-  pd.U0 = Kokkos::View<const double*, Kokkos::HostSpace>(P.knots[0].data(), P.knots[0].size());
-  pd.U1 = Kokkos::View<const double*, Kokkos::HostSpace>(P.knots[1].data(), P.knots[1].size());
+  pd.U[0] = Kokkos::View<const double*, Kokkos::HostSpace>(P.knots[0].data(), P.knots[0].size());
+  pd.U[1] = Kokkos::View<const double*, Kokkos::HostSpace>(P.knots[1].data(), P.knots[1].size());
   pd.cp = Kokkos::View<const double* [3], Kokkos::HostSpace>(P.cp[0].data(), P.cp.size());
   return pd;
 }

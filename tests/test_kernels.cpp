@@ -176,7 +176,7 @@ TEST(BasisKernel, PartitionOfUnityAndExactArea) {
     double area = 0, worst_sum = 0, worst_grad = 0;
     dispatch_degree(p, [&](auto PP) {
       EvaluateBasis<decltype(PP)::value> k;
-      k.pd = bd.pd; k.g0 = gauss_rule(p + 1); k.g1 = gauss_rule(p + 1); k.e_begin = 0;
+      k.pd = bd.pd; k.g[0] = gauss_rule(p + 1); k.g[1] = gauss_rule(p + 1); k.e_begin = 0;
       const int ne = prob.bodies[0].patches[0].num_elements();
       k.run(ne);
       auto R = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), k.R);
