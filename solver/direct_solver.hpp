@@ -35,6 +35,7 @@ struct DirectSolverStats {
   long long factor_entries = 0;   // entries in the factors (INFOG(29))
   std::string ordering;      // the fill-reducing ordering MUMPS chose (INFOG(7))
   double factor_seconds = 0;      // wall time of the last factorisation
+  double factor_flops = 0;        // operations of the last factorisation, all ranks (MUMPS RINFOG(3))
 };
 
 class DirectSolver {
