@@ -10,12 +10,13 @@
 //
 // Finite kinematics: a pressure follows the deformed side (AssembleFollowerPressure below).
 #include "kernels/scatter.hpp"
+#include "kernels/sides.hpp"
 #include "kernels/types.hpp"
 
 namespace iga {
 
 struct SideLoad {
-  int side = 0;          // 0 west, 1 east, 2 south, 3 north
+  int side = 0;          // 0 west, 1 east, 2 south, 3 north: 2 direction + end (kernels/sides.hpp)
   int kind = 0;          // 1 pressure (and linear pressure), 3 traction
   double p0 = 0, p1 = 0; // pressure at the side's start and end
   double t[2] = {0, 0};
@@ -24,29 +25,15 @@ struct SideLoad {
 };
 
 /// Control point index of the k-th control point along a side.
-KOKKOS_INLINE_FUNCTION int side_cp(const PatchData& pd, int side, int k) {
-  switch (side) {
-    case 0: return k * pd.n[0];
-    case 1: return pd.n[0] - 1 + k * pd.n[0];
-    case 2: return k;
-    default: return k + (pd.n[1] - 1) * pd.n[0];
-  }
-}
+KOKKOS_INLINE_FUNCTION int side_cp(const PatchData& pd, int side, int k) { return side_tensor_index(side, &k, pd.n, 2); }
 
 /// Patch element that element k along a side belongs to.
-KOKKOS_INLINE_FUNCTION int side_patch_element(const PatchData& pd, int side, int k) {
-  switch (side) {
-    case 0: return k * pd.ne[0];
-    case 1: return pd.ne[0] - 1 + k * pd.ne[0];
-    case 2: return k;
-    default: return k + (pd.ne[1] - 1) * pd.ne[0];
-  }
-}
+KOKKOS_INLINE_FUNCTION int side_patch_element(const PatchData& pd, int side, int k) { return side_tensor_index(side, &k, pd.ne, 2); }
 
-/// Outward unit normal of a side from the tangent dx/dxi along it.
+/// Outward unit normal of a side from the tangent dx/dxi along it (the sign rule of kernels/sides.hpp).
 KOKKOS_INLINE_FUNCTION void side_normal(int side, int orientation, const double t[2], double n[2]) {
   const double len = kmath::sqrt(t[0] * t[0] + t[1] * t[1]);
-  const double s = ((side == 1 || side == 2) ? 1.0 : -1.0) * orientation;
+  const double s = static_cast<double>(side_normal_sign(side)) * orientation;
   n[0] = s * t[1] / len;
   n[1] = -s * t[0] / len;
 }
@@ -65,7 +52,7 @@ struct AssembleSideLoad {
   KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
     const int pe = patch_element(k);
     if (pe < e_begin || pe >= e_end) return;
-    const int d = (load.side <= 1) ? 1 : 0;  // parameter direction along the side
+    const int d = side_tangent_direction(load.side);  // parameter direction along the side
     const int p = pd.p[d], nb = pd.n[d];
     const double* U = d == 0 ? pd.U0.data() : pd.U1.data();
     const int s = d == 0 ? pd.span0(k) : pd.span1(k);
@@ -124,13 +111,13 @@ struct AssembleFollowerPressure {
   KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
     const int pe = patch_element(k);
     if (pe < e_begin || pe >= e_end) return;
-    const int d = (load.side <= 1) ? 1 : 0;
+    const int d = side_tangent_direction(load.side);
     const int p = pd.p[d], nb = pd.n[d];
     const double* U = d == 0 ? pd.U0.data() : pd.U1.data();
     const int s = d == 0 ? pd.span0(k) : pd.span1(k);
     const double a = U[s], b = U[s + 1], h = 0.5 * (b - a);
     const double umin = U[0], umax = U[nb + p];
-    const double sgn = ((load.side == 1 || load.side == 2) ? 1.0 : -1.0) * load.orientation;
+    const double sgn = static_cast<double>(side_normal_sign(load.side)) * load.orientation;
     int cps[kMaxBasis1D];
     double x[kMaxBasis1D][2];   // current positions of the side's control points
     for (int j = 0; j <= p; ++j) {

@@ -203,7 +203,7 @@ KOKKOS_INLINE_FUNCTION void gather_slip_point(const CurveData& s, const CurveDat
   }
   d.eta = sp.mxi(i);
   d.eta_ref = fr.ref_valid(i) ? fr.ref_mxi(i) : sp.mxi(i);
-  d.sn = ((m.side == 1 || m.side == 2) ? 1.0 : -1.0) * m.orientation;
+  d.sn = static_cast<double>(side_normal_sign(m.side)) * m.orientation;
 }
 
 /// S = d(ds)/du (values and derivatives: dS/du), ds and the gap g, all as Fad over the point's

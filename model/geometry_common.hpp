@@ -33,8 +33,6 @@ std::string read_file_text(const std::string& path);
 // The side of a 1-based G+Smo / GeoPDEs side number (both: 1 west, 2 east, 3 south, 4 north).
 inline Side side_of_number(long k) { return static_cast<Side>(k - 1); }
 inline int number_of_side(Side s) { return static_cast<int>(s) + 1; }
-inline int side_direction(Side s) { return static_cast<int>(s) / 2; }   // the fixed parameter: 0 u, 1 v
-inline int side_parameter(Side s) { return static_cast<int>(s) % 2; }   // at its start (0) or end (1)
 
 std::string side_text(const PatchSide& s);
 // Knot vector checks with the format's own words; Patch::validate() runs afterwards as well.

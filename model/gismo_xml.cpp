@@ -276,7 +276,7 @@ void read_xml_topology(const XMLObject& m, const std::string& where,
       Interface f;
       f.a = {patch_of(e[0], w), side_of(e[1], w)};
       f.b = {patch_of(e[2], w), side_of(e[3], w)};
-      const int t1 = 1 - side_direction(f.a.side), t2 = 1 - side_direction(f.b.side);
+      const int t1 = side_tangent_direction(f.a.side), t2 = side_tangent_direction(f.b.side);
       if (legacy) {
         long o;
         if (!to_int(e[4], o)) fail(w, "orientation " + quote(e[4]) + " is not an integer");
@@ -471,7 +471,7 @@ std::string gismo_xml_text(const std::vector<const MultiPatch*>& multipatches) {
         int map[2], orient[2];
         map[d1] = d2;
         map[1 - d1] = 1 - d2;
-        orient[d1] = side_parameter(f.a.side) == side_parameter(f.b.side);
+        orient[d1] = side_end(f.a.side) == side_end(f.b.side);
         orient[1 - d1] = !f.reversed;
         os << ps(f.a) << " " << ps(f.b) << " " << map[0] << " " << map[1] << " " << orient[0] << " " << orient[1] << "\n";
       }

@@ -71,7 +71,7 @@ int coincide(const std::vector<Point3>& a, const std::vector<Point3>& b, double 
 
 // A side's knots mapped onto [0, 1], reversed if asked.
 std::vector<double> unit_knots(const Patch& P, Side s, bool reversed) {
-  const auto& U = P.knots[(s == Side::West || s == Side::East) ? 1 : 0];
+  const auto& U = P.knots[side_tangent_direction(s)];
   std::vector<double> v;
   const double a = U.front(), b = U.back();
   for (double u : U) v.push_back((u - a) / (b - a));
@@ -94,7 +94,7 @@ std::string knots_text(const std::vector<double>& v) {
 
 // "" when the two sides (coincident control points) carry the same basis: degree and knots.
 std::string same_basis(const Patch& P, Side s, const Patch& Q, Side t, bool reversed, const std::string& names) {
-  const int dp = P.degree[(s == Side::West || s == Side::East) ? 1 : 0], dq = Q.degree[(t == Side::West || t == Side::East) ? 1 : 0];
+  const int dp = P.degree[side_tangent_direction(s)], dq = Q.degree[side_tangent_direction(t)];
   const auto a = unit_knots(P, s, false), b = unit_knots(Q, t, reversed);
   bool same = dp == dq && a.size() == b.size();
   for (size_t k = 0; same && k < a.size(); ++k) same = std::abs(a[k] - b[k]) <= 1e-12;
@@ -105,7 +105,7 @@ std::string same_basis(const Patch& P, Side s, const Patch& Q, Side t, bool reve
 }
 
 int base_normal_sign(const Patch& P, Side s) {
-  return ((s == Side::East || s == Side::South) ? 1 : -1) * P.orientation();
+  return side_normal_sign(s) * P.orientation();
 }
 
 }  // namespace
@@ -227,12 +227,13 @@ int SurfaceChain::locate(const std::vector<Patch>& patches, double t, double& u,
   const double f = std::clamp((t - pc.t0) / (pc.t1 - pc.t0), 0.0, 1.0);
   const double s = pc.reversed ? pc.b - f * (pc.b - pc.a) : pc.a + f * (pc.b - pc.a);
   const Patch& P = patches[pc.side.patch];
-  switch (pc.side.side) {
-    case Side::West: u = P.knots[0].front(); v = s; break;
-    case Side::East: u = P.knots[0].back(); v = s; break;
-    case Side::South: u = s; v = P.knots[1].front(); break;
-    case Side::North: u = s; v = P.knots[1].back(); break;
-  }
+  // the fixed direction at its first or last knot, the free one at s
+  double uv[2];
+  const int d = side_direction(pc.side.side);
+  uv[d] = side_end(pc.side.side) == 1 ? P.knots[d].back() : P.knots[d].front();
+  uv[1 - d] = s;
+  u = uv[0];
+  v = uv[1];
   return pc.side.patch;
 }
 

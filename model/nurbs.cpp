@@ -264,19 +264,14 @@ void Patch::elevate(int d, int t) {
 
 std::vector<int> Patch::side_indices(Side s) const {
   std::vector<int> idx;
-  const int n0 = ncp(0), n1 = ncp(1);
-  switch (s) {
-    case Side::West: for (int j = 0; j < n1; ++j) idx.push_back(index(0, j)); break;
-    case Side::East: for (int j = 0; j < n1; ++j) idx.push_back(index(n0 - 1, j)); break;
-    case Side::South: for (int i = 0; i < n0; ++i) idx.push_back(index(i, 0)); break;
-    case Side::North: for (int i = 0; i < n0; ++i) idx.push_back(index(i, n1 - 1)); break;
-  }
+  const int n[2] = {ncp(0), ncp(1)};
+  for (int k = 0; k < n[side_tangent_direction(s)]; ++k) idx.push_back(side_tensor_index(static_cast<int>(s), &k, n, 2));
   return idx;
 }
 
 Curve Patch::side_curve(Side s) const {
   Curve c;
-  const int d = (s == Side::West || s == Side::East) ? 1 : 0;
+  const int d = side_tangent_direction(s);
   c.degree = degree[d];
   c.knots = knots[d];
   c.patch_index = side_indices(s);

@@ -9,9 +9,17 @@
 #include <string>
 #include <vector>
 
+#include "kernels/sides.hpp"
+
 namespace iga {
 
+/// A patch side, numbered 2 direction + end (kernels/sides.hpp: one rule for 2-D and 3-D).
 enum class Side { West = 0, East = 1, South = 2, North = 3 };
+constexpr int side_direction(Side s) { return side_direction(static_cast<int>(s)); }
+constexpr int side_end(Side s) { return side_end(static_cast<int>(s)); }
+constexpr Side side_of(int direction, int end) { return static_cast<Side>(side_number(direction, end)); }
+constexpr int side_normal_sign(Side s) { return side_normal_sign(static_cast<int>(s)); }
+constexpr int side_tangent_direction(Side s) { return side_tangent_direction(static_cast<int>(s)); }
 const char* side_name(Side s);
 bool parse_side(const std::string& name, Side& s);
 

@@ -156,7 +156,7 @@ void System::assemble_internal(const Vector* u, Vector* f_int, RCP<Matrix>* K, c
         k.load.p1 = at(sc.p1);
         k.load.scale = P_.thickness;
         k.load.orientation = bd.orientation;
-        const int d = side <= 1 ? 1 : 0;
+        const int d = side_tangent_direction(side);
         k.g = gauss_rule(bd.pd.p[d] + 1);
         k.e_begin = bd.e_begin;
         k.e_end = bd.e_end;

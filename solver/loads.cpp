@@ -37,7 +37,7 @@ RCP<Vector> System::assemble_loads(double lambda, int stage) const {
         k.load.t[0] = sc.traction[stage][0]; k.load.t[1] = sc.traction[stage][1];
         k.load.scale = lambda * P_.thickness;
         k.load.orientation = bd.orientation;
-        const int d = s <= 1 ? 1 : 0;
+        const int d = side_tangent_direction(s);
         k.g = gauss_rule(bd.pd.p[d] + 1);
         k.f = f;
         k.e_begin = bd.e_begin; k.e_end = bd.e_end;
@@ -56,8 +56,7 @@ RCP<Vector> System::assemble_loads(double lambda, int stage) const {
       for (size_t k = 0; k < spans.size(); ++k) {
         const int s = spans[k];
         // the side element belongs to the rank owning its patch element
-        const int side = static_cast<int>(ut.side), ne0 = bd.pd.ne[0], ne1 = bd.pd.ne[1], kk = static_cast<int>(k);
-        const int pe = side == 0 ? kk * ne0 : side == 1 ? ne0 - 1 + kk * ne0 : side == 2 ? kk : kk + (ne1 - 1) * ne0;
+        const int pe = side_patch_element(bd.pd, static_cast<int>(ut.side), static_cast<int>(k));
         if (pe < bd.e_begin || pe >= bd.e_end) continue;
         const double a = c.knots[s], b = c.knots[s + 1], hh = 0.5 * (b - a);
         for (int q = 0; q < g.n; ++q) {
