@@ -103,7 +103,7 @@ BezierMesh bezier_mesh(const Problem& P, const std::vector<std::vector<double>>&
       std::vector<std::array<double, 2>> tb(t);
       for (int j1 = 0; j1 <= s; ++j1)
         for (int j0 = 0; j0 <= s; ++j0) tb.push_back({static_cast<double>(j0) / s, static_cast<double>(j1) / s});
-      std::vector<Point3> pts(n);
+      std::vector<ControlPoint> pts(n);
       std::vector<double> u(2 * n), w(n), vals(5 * n), coef(5 * n), lo(5), hi(5);
       for (int e = 0; e < B.num_elements(); ++e) {
         B.element_points(e, pts.data());
@@ -120,7 +120,7 @@ BezierMesh bezier_mesh(const Problem& P, const std::vector<std::vector<double>>&
             hi[q] = std::max(hi[q], v[q]);
           }
           if (j < static_cast<size_t>(n)) {
-            w[j] = pts[j][2];
+            w[j] = pts[j].w;
             std::copy(v, v + 5, &vals[5 * j]);
           }
         }
@@ -135,10 +135,10 @@ BezierMesh bezier_mesh(const Problem& P, const std::vector<std::vector<double>>&
         m.von_mises.resize(base + n);
         for (int k = 0; k < n; ++k) {
           const size_t q = base + vtk_quad_point_index(k % n0, k / n0, p0, p1);
-          m.points[3 * q] = pts[k][0];
-          m.points[3 * q + 1] = pts[k][1];
+          m.points[3 * q] = pts[k].x[0];
+          m.points[3 * q + 1] = pts[k].x[1];
           m.points[3 * q + 2] = 0.0;
-          m.weights[q] = pts[k][2];
+          m.weights[q] = pts[k].w;
           m.displacement[3 * q] = u[2 * k];
           m.displacement[3 * q + 1] = u[2 * k + 1];
           m.displacement[3 * q + 2] = 0.0;

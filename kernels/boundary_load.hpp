@@ -9,11 +9,16 @@
 // Cost per quadrature point: ~ 10 (p + 1) flops; reads the p + 1 side control points.
 //
 // Finite kinematics: a pressure follows the deformed side (AssembleFollowerPressure below).
+#include "kernels/numbering.hpp"
 #include "kernels/scatter.hpp"
 #include "kernels/sides.hpp"
 #include "kernels/types.hpp"
 
 namespace iga {
+
+/// Space dimension of the boundary kernels (side loads here, contact in kernels/contact_*.hpp):
+/// 2-D, sides are curves. Their dofs are dof_of(l, c, kBoundaryDim) (kernels/numbering.hpp).
+constexpr int kBoundaryDim = 2;
 
 struct SideLoad {
   int side = 0;          // 0 west, 1 east, 2 south, 3 north: 2 direction + end (kernels/sides.hpp)
@@ -80,7 +85,7 @@ struct AssembleSideLoad {
       for (int j = 0; j <= p; ++j) {
         const int l = pd.lid(side_cp(pd, load.side, s - p + j));
         if (l < 0) continue;
-        for (int c = 0; c < 2; ++c) Kokkos::atomic_add(&f(2 * l + c), R[0][j] * tr[c] * wq);
+        for (int c = 0; c < 2; ++c) Kokkos::atomic_add(&f(dof_of(l, c, kBoundaryDim)), R[0][j] * tr[c] * wq);
       }
     }
   }
@@ -123,9 +128,9 @@ struct AssembleFollowerPressure {
     for (int j = 0; j <= p; ++j) {
       cps[j] = side_cp(pd, load.side, s - p + j);
       const int l = pd.lid(cps[j]);
-      for (int c = 0; c < 2; ++c) x[j][c] = pd.cp(cps[j], c) + (u.extent(0) > 0 ? u(2 * l + c) : 0.0);
+      for (int c = 0; c < 2; ++c) x[j][c] = pd.cp(cps[j], c) + (u.extent(0) > 0 ? u(dof_of(l, c, kBoundaryDim)) : 0.0);
     }
-    double fe[2 * kMaxBasis1D] = {}, Ke[2 * kMaxBasis1D][2 * kMaxBasis1D] = {};
+    double fe[kBoundaryDim * kMaxBasis1D] = {}, Ke[kBoundaryDim * kMaxBasis1D][kBoundaryDim * kMaxBasis1D] = {};
     for (int q = 0; q < g.n; ++q) {
       const double uq = a + h * (g.x[q] + 1.0);
       double ders[3][kMaxBasis1D], w[kMaxBasis1D], R[3][kMaxBasis1D];
@@ -138,21 +143,20 @@ struct AssembleFollowerPressure {
       const double pr = load.p0 + (load.p1 - load.p0) * (uq - umin) / (umax - umin);
       const double wq = g.w[q] * h * load.scale * pr * sgn;
       for (int i = 0; i <= p; ++i) {
-        fe[2 * i] += R[0][i] * tan[1] * wq;
-        fe[2 * i + 1] -= R[0][i] * tan[0] * wq;
+        fe[dof_of(i, 0, kBoundaryDim)] += R[0][i] * tan[1] * wq;
+        fe[dof_of(i, 1, kBoundaryDim)] -= R[0][i] * tan[0] * wq;
         for (int j = 0; j <= p; ++j) {
-          Ke[2 * i][2 * j + 1] += R[0][i] * R[1][j] * wq;
-          Ke[2 * i + 1][2 * j] -= R[0][i] * R[1][j] * wq;
+          Ke[dof_of(i, 0, kBoundaryDim)][dof_of(j, 1, kBoundaryDim)] += R[0][i] * R[1][j] * wq;
+          Ke[dof_of(i, 1, kBoundaryDim)][dof_of(j, 0, kBoundaryDim)] -= R[0][i] * R[1][j] * wq;
         }
       }
     }
     if (force)
       for (int j = 0; j <= p; ++j) {
         const int l = pd.lid(cps[j]);
-        Kokkos::atomic_add(&f(2 * l), fe[2 * j]);
-        Kokkos::atomic_add(&f(2 * l + 1), fe[2 * j + 1]);
+        for (int c = 0; c < kBoundaryDim; ++c) Kokkos::atomic_add(&f(dof_of(l, c, kBoundaryDim)), fe[dof_of(j, c, kBoundaryDim)]);
       }
-    if (tangent) scatter.template add<kMaxBasis1D>(pd.lid, cps, p + 1, &Ke[0][0], 2 * kMaxBasis1D);
+    if (tangent) scatter.template add<kMaxBasis1D>(pd.lid, cps, p + 1, &Ke[0][0], kBoundaryDim * kMaxBasis1D);
   }
 };
 

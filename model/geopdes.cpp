@@ -197,7 +197,7 @@ MultiPatch read_geopdes(const std::string& path) {
                                          "; igacontact is 2-D, z must be 0");
     // Homogeneous (w x, w y, w) to Euclidean.
     P.cp.resize(n);
-    for (size_t a = 0; a < n; ++a) P.cp[a] = {coord[0][a] / w[a], coord[1][a] / w[a], w[a]};
+    for (size_t a = 0; a < n; ++a) P.cp[a] = ControlPoint{{coord[0][a] / w[a], coord[1][a] / w[a]}, w[a]};
     const std::string bad = P.validate();
     if (!bad.empty()) fail(in.at(start), pk + ": " + bad);
     mp.patches.push_back(std::move(P));
@@ -323,7 +323,7 @@ std::string geopdes_text(const MultiPatch& mp) {
        << P.knots[0].size() - P.degree[0] - 1 << " " << P.knots[1].size() - P.degree[1] - 1 << "\n";
     for (int d = 0; d < 2; ++d) os << number_row(P.knots[d]) << "\n";
     for (int c = 0; c < 3; ++c) {   // w x, w y, then w
-      for (size_t a = 0; a < P.cp.size(); ++a) os << (a ? " " : "") << fmt(c < 2 ? P.cp[a][c] * P.cp[a][2] : P.cp[a][2]);
+      for (size_t a = 0; a < P.cp.size(); ++a) os << (a ? " " : "") << fmt(c < 2 ? P.cp[a].x[c] * P.cp[a].w : P.cp[a].w);
       os << "\n";
     }
   }

@@ -199,7 +199,7 @@ Patch read_xml_patch(const XMLObject& g, const std::string& where) {
       if (!(w[a] > 0)) fail(ww, "weight " + std::to_string(a) + " is " + fmt(w[a]) + "; weights must be > 0");
   }
   P.cp.resize(n);
-  for (long a = 0; a < n; ++a) P.cp[a] = {coef(a, 0), coef(a, 1), w[a]};
+  for (long a = 0; a < n; ++a) P.cp[a] = ControlPoint{{coef(a, 0), coef(a, 1)}, w[a]};
   const std::string bad = P.validate();
   if (!bad.empty()) fail(where, bad);
   return P;
@@ -428,7 +428,7 @@ std::string gismo_xml_text(const std::vector<const MultiPatch*>& multipatches) {
       const Patch& P = mp->patches[k];
       const std::string bad = P.validate();
       if (!bad.empty()) error("multipatch " + std::to_string(m) + ", patch " + std::to_string(k) + ": " + bad);
-      const bool rational = std::any_of(P.cp.begin(), P.cp.end(), [](const Point3& c) { return c[2] != 1.0; });
+      const bool rational = std::any_of(P.cp.begin(), P.cp.end(), [](const ControlPoint& c) { return c.w != 1.0; });
       const std::string in = rational ? "   " : "  ";
       os << " <Geometry type=\"" << (rational ? "TensorNurbs2" : "TensorBSpline2") << "\" id=\"" << id << "\">\n";
       if (rational) os << "  <Basis type=\"TensorNurbsBasis2\">\n";
@@ -441,11 +441,11 @@ std::string gismo_xml_text(const std::vector<const MultiPatch*>& multipatches) {
       os << in << "</Basis>\n";
       if (rational) {
         os << "   <weights>\n";
-        for (const Point3& c : P.cp) os << fmt(c[2]) << "\n";
+        for (const ControlPoint& c : P.cp) os << fmt(c.w) << "\n";
         os << "</weights>\n  </Basis>\n";
       }
       os << "  <coefs geoDim=\"2\">\n";
-      for (const Point3& c : P.cp) os << fmt(c[0]) << " " << fmt(c[1]) << "\n";
+      for (const ControlPoint& c : P.cp) os << fmt(c.x[0]) << " " << fmt(c.x[1]) << "\n";
       os << "</coefs>\n </Geometry>\n";
     }
   }

@@ -2,9 +2,9 @@
 // Host-side NURBS geometry: 2-D tensor-product patches, their boundary curves, and the
 // refinements that leave the geometry unchanged (knot insertion, degree elevation).
 //
-// Storage: control points in Euclidean coordinates with a weight, cp[a] = {x, y, w},
-// a = i + j * ncp(0) (xi runs fastest). Refinement works in homogeneous coordinates
-// (w x, w y, w), where a NURBS patch is a plain B-spline patch.
+// Storage: control points in Euclidean coordinates with a named weight, cp[a] = {{x, y}, w}
+// (ControlPoint), a = i + j * ncp(0) (xi runs fastest). Refinement works in homogeneous
+// coordinates (w x, w y, w), where a NURBS patch is a plain B-spline patch.
 #include <array>
 #include <string>
 #include <vector>
@@ -23,13 +23,29 @@ constexpr int side_tangent_direction(Side s) { return side_tangent_direction(sta
 const char* side_name(Side s);
 bool parse_side(const std::string& name, Side& s);
 
-using Point3 = std::array<double, 3>;  // x, y, w
+/// Largest spatial dimension of the geometry: 2 today. 3-D changes this constant to 3 (a 2-D
+/// problem then carries z = 0 in every control point).
+constexpr int kMaxDim = 2;
+
+/// A control point: Euclidean coordinates x[0 .. kMaxDim) and its weight w, by name, so that no
+/// code reads the weight as a coordinate. Built as ControlPoint{{x, y}, w}; a bare {x, y, w}
+/// does not compile. Laid out as kMaxDim + 1 doubles {x..., w}, the row layout of the
+/// kernels' control point views (solver/patch_data.cpp's host_patch_data aliases it).
+struct ControlPoint {
+  std::array<double, kMaxDim> x{};
+  double w = 1.0;
+
+  ControlPoint() = default;
+  ControlPoint(const std::array<double, kMaxDim>& coords, double weight) : x(coords), w(weight) {}
+  bool operator==(const ControlPoint& o) const { return x == o.x && w == o.w; }
+  bool operator!=(const ControlPoint& o) const { return !(*this == o); }
+};
 
 /// A NURBS curve; `patch_index[k]` is the patch control point that control point k came from.
 struct Curve {
   int degree = 1;
   std::vector<double> knots;
-  std::vector<Point3> cp;
+  std::vector<ControlPoint> cp;
   std::vector<int> patch_index;
   int ncp() const { return static_cast<int>(cp.size()); }
   /// Parameter intervals [knots[s], knots[s+1]] of non-zero length: the curve's elements.
@@ -40,7 +56,7 @@ struct Curve {
 struct Patch {
   std::array<int, 2> degree{1, 1};
   std::array<std::vector<double>, 2> knots;
-  std::vector<Point3> cp;
+  std::vector<ControlPoint> cp;
 
   int ncp(int d) const { return static_cast<int>(knots[d].size()) - degree[d] - 1; }
   int index(int i, int j) const { return i + j * ncp(0); }

@@ -58,6 +58,10 @@ struct SideCondition {
 /// A body: one or several NURBS patches of one material. Patches meet along conforming
 /// interfaces, where their control points are merged (one set of dofs), so the displacement
 /// is continuous. Single-patch bodies are the case of one patch and no interfaces.
+/// Space dimension of every problem today (dofs per control point): 2. Problem::dim() and
+/// System::dim() give it at run time; 3-D makes it a property of the problem.
+constexpr int kDim = 2;
+
 struct Body {
   std::string name;
   double E = 0, nu = 0;
@@ -150,6 +154,8 @@ struct Problem {
   int load_steps = 1;              // all stages together
   std::vector<int> stages{1};      // load steps per stage (analysis.stages; else {load_steps})
   int num_stages() const { return static_cast<int>(stages.size()); }
+  /// Space dimension of the problem: 2 (plane strain or plane stress).
+  int dim() const { return kDim; }
   std::vector<Body> bodies;
   std::vector<ContactPair> contact;
   NewtonOptions newton;

@@ -1,6 +1,7 @@
 // Problem file: checks of the whole problem: rigid-body freedom, floating-point scales, and
 // whether it fits the machine.
 #include "model/yaml_reader.hpp"
+#include "kernels/numbering.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -22,8 +23,8 @@ namespace detail {
 // rigid motion is left free.
 int rigid_rank(const Body& b) {
   double G[3][3] = {};
-  auto add = [&](const Point3& cp, int c) {
-    const double x = cp[0], y = cp[1];
+  auto add = [&](const ControlPoint& cp, int c) {
+    const double x = cp.x[0], y = cp.x[1];
     const double row[3] = {c == 0 ? 1.0 : 0.0, c == 1 ? 1.0 : 0.0, c == 0 ? -y : x};
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) G[i][j] += row[i] * row[j];
@@ -83,7 +84,7 @@ void check_problem(const Reader& R, const YAML::Node& root, Problem& P) {
     double dofs = 0, out_bytes = 0;
     int degree = 1;
     for (const auto& b : P.bodies) {
-      dofs += 2.0 * b.num_cps;
+      dofs += static_cast<double>(P.dim()) * b.num_cps;
       for (const Patch& q : b.patches) {
         degree = std::max({degree, q.degree[0], q.degree[1]});
         out_bytes += R.sample_bytes(static_cast<double>(q.element_spans(0).size()), static_cast<double>(q.element_spans(1).size()));

@@ -3,6 +3,7 @@
 #include "model/yaml_reader.hpp"
 #include "model/geometry_check.hpp"
 #include "model/geometry_file.hpp"
+#include "kernels/numbering.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -34,11 +35,9 @@ std::string Body::corner_label(int patch, Corner c) const {
 
 std::vector<double> Body::patch_values(int patch, const std::vector<double>& u) const {
   const auto& idx = cp_index[patch];
-  std::vector<double> v(2 * idx.size());
-  for (size_t a = 0; a < idx.size(); ++a) {
-    v[2 * a] = u[2 * idx[a]];
-    v[2 * a + 1] = u[2 * idx[a] + 1];
-  }
+  std::vector<double> v(kDim * idx.size());
+  for (size_t a = 0; a < idx.size(); ++a)
+    for (int c = 0; c < kDim; ++c) v[dof_of(a, c, kDim)] = u[dof_of(static_cast<size_t>(idx[a]), c, kDim)];
   return v;
 }
 
@@ -55,7 +54,7 @@ MultiPatch body_geometry(const Body& b, const std::vector<double>* u) {
     if (u) {
       const std::vector<double> uk = b.patch_values(static_cast<int>(k), *u);
       for (size_t a = 0; a < b.patches[k].cp.size(); ++a)
-        for (int c = 0; c < 2; ++c) mp.patches[k].cp[a][c] += uk[2 * a + c];
+        for (int c = 0; c < kDim; ++c) mp.patches[k].cp[a].x[c] += uk[dof_of(a, c, kDim)];
     }
   }
   return mp;
@@ -90,7 +89,7 @@ Patch read_nurbs(const Reader& R, const YAML::Node& n, const std::string& path) 
     if (!cps[a].IsSequence() || (cps[a].size() != 3 && cps[a].size() != 2))
       R.fail(key, cps[a], "expected [x, y, w]");
     const auto v = R.numbers(cps[a], key);
-    P.cp.push_back({v[0], v[1], v.size() == 3 ? v[2] : 1.0});
+    P.cp.push_back(ControlPoint{{v[0], v[1]}, v.size() == 3 ? v[2] : 1.0});
   }
   for (int d = 0; d < 2; ++d)
     if (P.degree[d] < 1 || P.degree[d] > 5)
@@ -125,7 +124,8 @@ Patch make_rectangle(const Reader& R, const YAML::Node& n, const std::string& pa
   Patch P;
   P.degree = {1, 1};
   P.knots = {uniform_open_knots(1, 1), uniform_open_knots(1, 1)};
-  P.cp = {{o[0], o[1], 1}, {o[0] + s[0], o[1], 1}, {o[0], o[1] + s[1], 1}, {o[0] + s[0], o[1] + s[1], 1}};
+  P.cp = {ControlPoint{{o[0], o[1]}, 1}, ControlPoint{{o[0] + s[0], o[1]}, 1}, ControlPoint{{o[0], o[1] + s[1]}, 1},
+          ControlPoint{{o[0] + s[0], o[1] + s[1]}, 1}};
   return P;
 }
 
@@ -147,7 +147,7 @@ Patch make_quarter_annulus(const Reader& R, const YAML::Node& n, const std::stri
     const double loc[3][2] = {{r, 0}, {r, r}, {0, r}};
     const double wt[3] = {1, w, 1};
     for (int k = 0; k < 3; ++k)
-      P.cp.push_back({c[0] + cs * loc[k][0] - sn * loc[k][1], c[1] + sn * loc[k][0] + cs * loc[k][1], wt[k]});
+      P.cp.push_back(ControlPoint{{c[0] + cs * loc[k][0] - sn * loc[k][1], c[1] + sn * loc[k][0] + cs * loc[k][1]}, wt[k]});
   }
   return P;
 }
@@ -247,7 +247,7 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
       for (const Patch& q : b.patches) {
         const auto c = ncp(q);
         const auto e = el(q);
-        dofs += 2.0 * static_cast<double>(c[0]) * static_cast<double>(c[1]);
+        dofs += static_cast<double>(kDim) * static_cast<double>(c[0]) * static_cast<double>(c[1]);
         sample += R.sample_bytes(e[0], e[1]);
       }
       return std::pair<double, double>(dofs, sample);

@@ -156,7 +156,7 @@ void choose_linear_method(const Reader& R, const YAML::Node& root, Problem& P) {
   // moving projection) is not positive definite far from the solution.
   if (!P.linear.method_given) {
     long long dofs = 0;
-    for (const Body& b : P.bodies) dofs += 2LL * b.num_cps;
+    for (const Body& b : P.bodies) dofs += static_cast<long long>(P.dim()) * b.num_cps;
     P.linear.automatic = true;
     // finite strain: the tangent may be indefinite (buckling) and, with follower pressure,
     // non-symmetric: GMRES

@@ -1,5 +1,6 @@
 #include "solver/contact.hpp"
 #include "solver/contact_internal.hpp"
+#include "kernels/numbering.hpp"
 
 static_assert(iga::kMaxContactQuadrature <= iga::kMaxGauss, "contact quadrature beyond the Gauss table");
 
@@ -100,7 +101,7 @@ ContactPairData::ContactPairData(const System& sys, int index) : pair_(sys.probl
     Kokkos::View<int* [2], MemSpace> rep("replicated_lid", gid.size());
     auto h = Kokkos::create_mirror_view(rep);
     for (size_t k = 0; k < gid.size(); ++k)
-      for (int d = 0; d < 2; ++d) h(k, d) = replicated_->getLocalElement(2 * gid[k] + d);
+      for (int d = 0; d < 2; ++d) h(k, d) = replicated_->getLocalElement(dof_of(gid[k], d, sys.dim()));
     Kokkos::deep_copy(rep, h);
     (which == 0 ? slave_rep_ : master_rep_) = rep;
   }

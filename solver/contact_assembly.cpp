@@ -2,6 +2,7 @@
 // and friction kernels of every pair into one matrix and residual.
 #include "solver/contact.hpp"
 #include "solver/contact_internal.hpp"
+#include "kernels/numbering.hpp"
 
 #include <Teuchos_CommHelpers.hpp>
 #include <Teuchos_TimeMonitor.hpp>
@@ -80,22 +81,23 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
     for (LO r : el) nbr[r].insert(nbr[r].end(), el.begin(), el.end());
   }
   const LO n = static_cast<LO>(cps.size());
-  Teuchos::ArrayRCP<size_t> rowptr(2 * n + 1);
+  const int D = sys.dim();
+  Teuchos::ArrayRCP<size_t> rowptr(D * n + 1);
   rowptr[0] = 0;
   for (LO r = 0; r < n; ++r) {
     auto& v = nbr[r];
     std::sort(v.begin(), v.end());
     v.erase(std::unique(v.begin(), v.end()), v.end());
-    rowptr[2 * r + 1] = rowptr[2 * r] + 2 * v.size();
-    rowptr[2 * r + 2] = rowptr[2 * r + 1] + 2 * v.size();
+    for (int c = 0; c < D; ++c) rowptr[dof_of(r, c, D) + 1] = rowptr[dof_of(r, c, D)] + D * v.size();
   }
-  Teuchos::ArrayRCP<LO> cols(std::max<size_t>(rowptr[2 * n], 1));
+  Teuchos::ArrayRCP<LO> cols(std::max<size_t>(rowptr[D * n], 1));
   for (LO r = 0; r < n; ++r)
-    for (int c = 0; c < 2; ++c) {
-      size_t k = rowptr[2 * r + c];
-      for (LO l : nbr[r]) { cols[k++] = 2 * l; cols[k++] = 2 * l + 1; }
+    for (int c = 0; c < D; ++c) {
+      size_t k = rowptr[dof_of(r, c, D)];
+      for (LO l : nbr[r])
+        for (int cc = 0; cc < D; ++cc) cols[k++] = dof_of(l, cc, D);
     }
-  cols = cols.persistingView(0, rowptr[2 * n]);
+  cols = cols.persistingView(0, rowptr[D * n]);
   RCP<Graph> graph = rcp(new Graph(ov, ov, rowptr, cols));
   graph->fillComplete(sys.owned_map(), sys.owned_map());
   RCP<Matrix> K = rcp(new Matrix(graph));

@@ -27,9 +27,9 @@ CurveData make_curve(const System& sys, const ContactSurface& s, const SurfaceCh
   auto hX = Kokkos::create_mirror_view(d.X);
   gids.resize(d.nb);
   for (int k = 0; k < d.nb; ++k) {
-    hX(k, 0) = c.cp[k][0];
-    hX(k, 1) = c.cp[k][1];
-    w[k] = c.cp[k][2];
+    hX(k, 0) = c.cp[k].x[0];
+    hX(k, 1) = c.cp[k].x[1];
+    w[k] = c.cp[k].w;
     gids[k] = sys.cp_gid(s.body, ch.cp_patch[k], c.patch_index[k]);
   }
   Kokkos::deep_copy(d.X, hX);

@@ -3,6 +3,8 @@
 #include "solver/system.hpp"
 #include "solver/system_internal.hpp"
 
+#include "kernels/numbering.hpp"
+
 #include <Teuchos_TimeMonitor.hpp>
 
 #include <algorithm>
@@ -48,38 +50,37 @@ void System::for_each_coupling(RowOf row_of, F f) const {
   }
 }
 
-// CSR of the dof rows 2 row_of(b, a) + c (control point a of body b; -1: not a row here)
-// with the columns 2 col_of(b, a') + c' of the control points a' it couples with (-1: left
-// out). Columns are sorted when col_of increases with the global id. Two passes (count,
-// fill), no sorting; the y row of a control point repeats its x row.
+// CSR of the dof rows dof_of(row_of(b, a), c, dim) (control point a of body b; -1: not a row
+// here) with the columns dof_of(col_of(b, a'), c', dim) of the control points a' it couples
+// with (-1: left out). Columns are sorted when col_of increases with the global id. Two passes
+// (count, fill), no sorting; the other components' rows of a control point repeat its first.
 template <class RowOf, class ColOf>
 void System::coupling_csr(LO nrows, RowOf row_of, ColOf col_of, Teuchos::ArrayRCP<size_t>& rowptr,
                           Teuchos::ArrayRCP<LO>& cols) const {
-  rowptr = Teuchos::ArrayRCP<size_t>(2 * nrows + 1, 0);
+  const int D = dim();
+  rowptr = Teuchos::ArrayRCP<size_t>(D * nrows + 1, 0);
   for_each_coupling(row_of, [&](size_t b, LO row, int a) {
-    if (col_of(b, a) >= 0) rowptr[2 * row + 1] += 2;
+    if (col_of(b, a) >= 0) rowptr[dof_of(row, 0, D) + 1] += D;
   });
   for (LO r = 0; r < nrows; ++r) {
-    rowptr[2 * r + 2] = rowptr[2 * r + 1];                  // y row: as many as the x row
-    rowptr[2 * r + 1] += rowptr[2 * r];
-    rowptr[2 * r + 2] += rowptr[2 * r + 1];
+    for (int c = 1; c < D; ++c) rowptr[dof_of(r, c, D) + 1] = rowptr[dof_of(r, 0, D) + 1];   // as many as the first row
+    for (int c = 0; c < D; ++c) rowptr[dof_of(r, c, D) + 1] += rowptr[dof_of(r, c, D)];
   }
-  cols = Teuchos::ArrayRCP<LO>(rowptr[2 * nrows]);
-  std::vector<size_t> next(rowptr.begin(), rowptr.begin() + 2 * nrows);
+  cols = Teuchos::ArrayRCP<LO>(rowptr[D * nrows]);
+  std::vector<size_t> next(rowptr.begin(), rowptr.begin() + D * nrows);
   for_each_coupling(row_of, [&](size_t b, LO row, int a) {
     const LO c = col_of(b, a);
     if (c < 0) return;
-    for (int d = 0; d < 2; ++d) {
-      size_t& k = next[2 * row + d];
-      cols[k++] = 2 * c;
-      cols[k++] = 2 * c + 1;
+    for (int d = 0; d < D; ++d) {
+      size_t& k = next[dof_of(row, d, D)];
+      for (int cc = 0; cc < D; ++cc) cols[k++] = dof_of(c, cc, D);
     }
   });
   // several patches: a control point on an interface couples through each of its patches,
   // and its rows hold columns more than once (and out of order): merge them
   if (merged_) {
     size_t out = 0, begin = 0;
-    for (LO r = 0; r < 2 * nrows; ++r) {
+    for (LO r = 0; r < D * nrows; ++r) {
       const size_t end = rowptr[r + 1];
       std::sort(cols.begin() + begin, cols.begin() + end);
       const auto last = std::unique(cols.begin() + begin, cols.begin() + end);
@@ -101,7 +102,8 @@ void System::coupling_csr(LO nrows, RowOf row_of, ColOf col_of, Teuchos::ArrayRC
 std::unique_ptr<System::OwnedGhost> System::owned_ghost() const {
   auto og = std::make_unique<OwnedGhost>();
   const bool any = owned_->getNodeNumElements() > 0;
-  const GO first = any ? owned_->getMinGlobalIndex() / 2 : 0, last = any ? owned_->getMaxGlobalIndex() / 2 + 1 : 0;
+  const GO first = any ? point_of_dof(owned_->getMinGlobalIndex(), dim()) : 0,
+           last = any ? point_of_dof(owned_->getMaxGlobalIndex(), dim()) + 1 : 0;
   auto owned_row = [&](size_t b, int a) -> LO {
     const GO g = blocks_[b].gid[a];
     return g >= first && g < last ? static_cast<LO>(g - first) : -1;
@@ -111,9 +113,8 @@ std::unique_ptr<System::OwnedGhost> System::owned_ghost() const {
   for_each_coupling(owned_row, [&](size_t b, LO, int a) { colpos[blocks_[b].gid[a]] = 0; });
   std::vector<GO> dofs;
   auto add = [&](GO g) {
-    colpos[g] = static_cast<LO>(dofs.size() / 2);
-    dofs.push_back(2 * g);
-    dofs.push_back(2 * g + 1);
+    colpos[g] = static_cast<LO>(dofs.size() / dim());   // control points so far
+    for (int c = 0; c < dim(); ++c) dofs.push_back(dof_of(g, c, dim()));
   };
   for (GO g = first; g < last; ++g) add(g);
   for (GO g = 0; g < num_cps_; ++g)
@@ -126,7 +127,7 @@ std::unique_ptr<System::OwnedGhost> System::owned_ghost() const {
                [&](size_t b, int a) { return colpos[blocks_[b].gid[a]]; }, rowptr, cols);
   // rows come out in global order: only those coupling control points owned below this
   // rank's (numbered after the owned ones) need sorting
-  for (LO r = 0; r < 2 * static_cast<LO>(last - first); ++r)
+  for (LO r = 0; r < dim() * static_cast<LO>(last - first); ++r)
     if (!std::is_sorted(cols.begin() + rowptr[r], cols.begin() + rowptr[r + 1]))
       std::sort(cols.begin() + rowptr[r], cols.begin() + rowptr[r + 1]);
   RCP<Graph> g = rcp(new Graph(owned_, colmap, rowptr, cols));
@@ -143,7 +144,8 @@ std::unique_ptr<System::OwnedGhost> System::owned_ghost() const {
         if (blocks_[b].lid[a] >= 0 && owned_row(b, static_cast<int>(a)) < 0) ghosts.push_back(blocks_[b].gid[a]);
     std::sort(ghosts.begin(), ghosts.end());
     ghosts.erase(std::unique(ghosts.begin(), ghosts.end()), ghosts.end());
-    for (GO g : ghosts) { ghost_dofs.push_back(2 * g); ghost_dofs.push_back(2 * g + 1); }
+    for (GO g : ghosts)
+      for (int c = 0; c < dim(); ++c) ghost_dofs.push_back(dof_of(g, c, dim()));
     for (size_t b = 0; b < blocks_.size(); ++b) {
       const auto& lid = blocks_[b].lid;
       grow[b].assign(lid.size(), -1);
@@ -153,7 +155,7 @@ std::unique_ptr<System::OwnedGhost> System::owned_ghost() const {
     }
   }
   og->ghost_map = rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(), ghost_dofs, 0, comm_));
-  coupling_csr(static_cast<LO>(ghost_dofs.size() / 2), [&](size_t b, int a) { return grow[b][a]; },
+  coupling_csr(static_cast<LO>(ghost_dofs.size() / dim()), [&](size_t b, int a) { return grow[b][a]; },
                [&](size_t b, int a) { return blocks_[b].lid[a]; }, rowptr, cols);
   RCP<Graph> gg = rcp(new Graph(og->ghost_map, overlap_, rowptr, cols));
   gg->fillComplete(owned_, og->ghost_map);
@@ -183,7 +185,7 @@ RCP<const Graph> System::stiffness_graph() const {
   // One rank: the overlap rows are the owned rows. Several: the owned rows' global pattern and
   // the ghost rows (owned_ghost), built once.
   if (overlap_->isSameAs(*owned_)) {
-    const LO nov = static_cast<LO>(overlap_->getNodeNumElements() / 2);
+    const LO nov = static_cast<LO>(overlap_->getNodeNumElements() / dim());
     Teuchos::ArrayRCP<size_t> rowptr;
     Teuchos::ArrayRCP<LO> cols;
     coupling_csr(nov, [&](size_t b, int a) { return blocks_[b].lid[a]; }, [&](size_t b, int a) { return blocks_[b].lid[a]; },

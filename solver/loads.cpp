@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "kernels/boundary_load.hpp"
+#include "kernels/numbering.hpp"
 
 namespace iga {
 
@@ -63,19 +64,19 @@ RCP<Vector> System::assemble_loads(double lambda, int stage) const {
           const double u = a + hh * (g.x[q] + 1.0);
           double ders[3][kMaxBasis1D], w[kMaxBasis1D], R[3][kMaxBasis1D];
           bspline_ders(s, u, c.degree, c.knots.data(), 1, ders);
-          for (int j = 0; j <= c.degree; ++j) { w[j] = c.cp[s - c.degree + j][2]; ders[2][j] = 0; }
+          for (int j = 0; j <= c.degree; ++j) { w[j] = c.cp[s - c.degree + j].w; ders[2][j] = 0; }
           rationalize_1d(c.degree, ders, w, R);
           double x[2] = {0, 0}, t[2] = {0, 0};
           for (int j = 0; j <= c.degree; ++j)
             for (int d = 0; d < 2; ++d) {
-              x[d] += R[0][j] * c.cp[s - c.degree + j][d];
-              t[d] += R[1][j] * c.cp[s - c.degree + j][d];
+              x[d] += R[0][j] * c.cp[s - c.degree + j].x[d];
+              t[d] += R[1][j] * c.cp[s - c.degree + j].x[d];
             }
           const auto tr = ut.t(x[0], x[1]);
           const double wq = lambda * g.w[q] * hh * std::hypot(t[0], t[1]) * P_.thickness;
           for (int j = 0; j <= c.degree; ++j) {
             const int l = bd.lid[c.patch_index[s - c.degree + j]];
-            for (int d = 0; d < 2; ++d) h(2 * l + d, 0) += R[0][j] * tr[d] * wq;
+            for (int d = 0; d < 2; ++d) h(dof_of(l, d, dim()), 0) += R[0][j] * tr[d] * wq;
           }
         }
       }
@@ -94,7 +95,9 @@ RCP<Vector> System::assemble_loads(double lambda, int stage) const {
           constexpr int P = decltype(PP)::value;
           double R[(P + 1) * (P + 1)], dR[(P + 1) * (P + 1)][2], x[2];
           for (int e = bd.e_begin; e < bd.e_end; ++e) {
-            const int s0 = sp0[e % pd.ne[0]], s1 = sp1[e / pd.ne[0]];
+            int ij[2];
+            tensor_ij(e, pd.ne, 2, ij);
+            const int s0 = sp0[ij[0]], s1 = sp1[ij[1]];
             const double ua = pt.knots[0][s0], ub0 = pt.knots[0][s0 + 1], va = pt.knots[1][s1], vb = pt.knots[1][s1 + 1];
             for (int qj = 0; qj < g1.n; ++qj)
               for (int qi = 0; qi < g0.n; ++qi) {
@@ -106,8 +109,8 @@ RCP<Vector> System::assemble_loads(double lambda, int stage) const {
                   for (int i = 0; i <= pd.p[0]; ++i) {
                     const int l = bd.lid[s0 - pd.p[0] + i + (s1 - pd.p[1] + j) * pd.n[0]];
                     const double Rw = R[i + j * (pd.p[0] + 1)] * w;
-                    h(2 * l, 0) += Rw * b[0];
-                    h(2 * l + 1, 0) += Rw * b[1];
+                    h(dof_of(l, 0, dim()), 0) += Rw * b[0];
+                    h(dof_of(l, 1, dim()), 0) += Rw * b[1];
                   }
               }
           }

@@ -5,6 +5,8 @@
 
 #include "model/quadrature.hpp"
 
+#include <type_traits>
+
 namespace iga {
 
 namespace {
@@ -31,10 +33,13 @@ PatchData make_patch_data(const Patch& P) {
   pd.U1 = to_device("U1", P.knots[1]);
   pd.span0 = to_device("span0", P.element_spans(0));
   pd.span1 = to_device("span1", P.element_spans(1));
-  Kokkos::View<double* [3], MemSpace> cp("cp", P.cp.size());
+  // the kernels' rows: coordinates, then the weight (column kMaxDim)
+  Kokkos::View<double* [kMaxDim + 1], MemSpace> cp("cp", P.cp.size());
   auto h = Kokkos::create_mirror_view(cp);
-  for (size_t a = 0; a < P.cp.size(); ++a)
-    for (int c = 0; c < 3; ++c) h(a, c) = P.cp[a][c];
+  for (size_t a = 0; a < P.cp.size(); ++a) {
+    for (int c = 0; c < kMaxDim; ++c) h(a, c) = P.cp[a].x[c];
+    h(a, kMaxDim) = P.cp[a].w;
+  }
   Kokkos::deep_copy(cp, h);
   pd.cp = cp;
   return pd;
@@ -72,7 +77,10 @@ HostPatchData host_patch_data(const Patch& P) {
   set_patch_shape(pd, P);
   pd.U0 = Kokkos::View<const double*, Kokkos::HostSpace>(P.knots[0].data(), P.knots[0].size());
   pd.U1 = Kokkos::View<const double*, Kokkos::HostSpace>(P.knots[1].data(), P.knots[1].size());
-  pd.cp = Kokkos::View<const double* [3], Kokkos::HostSpace>(P.cp[0].data(), P.cp.size());
+  // the patch's own control points, seen as rows {x..., w} of kMaxDim + 1 doubles (no copy)
+  static_assert(sizeof(ControlPoint) == (kMaxDim + 1) * sizeof(double) && std::is_standard_layout_v<ControlPoint>,
+                "ControlPoint is laid out as the kernels' control point rows {x..., w}");
+  pd.cp = Kokkos::View<const double* [kMaxDim + 1], Kokkos::HostSpace>(reinterpret_cast<const double*>(P.cp.data()), P.cp.size());
   return pd;
 }
 

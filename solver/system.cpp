@@ -56,11 +56,12 @@ System::System(const Problem& problem, RCP<const Comm> comm) : P_(problem), comm
     for (const Patch& pt : body.patches) total += pt.cp.size();
     merged_ = merged_ || total != static_cast<size_t>(body.num_cps);
   }
-  // owned control points: a contiguous block per rank; dofs 2g, 2g+1
+  // owned control points: a contiguous block per rank; dofs dim g + c (kernels/numbering.hpp)
   const auto cpr = block_range(num_cps_, rank, size);
   std::vector<GO> owned;
-  owned.reserve(2 * (cpr.second - cpr.first));
-  for (GO g = cpr.first; g < cpr.second; ++g) { owned.push_back(2 * g); owned.push_back(2 * g + 1); }
+  owned.reserve(dim() * (cpr.second - cpr.first));
+  for (GO g = cpr.first; g < cpr.second; ++g)
+    for (int c = 0; c < dim(); ++c) owned.push_back(dof_of(g, c, dim()));
   owned_ = rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(), owned, 0, comm_));
 
   // elements: a contiguous block of the global element list (block after block) per rank
@@ -74,8 +75,11 @@ System::System(const Problem& problem, RCP<const Comm> comm) : P_(problem), comm
     bd.e_end = static_cast<int>(std::clamp(er.second - e0, 0LL, ne));
     e0 += ne;
     const auto sp0 = pt.element_spans(0), sp1 = pt.element_spans(1);
+    const int nspan[2] = {static_cast<int>(sp0.size()), static_cast<int>(sp1.size())};
     for (int e = bd.e_begin; e < bd.e_end; ++e) {
-      const int s0 = sp0[e % sp0.size()], s1 = sp1[e / sp0.size()];
+      int ij[2];
+      tensor_ij(e, nspan, 2, ij);
+      const int s0 = sp0[ij[0]], s1 = sp1[ij[1]];
       for (int j = s1 - pt.degree[1]; j <= s1; ++j)
         for (int i = s0 - pt.degree[0]; i <= s0; ++i) touched.push_back(bd.gid[pt.index(i, j)]);
     }
@@ -87,8 +91,8 @@ System::System(const Problem& problem, RCP<const Comm> comm) : P_(problem), comm
     const int ncp = static_cast<int>(bd.gid.size());
     std::vector<int> lid(ncp, -1);
     for (int a = 0; a < ncp; ++a) {
-      const LO l = overlap_->getLocalElement(2 * bd.gid[a]);
-      if (l != Teuchos::OrdinalTraits<LO>::invalid()) lid[a] = l / 2;
+      const LO l = overlap_->getLocalElement(dof_of(bd.gid[a], 0, dim()));
+      if (l != Teuchos::OrdinalTraits<LO>::invalid()) lid[a] = point_of_dof(l, dim());
     }
     bd.pd.lid = to_device("lid", lid);
     bd.lid = std::move(lid);
@@ -99,9 +103,9 @@ System::System(const Problem& problem, RCP<const Comm> comm) : P_(problem), comm
   std::map<GO, DirichletDof> dd;
   auto constrain = [&](int blk, int slot, const SideCondition& sc, const std::vector<int>& cps) {
     for (int a : cps)
-      for (int c = 0; c < 2; ++c)
+      for (int c = 0; c < dim(); ++c)
         if (sc.fixed[c]) {
-          const GO dof = 2 * blocks_[blk].gid[a] + c;
+          const GO dof = dof_of(blocks_[blk].gid[a], c, dim());
           if (owned_->isNodeGlobalElement(dof) && !dd.count(dof)) {
             std::vector<double> v;
             for (const auto& e : sc.value) v.push_back(e[c]);
@@ -128,8 +132,9 @@ System::System(const Problem& problem, RCP<const Comm> comm) : P_(problem), comm
 
 RCP<const Map> System::cp_dof_map(const std::vector<GO>& cps, bool) const {
   std::vector<GO> dofs;
-  dofs.reserve(2 * cps.size());
-  for (GO g : cps) { dofs.push_back(2 * g); dofs.push_back(2 * g + 1); }
+  dofs.reserve(dim() * cps.size());
+  for (GO g : cps)
+    for (int c = 0; c < dim(); ++c) dofs.push_back(dof_of(g, c, dim()));
   return rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(), dofs, 0, comm_));
 }
 
@@ -211,6 +216,6 @@ size_t System::block_of(int body, int patch) const {
   throw std::out_of_range("no patch " + std::to_string(patch) + " in body " + std::to_string(body));
 }
 
-const Point3& System::control_point(GO g) const { return cp_pos_[g]; }
+const ControlPoint& System::control_point(GO g) const { return cp_pos_[g]; }
 
 }  // namespace iga
