@@ -73,7 +73,7 @@ double smallest_extent(const Body& b) {
 std::vector<PatchSide> outer_sides(const Body& b) {
   std::vector<PatchSide> out;
   for (size_t k = 0; k < b.patches.size(); ++k)
-    for (int s = 0; s < 4; ++s) {
+    for (int s = 0; s < num_sides(b.patches[k].dim()); ++s) {
       const PatchSide ps{static_cast<int>(k), static_cast<Side>(s)};
       if (!b.is_interface(ps) && !side_collapsed(b.patches[k], ps.side, b.tolerance)) out.push_back(ps);
     }

@@ -119,11 +119,11 @@ template <class F>
 void for_each_side_pair(const std::vector<Patch>& patches, double tol, F f) {
   const int np = static_cast<int>(patches.size());
   for (int p = 0; p < np; ++p)
-    for (int s = 0; s < 4; ++s) {
+    for (int s = 0; s < num_sides(patches[p].dim()); ++s) {
       const auto a = side_points(patches[p], static_cast<Side>(s));
       if (collapsed(a, tol)) continue;
       for (int q = p; q < np; ++q)
-        for (int t = (q == p ? s + 1 : 0); t < 4; ++t)
+        for (int t = (q == p ? s + 1 : 0); t < num_sides(patches[q].dim()); ++t)
           if (f(PatchSide{p, static_cast<Side>(s)}, PatchSide{q, static_cast<Side>(t)}, a, side_points(patches[q], static_cast<Side>(t))))
             return;
     }

@@ -58,6 +58,8 @@ struct Patch {
   std::array<std::vector<double>, 2> knots;
   std::vector<ControlPoint> cp;
 
+  /// Parametric dimension: 2 (bivariate; its sides are the num_sides(dim()) of kernels/sides.hpp).
+  int dim() const { return 2; }
   int ncp(int d) const { return static_cast<int>(knots[d].size()) - degree[d] - 1; }
   int index(int i, int j) const { return i + j * ncp(0); }
   /// Indices s of the non-empty knot spans [U[s], U[s+1]] in direction d.

@@ -47,7 +47,7 @@ MultiPatch body_geometry(const Body& b, const std::vector<double>* u) {
   mp.interfaces = b.interfaces;
   mp.named = b.named;
   for (size_t k = 0; k < b.patches.size(); ++k) {
-    for (int s = 0; s < 4; ++s) {
+    for (int s = 0; s < num_sides(b.patches[k].dim()); ++s) {
       const PatchSide ps{static_cast<int>(k), static_cast<Side>(s)};
       if (!b.is_interface(ps)) mp.boundary.push_back(ps);
     }

@@ -142,7 +142,7 @@ void System::assemble_internal(const Vector* u, Vector* f_int, RCP<Matrix>* K, c
     });
     // finite kinematics: pressures follow the deformed sides (kernels/boundary_load.hpp)
     if (lp && P_.kinematics == Kinematics::Finite)
-      for (int side = 0; side < 4; ++side) {
+      for (int side = 0; side < num_sides(dim()); ++side) {
         const SideCondition& sc = P_.bodies[bd.body].sides[bd.patch][side];
         if (sc.load != LoadKind::Pressure && sc.load != LoadKind::LinearPressure) continue;
         AssembleFollowerPressure<Local> k;

@@ -25,7 +25,7 @@ RCP<Vector> System::assemble_loads(double lambda, int stage) const {
   {
     auto f = Kokkos::subview(f_ov.getLocalViewDevice(Tpetra::Access::ReadWrite), Kokkos::ALL(), 0);
     for (const PatchBlock& bd : blocks_) {
-      for (int s = 0; s < 4; ++s) {
+      for (int s = 0; s < num_sides(dim()); ++s) {
         const SideCondition& sc = P_.bodies[bd.body].sides[bd.patch][s];
         if (sc.load == LoadKind::None) continue;
         // finite kinematics: pressures are follower loads, in assemble_internal

@@ -116,7 +116,7 @@ System::System(const Problem& problem, RCP<const Comm> comm) : P_(problem), comm
   for (size_t k = 0; k < blocks_.size(); ++k) {
     const Body& body = P_.bodies[blocks_[k].body];
     const Patch& pt = body.patches[blocks_[k].patch];
-    for (int s = 0; s < 4; ++s) constrain(static_cast<int>(k), s, body.sides[blocks_[k].patch][s], pt.side_indices(static_cast<Side>(s)));
+    for (int s = 0; s < num_sides(dim()); ++s) constrain(static_cast<int>(k), s, body.sides[blocks_[k].patch][s], pt.side_indices(static_cast<Side>(s)));
   }
   for (size_t k = 0; k < blocks_.size(); ++k) {
     const Body& body = P_.bodies[blocks_[k].body];
