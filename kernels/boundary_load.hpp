@@ -67,7 +67,7 @@ struct AssembleSideLoad {
       const double u = a + h * (g.x[q] + 1.0);
       double ders[3][kMaxBasis1D], w[kMaxBasis1D], R[3][kMaxBasis1D];
       bspline_ders(s, u, p, U, 1, ders);
-      for (int j = 0; j <= p; ++j) { w[j] = pd.cp(side_cp(pd, load.side, s - p + j), 2); ders[2][j] = 0; }
+      for (int j = 0; j <= p; ++j) { w[j] = pd.cp(side_cp(pd, load.side, s - p + j), kBoundaryDim); ders[2][j] = 0; }   // the weight column
       rationalize_1d(p, ders, w, R);
       double tan[2] = {0, 0};
       for (int j = 0; j <= p; ++j)
@@ -135,7 +135,8 @@ struct AssembleFollowerPressure {
       const double uq = a + h * (g.x[q] + 1.0);
       double ders[3][kMaxBasis1D], w[kMaxBasis1D], R[3][kMaxBasis1D];
       bspline_ders(s, uq, p, U, 1, ders);
-      for (int j = 0; j <= p; ++j) { w[j] = pd.cp(cps[j], 2); ders[2][j] = 0; }
+      // the weight column follows the coordinates (solver/patch_data.cpp)
+      for (int j = 0; j <= p; ++j) { w[j] = pd.cp(cps[j], kBoundaryDim); ders[2][j] = 0; }
       rationalize_1d(p, ders, w, R);
       double tan[2] = {0, 0};
       for (int j = 0; j <= p; ++j)
