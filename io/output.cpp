@@ -259,7 +259,7 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
       std::vector<double> cxyz, cd3;
       const std::vector<double> ucp = P.bodies[b].patch_values(blk.patch, disp[b]);
       for (hsize_t a = 0; a < m; ++a) {
-        cxyz.insert(cxyz.end(), {pt.cp[a][0], pt.cp[a][1], 0.0});
+        cxyz.insert(cxyz.end(), {pt.cp[a].x[0], pt.cp[a].x[1], 0.0});
         cd3.insert(cd3.end(), {ucp[2 * a], ucp[2 * a + 1], 0.0});
       }
       const std::vector<int> cquads = grid_quads(m0, m1);

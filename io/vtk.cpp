@@ -213,7 +213,7 @@ BezierMesh bezier_mesh(const Problem& P, const std::vector<std::vector<double>>&
       std::vector<std::array<double, 2>> tb(t);
       for (int j1 = 0; j1 <= s; ++j1)
         for (int j0 = 0; j0 <= s; ++j0) tb.push_back({static_cast<double>(j0) / s, static_cast<double>(j1) / s});
-      std::vector<Point3> pts(n);
+      std::vector<ControlPoint> pts(n);
       std::vector<double> u(2 * n), w(n), vals(5 * n), coef(5 * n), elo(5), ehi(5);
       for (int e = 0; e < B.num_elements(); ++e) {
         B.element_points(e, pts.data());
@@ -231,7 +231,7 @@ BezierMesh bezier_mesh(const Problem& P, const std::vector<std::vector<double>>&
             ehi[q] = std::max(ehi[q], v[q]);
           }
           if (j < static_cast<size_t>(n)) {
-            w[j] = pts[j][2];
+            w[j] = pts[j].w;
             std::copy(v, v + 5, &vals[5 * j]);
           }
         }
@@ -242,9 +242,9 @@ BezierMesh bezier_mesh(const Problem& P, const std::vector<std::vector<double>>&
           const int i = kk % n0, j = kk / n0;
           const size_t g = static_cast<size_t>(off0[e0] + i) + static_cast<size_t>(N0) * (off1[e1] + j), q = base + g;
           m.connectivity[cbase + vtk_quad_point_index(i, j, p0, p1)] = static_cast<std::int64_t>(q);
-          m.points[3 * q] = pts[kk][0];
-          m.points[3 * q + 1] = pts[kk][1];
-          m.weights[q] = pts[kk][2];
+          m.points[3 * q] = pts[kk].x[0];
+          m.points[3 * q + 1] = pts[kk].x[1];
+          m.weights[q] = pts[kk].w;
           m.displacement[3 * q] = u[2 * kk];
           m.displacement[3 * q + 1] = u[2 * kk + 1];
           ++count[g];

@@ -9,13 +9,19 @@
 // Cost per quadrature point: ~ 10 (p + 1) flops; reads the p + 1 side control points.
 //
 // Finite kinematics: a pressure follows the deformed side (AssembleFollowerPressure below).
+#include "kernels/numbering.hpp"
 #include "kernels/scatter.hpp"
+#include "kernels/sides.hpp"
 #include "kernels/types.hpp"
 
 namespace iga {
 
+/// Space dimension of the boundary kernels (side loads here, contact in kernels/contact_*.hpp):
+/// 2-D, sides are curves. Their dofs are dof_of(l, c, kBoundaryDim) (kernels/numbering.hpp).
+constexpr int kBoundaryDim = 2;
+
 struct SideLoad {
-  int side = 0;          // 0 west, 1 east, 2 south, 3 north
+  int side = 0;          // 0 west, 1 east, 2 south, 3 north: 2 direction + end (kernels/sides.hpp)
   int kind = 0;          // 1 pressure (and linear pressure), 3 traction
   double p0 = 0, p1 = 0; // pressure at the side's start and end
   double t[2] = {0, 0};
@@ -24,29 +30,15 @@ struct SideLoad {
 };
 
 /// Control point index of the k-th control point along a side.
-KOKKOS_INLINE_FUNCTION int side_cp(const PatchData& pd, int side, int k) {
-  switch (side) {
-    case 0: return k * pd.n[0];
-    case 1: return pd.n[0] - 1 + k * pd.n[0];
-    case 2: return k;
-    default: return k + (pd.n[1] - 1) * pd.n[0];
-  }
-}
+KOKKOS_INLINE_FUNCTION int side_cp(const PatchData& pd, int side, int k) { return side_tensor_index(side, &k, pd.n, 2); }
 
 /// Patch element that element k along a side belongs to.
-KOKKOS_INLINE_FUNCTION int side_patch_element(const PatchData& pd, int side, int k) {
-  switch (side) {
-    case 0: return k * pd.ne[0];
-    case 1: return pd.ne[0] - 1 + k * pd.ne[0];
-    case 2: return k;
-    default: return k + (pd.ne[1] - 1) * pd.ne[0];
-  }
-}
+KOKKOS_INLINE_FUNCTION int side_patch_element(const PatchData& pd, int side, int k) { return side_tensor_index(side, &k, pd.ne, 2); }
 
-/// Outward unit normal of a side from the tangent dx/dxi along it.
+/// Outward unit normal of a side from the tangent dx/dxi along it (the sign rule of kernels/sides.hpp).
 KOKKOS_INLINE_FUNCTION void side_normal(int side, int orientation, const double t[2], double n[2]) {
   const double len = kmath::sqrt(t[0] * t[0] + t[1] * t[1]);
-  const double s = ((side == 1 || side == 2) ? 1.0 : -1.0) * orientation;
+  const double s = static_cast<double>(side_normal_sign(side)) * orientation;
   n[0] = s * t[1] / len;
   n[1] = -s * t[0] / len;
 }
@@ -65,7 +57,7 @@ struct AssembleSideLoad {
   KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
     const int pe = patch_element(k);
     if (pe < e_begin || pe >= e_end) return;
-    const int d = (load.side <= 1) ? 1 : 0;  // parameter direction along the side
+    const int d = side_tangent_direction(load.side);  // parameter direction along the side
     const int p = pd.p[d], nb = pd.n[d];
     const double* U = pd.U[d].data();
     const int s = pd.span[d](k);
@@ -75,7 +67,7 @@ struct AssembleSideLoad {
       const double u = a + h * (g.x[q] + 1.0);
       double ders[3][kMaxBasis1D], w[kMaxBasis1D], R[3][kMaxBasis1D];
       bspline_ders(s, u, p, U, 1, ders);
-      for (int j = 0; j <= p; ++j) { w[j] = pd.cp(side_cp(pd, load.side, s - p + j), 2); ders[2][j] = 0; }
+      for (int j = 0; j <= p; ++j) { w[j] = pd.cp(side_cp(pd, load.side, s - p + j), kBoundaryDim); ders[2][j] = 0; }   // the weight column
       rationalize_1d(p, ders, w, R);
       double tan[2] = {0, 0};
       for (int j = 0; j <= p; ++j)
@@ -93,7 +85,7 @@ struct AssembleSideLoad {
       for (int j = 0; j <= p; ++j) {
         const int l = pd.lid(side_cp(pd, load.side, s - p + j));
         if (l < 0) continue;
-        for (int c = 0; c < 2; ++c) Kokkos::atomic_add(&f(2 * l + c), R[0][j] * tr[c] * wq);
+        for (int c = 0; c < 2; ++c) Kokkos::atomic_add(&f(dof_of(l, c, kBoundaryDim)), R[0][j] * tr[c] * wq);
       }
     }
   }
@@ -124,26 +116,27 @@ struct AssembleFollowerPressure {
   KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
     const int pe = patch_element(k);
     if (pe < e_begin || pe >= e_end) return;
-    const int d = (load.side <= 1) ? 1 : 0;
+    const int d = side_tangent_direction(load.side);
     const int p = pd.p[d], nb = pd.n[d];
     const double* U = pd.U[d].data();
     const int s = pd.span[d](k);
     const double a = U[s], b = U[s + 1], h = 0.5 * (b - a);
     const double umin = U[0], umax = U[nb + p];
-    const double sgn = ((load.side == 1 || load.side == 2) ? 1.0 : -1.0) * load.orientation;
+    const double sgn = static_cast<double>(side_normal_sign(load.side)) * load.orientation;
     int cps[kMaxBasis1D];
     double x[kMaxBasis1D][2];   // current positions of the side's control points
     for (int j = 0; j <= p; ++j) {
       cps[j] = side_cp(pd, load.side, s - p + j);
       const int l = pd.lid(cps[j]);
-      for (int c = 0; c < 2; ++c) x[j][c] = pd.cp(cps[j], c) + (u.extent(0) > 0 ? u(2 * l + c) : 0.0);
+      for (int c = 0; c < 2; ++c) x[j][c] = pd.cp(cps[j], c) + (u.extent(0) > 0 ? u(dof_of(l, c, kBoundaryDim)) : 0.0);
     }
-    double fe[2 * kMaxBasis1D] = {}, Ke[2 * kMaxBasis1D][2 * kMaxBasis1D] = {};
+    double fe[kBoundaryDim * kMaxBasis1D] = {}, Ke[kBoundaryDim * kMaxBasis1D][kBoundaryDim * kMaxBasis1D] = {};
     for (int q = 0; q < g.n; ++q) {
       const double uq = a + h * (g.x[q] + 1.0);
       double ders[3][kMaxBasis1D], w[kMaxBasis1D], R[3][kMaxBasis1D];
       bspline_ders(s, uq, p, U, 1, ders);
-      for (int j = 0; j <= p; ++j) { w[j] = pd.cp(cps[j], 2); ders[2][j] = 0; }
+      // the weight column follows the coordinates (solver/patch_data.cpp)
+      for (int j = 0; j <= p; ++j) { w[j] = pd.cp(cps[j], kBoundaryDim); ders[2][j] = 0; }
       rationalize_1d(p, ders, w, R);
       double tan[2] = {0, 0};
       for (int j = 0; j <= p; ++j)
@@ -151,21 +144,20 @@ struct AssembleFollowerPressure {
       const double pr = load.p0 + (load.p1 - load.p0) * (uq - umin) / (umax - umin);
       const double wq = g.w[q] * h * load.scale * pr * sgn;
       for (int i = 0; i <= p; ++i) {
-        fe[2 * i] += R[0][i] * tan[1] * wq;
-        fe[2 * i + 1] -= R[0][i] * tan[0] * wq;
+        fe[dof_of(i, 0, kBoundaryDim)] += R[0][i] * tan[1] * wq;
+        fe[dof_of(i, 1, kBoundaryDim)] -= R[0][i] * tan[0] * wq;
         for (int j = 0; j <= p; ++j) {
-          Ke[2 * i][2 * j + 1] += R[0][i] * R[1][j] * wq;
-          Ke[2 * i + 1][2 * j] -= R[0][i] * R[1][j] * wq;
+          Ke[dof_of(i, 0, kBoundaryDim)][dof_of(j, 1, kBoundaryDim)] += R[0][i] * R[1][j] * wq;
+          Ke[dof_of(i, 1, kBoundaryDim)][dof_of(j, 0, kBoundaryDim)] -= R[0][i] * R[1][j] * wq;
         }
       }
     }
     if (force)
       for (int j = 0; j <= p; ++j) {
         const int l = pd.lid(cps[j]);
-        Kokkos::atomic_add(&f(2 * l), fe[2 * j]);
-        Kokkos::atomic_add(&f(2 * l + 1), fe[2 * j + 1]);
+        for (int c = 0; c < kBoundaryDim; ++c) Kokkos::atomic_add(&f(dof_of(l, c, kBoundaryDim)), fe[dof_of(j, c, kBoundaryDim)]);
       }
-    if (tangent) scatter.template add<kMaxBasis1D>(pd.lid, cps, p + 1, &Ke[0][0], 2 * kMaxBasis1D);
+    if (tangent) scatter.template add<kMaxBasis1D>(pd.lid, cps, p + 1, &Ke[0][0], kBoundaryDim * kMaxBasis1D);
   }
 };
 

@@ -184,26 +184,26 @@ KOKKOS_INLINE_FUNCTION void gather_slip_point(const CurveData& s, const CurveDat
   curve_basis3_span(ms, m.p, m.U.data(), m.w, sp.mxi(i), d.B);
   d.ps = s.p;
   d.pm = m.p;
-  d.nds = 2 * (s.p + 1);
-  d.nd = d.nds + 2 * (m.p + 1);
+  d.nds = kBoundaryDim * (s.p + 1);
+  d.nd = d.nds + kBoundaryDim * (m.p + 1);
   for (int a = 0; a <= s.p; ++a) {
     const int k = ss - s.p + a;
     d.Ns[a] = Rs[0][a];
     for (int c = 0; c < 2; ++c) {
       d.xs[a][c] = s.X(k, c) + s.u(k, c);
-      lid[2 * a + c] = 2 * s.lid(k) + c;
+      lid[dof_of(a, c, kBoundaryDim)] = dof_of(s.lid(k), c, kBoundaryDim);
     }
   }
   for (int b = 0; b <= m.p; ++b) {
     const int k = ms - m.p + b;
     for (int c = 0; c < 2; ++c) {
       d.xm[b][c] = m.X(k, c) + m.u(k, c);
-      lid[d.nds + 2 * b + c] = 2 * m.lid(k) + c;
+      lid[d.nds + dof_of(b, c, kBoundaryDim)] = dof_of(m.lid(k), c, kBoundaryDim);
     }
   }
   d.eta = sp.mxi(i);
   d.eta_ref = fr.ref_valid(i) ? fr.ref_mxi(i) : sp.mxi(i);
-  d.sn = ((m.side == 1 || m.side == 2) ? 1.0 : -1.0) * m.orientation;
+  d.sn = static_cast<double>(side_normal_sign(m.side)) * m.orientation;
 }
 
 /// S = d(ds)/du (values and derivatives: dS/du), ds and the gap g, all as Fad over the point's
@@ -228,22 +228,22 @@ KOKKOS_INLINE_FUNCTION void slip_variation(const SlipPoint& d, FadN<N> S[N], Fad
   F eta(N, d.eta);
   for (int r = 0; r < N; ++r) eta.fastAccessDx(r) = 0.0;
   for (int a = 0; a <= d.ps; ++a)
-    for (int c = 0; c < 2; ++c) eta.fastAccessDx(2 * a + c) = d.Ns[a] * t0[c] / H0;
+    for (int c = 0; c < 2; ++c) eta.fastAccessDx(dof_of(a, c, kBoundaryDim)) = d.Ns[a] * t0[c] / H0;
   for (int b = 0; b <= d.pm; ++b)
     for (int c = 0; c < 2; ++c)
-      eta.fastAccessDx(d.nds + 2 * b + c) = (-d.B[0][b] * t0[c] + g0 * d.B[1][b] * n0[c]) / H0;
+      eta.fastAccessDx(d.nds + dof_of(b, c, kBoundaryDim)) = (-d.B[0][b] * t0[c] + g0 * d.B[1][b] * n0[c]) / H0;
   const F de = eta - d.eta;
   // the element's control points as independent variables
   F xs[2] = {F(0.0), F(0.0)}, rho[2] = {F(0.0), F(0.0)}, t[2] = {F(0.0), F(0.0)}, mm[2] = {F(0.0), F(0.0)};
   F R0[kMaxBasis1D], R1[kMaxBasis1D];
   for (int a = 0; a <= d.ps; ++a)
-    for (int c = 0; c < 2; ++c) xs[c] += d.Ns[a] * F(N, 2 * a + c, d.xs[a][c]);
+    for (int c = 0; c < 2; ++c) xs[c] += d.Ns[a] * F(N, dof_of(a, c, kBoundaryDim), d.xs[a][c]);
   for (int b = 0; b <= d.pm; ++b) {
     R0[b] = d.B[0][b] + d.B[1][b] * de;
     R1[b] = d.B[1][b] + d.B[2][b] * de;
     const F R2 = d.B[2][b] + d.B[3][b] * de;
     for (int c = 0; c < 2; ++c) {
-      const F x(N, d.nds + 2 * b + c, d.xm[b][c]);
+      const F x(N, d.nds + dof_of(b, c, kBoundaryDim), d.xm[b][c]);
       rho[c] += R0[b] * x;
       t[c] += R1[b] * x;
       mm[c] += R2 * x;
@@ -261,12 +261,12 @@ KOKKOS_INLINE_FUNCTION void slip_variation(const SlipPoint& d, FadN<N> S[N], Fad
   for (int a = 0; a <= d.ps; ++a)
     for (int c = 0; c < 2; ++c) {
       const F D = d.Ns[a] * t[c] / H;
-      S[2 * a + c] = len * D + arm * em * D;
+      S[dof_of(a, c, kBoundaryDim)] = len * D + arm * em * D;
     }
   for (int b = 0; b <= d.pm; ++b)
     for (int c = 0; c < 2; ++c) {
       const F D = (-R0[b] * t[c] + g * R1[b] * n[c]) / H;
-      S[d.nds + 2 * b + c] = len * D + arm * (R1[b] * e[c] + em * D);
+      S[d.nds + dof_of(b, c, kBoundaryDim)] = len * D + arm * (R1[b] * e[c] + em * D);
     }
   ds = len * arm;
 }
@@ -358,7 +358,8 @@ struct AssembleMortarFriction {
       const double w = RA * p.weight(i);
       const int ss = p.span(i), mspan = p.mspan(i);
       for (int q = 0; q < d.nd; ++q) {
-        const int e = q < d.nds ? r.slave(ss - S_.p + q / 2, q % 2) : r.master(mspan - M_.p + (q - d.nds) / 2, (q - d.nds) % 2);
+        const int e = q < d.nds ? r.slave(ss - S_.p + point_of_dof(q, kBoundaryDim), component_of_dof(q, kBoundaryDim))
+                              : r.master(mspan - M_.p + point_of_dof(q - d.nds, kBoundaryDim), component_of_dof(q - d.nds, kBoundaryDim));
         SC.v0(k, e) += w * S[q].val();
         SC.v1(k, e) += w * g.fastAccessDx(q);
       }

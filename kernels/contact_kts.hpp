@@ -87,7 +87,7 @@ KOKKOS_INLINE_FUNCTION void add_slave_force(const ForceSum& F, const double* fr,
                                             const double e[2]) {
   double s[4] = {0, 0, 0, 0};
   for (int r = 0; r < nds; ++r) {
-    const int c = r % 2;
+    const int c = component_of_dof(r, kBoundaryDim);
     s[c] -= fr[r];
     s[2] -= fr[r] * n[c];
     s[3] -= fr[r] * e[c];
@@ -307,24 +307,24 @@ struct AssembleKts {
     const double a11 = t[0] * t[0] + t[1] * t[1];
     const double nm = n[0] * mm[0] + n[1] * mm[1];
     const double H = a11 - g * nm;
-    const int nds = 2 * (s.p + 1), nd = nds + 2 * (m.p + 1);
+    const int nds = kBoundaryDim * (s.p + 1), nd = nds + kBoundaryDim * (m.p + 1);
     double N[MaxDof], T[MaxDof], Nb[MaxDof];
     int lid[MaxDof];
     for (int a = 0; a <= s.p; ++a)
       for (int c = 0; c < 2; ++c) {
-        const int r = 2 * a + c;
+        const int r = dof_of(a, c, kBoundaryDim);
         N[r] = Rs[0][a] * n[c];
         T[r] = Rs[0][a] * t[c];
         Nb[r] = 0.0;
-        lid[r] = 2 * s.lid(ss - s.p + a) + c;
+        lid[r] = dof_of(s.lid(ss - s.p + a), c, kBoundaryDim);
       }
     for (int b = 0; b <= m.p; ++b)
       for (int c = 0; c < 2; ++c) {
-        const int r = nds + 2 * b + c;
+        const int r = nds + dof_of(b, c, kBoundaryDim);
         N[r] = -Rm[0][b] * n[c];
         T[r] = -Rm[0][b] * t[c];
         Nb[r] = Rm[1][b] * n[c];
-        lid[r] = 2 * m.lid(ms - m.p + b) + c;
+        lid[r] = dof_of(m.lid(ms - m.p + b), c, kBoundaryDim);
       }
     const double cTT = -nm / (a11 * H), cNN = -g / H, cTN = -1.0 / H;
     double row[MaxDof], fr[MaxDof];

@@ -260,9 +260,9 @@ struct MortarPointPressure {
 /// gap (AssembleMortarGap) and friction (AssembleMortarFriction) tangents.
 struct SupportRange {
   int s_lo = 0, ns = 0, m_lo = 0, nm = 0;
-  KOKKOS_INLINE_FUNCTION int size() const { return 2 * (ns + nm); }
-  KOKKOS_INLINE_FUNCTION int slave(int cp, int c) const { return 2 * (cp - s_lo) + c; }
-  KOKKOS_INLINE_FUNCTION int master(int cp, int c) const { return 2 * (ns + cp - m_lo) + c; }
+  KOKKOS_INLINE_FUNCTION int size() const { return kBoundaryDim * (ns + nm); }
+  KOKKOS_INLINE_FUNCTION int slave(int cp, int c) const { return dof_of(cp - s_lo, c, kBoundaryDim); }
+  KOKKOS_INLINE_FUNCTION int master(int cp, int c) const { return dof_of(ns + cp - m_lo, c, kBoundaryDim); }
 };
 
 KOKKOS_INLINE_FUNCTION SupportRange support_range(const CurveData& s, const CurveData& m, const SlavePoints& sp,
@@ -300,10 +300,10 @@ KOKKOS_INLINE_FUNCTION int support_compact(const MortarScratch& sc, int k, const
   int n = 0;
   for (int q = 0; q < r.size(); ++q) {
     if (sc.v0(k, q) == 0 && sc.v1(k, q) == 0) continue;
-    const int cp = q / 2, c = q % 2;
+    const int cp = point_of_dof(q, kBoundaryDim), c = component_of_dof(q, kBoundaryDim);
     const int lid = cp < r.ns ? s.lid(r.s_lo + cp) : m.lid(r.m_lo + cp - r.ns);
     if (lid < 0) continue;
-    sc.dof(k, n) = 2 * lid + c;
+    sc.dof(k, n) = dof_of(lid, c, kBoundaryDim);
     sc.v0(k, n) = sc.v0(k, q);
     sc.v1(k, n++) = sc.v1(k, q);
   }

@@ -81,8 +81,8 @@ void BezierPatch::extract(int e, int ncomp, const std::vector<double>& hom, doub
   // hom: (p0 + 1)(p1 + 1) local control points (i fastest), nc = ncomp + 1 values each.
   // out[(k0 + k1 (p0 + 1)) * nc + c] = sum_{i,j} C0[i][k0] C1[j][k1] hom[(i + j (p0 + 1)) * nc + c]
   const int nc = ncomp + 1, n0 = p_[0] + 1, n1 = p_[1] + 1;
-  const auto& C0 = C_[0][e % ne_[0]];
-  const auto& C1 = C_[1][e / ne_[0]];
+  const auto& C0 = C_[0][element_index(e, 0)];
+  const auto& C1 = C_[1][element_index(e, 1)];
   std::vector<double> tmp(static_cast<size_t>(n0) * n1 * nc, 0.0);   // contracted in xi
   for (int j = 0; j < n1; ++j)
     for (int k0 = 0; k0 < n0; ++k0)
@@ -101,17 +101,17 @@ void BezierPatch::extract(int e, int ncomp, const std::vector<double>& hom, doub
     }
 }
 
-void BezierPatch::element_points(int e, Point3* out) const {
+void BezierPatch::element_points(int e, ControlPoint* out) const {
   const int n0 = p_[0] + 1, n1 = p_[1] + 1, s0 = span(e, 0), s1 = span(e, 1);
   std::vector<double> hom(n0 * n1 * 3), bez(n0 * n1 * 3);
   for (int j = 0; j < n1; ++j)
     for (int i = 0; i < n0; ++i) {
-      const Point3& c = patch_->cp[patch_->index(s0 - p_[0] + i, s1 - p_[1] + j)];
+      const ControlPoint& c = patch_->cp[patch_->index(s0 - p_[0] + i, s1 - p_[1] + j)];
       double* h = &hom[(i + j * n0) * 3];
-      h[0] = c[2] * c[0]; h[1] = c[2] * c[1]; h[2] = c[2];
+      h[0] = c.w * c.x[0]; h[1] = c.w * c.x[1]; h[2] = c.w;
     }
   extract(e, 2, hom, bez.data());
-  for (int k = 0; k < n0 * n1; ++k) out[k] = {bez[3 * k] / bez[3 * k + 2], bez[3 * k + 1] / bez[3 * k + 2], bez[3 * k + 2]};
+  for (int k = 0; k < n0 * n1; ++k) out[k] = ControlPoint{{bez[3 * k] / bez[3 * k + 2], bez[3 * k + 1] / bez[3 * k + 2]}, bez[3 * k + 2]};
 }
 
 void BezierPatch::element_field(int e, const double* f, int ncomp, double* out) const {
@@ -120,7 +120,7 @@ void BezierPatch::element_field(int e, const double* f, int ncomp, double* out) 
   for (int j = 0; j < n1; ++j)
     for (int i = 0; i < n0; ++i) {
       const int a = patch_->index(s0 - p_[0] + i, s1 - p_[1] + j);
-      const double w = patch_->cp[a][2];
+      const double w = patch_->cp[a].w;
       double* h = &hom[(i + j * n0) * nc];
       for (int c = 0; c < ncomp; ++c) h[c] = w * f[a * ncomp + c];
       h[ncomp] = w;

@@ -42,12 +42,18 @@ class BezierPatch {
   int points_per_element() const { return (p_[0] + 1) * (p_[1] + 1); }
   const std::array<int, 2>& degree() const { return p_; }
   /// Knot span index (into the patch's knot vector) of element e's direction d.
-  int span(int e, int d) const { return spans_[d][d == 0 ? e % ne_[0] : e / ne_[0]]; }
+  int span(int e, int d) const { return spans_[d][element_index(e, d)]; }
+  /// The index along direction d of element e (kernels/numbering.hpp: first direction fastest).
+  int element_index(int e, int d) const {
+    int ij[2];
+    tensor_ij(e, ne_.data(), 2, ij);
+    return ij[d];
+  }
   /// Parameter range of element e in direction d.
   std::array<double, 2> range(int e, int d) const;
 
   /// Rational Bezier points of element e: {x, y, w} in Euclidean coordinates with weight.
-  void element_points(int e, Point3* out) const;
+  void element_points(int e, ControlPoint* out) const;
   /// Bezier coefficients of a field given per control point of the patch (ncomp values each,
   /// f[a * ncomp + c]), interpolated with the patch's rational basis: out[k * ncomp + c].
   void element_field(int e, const double* f, int ncomp, double* out) const;

@@ -64,8 +64,8 @@ bool faces(const std::vector<CurveSample>& slave, const std::vector<CurveSample>
 double smallest_extent(const Body& b) {
   double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
   for (const Patch& p : b.patches)
-    for (const Point3& q : p.cp)
-      for (int d = 0; d < 2; ++d) { lo[d] = std::min(lo[d], q[d]); hi[d] = std::max(hi[d], q[d]); }
+    for (const ControlPoint& q : p.cp)
+      for (int d = 0; d < 2; ++d) { lo[d] = std::min(lo[d], q.x[d]); hi[d] = std::max(hi[d], q.x[d]); }
   return std::min(hi[0] - lo[0], hi[1] - lo[1]);
 }
 
@@ -73,7 +73,7 @@ double smallest_extent(const Body& b) {
 std::vector<PatchSide> outer_sides(const Body& b) {
   std::vector<PatchSide> out;
   for (size_t k = 0; k < b.patches.size(); ++k)
-    for (int s = 0; s < 4; ++s) {
+    for (int s = 0; s < num_sides(b.patches[k].dim()); ++s) {
       const PatchSide ps{static_cast<int>(k), static_cast<Side>(s)};
       if (!b.is_interface(ps) && !side_collapsed(b.patches[k], ps.side, b.tolerance)) out.push_back(ps);
     }
@@ -184,8 +184,8 @@ struct Inverter {
 
   void build() {
     lo[0] = lo[1] = 1e300; hi[0] = hi[1] = -1e300;
-    for (const Point3& q : cur.cp)
-      for (int d = 0; d < 2; ++d) { lo[d] = std::min(lo[d], q[d]); hi[d] = std::max(hi[d], q[d]); }
+    for (const ControlPoint& q : cur.cp)
+      for (int d = 0; d < 2; ++d) { lo[d] = std::min(lo[d], q.x[d]); hi[d] = std::max(hi[d], q.x[d]); }
     const auto s0 = cur.element_spans(0), s1 = cur.element_spans(1);
     for (const int j : s1)
       for (int b = 0; b < 2; ++b)
@@ -489,7 +489,7 @@ std::string find_inverted(const Problem& P, const std::vector<std::vector<double
     for (size_t k = 0; k < B.patches.size(); ++k) {
       const Patch& cur = deformed.patches[k];
       bool finite = true;
-      for (const Point3& q : cur.cp) finite = finite && std::isfinite(q[0]) && std::isfinite(q[1]);
+      for (const ControlPoint& q : cur.cp) finite = finite && std::isfinite(q.x[0]) && std::isfinite(q.x[1]);
       const std::string where = "body " + B.name + (B.multipatch() ? " patch " + std::to_string(k) : std::string());
       if (!finite) return "inverted elements: " + where + " has a displacement that is not a number";
       // det F = det(dx/dxi) / det(dX/dxi): det(dx/dxi) must keep the reference sign everywhere

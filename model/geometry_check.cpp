@@ -262,14 +262,14 @@ template <int P0, int P1>
 bool extract(const Patch& P, int s0, int s1, const double* C0, const double* C1, double (*bez)[3]) {
   constexpr int n0 = P0 + 1, n1 = P1 + 1;
   double hom[n0 * n1][3], tmp[n0 * n1][3];
-  const double w0 = P.cp[P.index(s0 - P0, s1 - P1)][2];
+  const double w0 = P.cp[P.index(s0 - P0, s1 - P1)].w;
   bool equal_w = true;
   for (int j = 0; j < n1; ++j) {
-    const Point3* row = &P.cp[P.index(s0 - P0, s1 - P1 + j)];
+    const ControlPoint* row = &P.cp[P.index(s0 - P0, s1 - P1 + j)];
     for (int i = 0; i < n0; ++i) {
-      const Point3& c = row[i];
-      hom[i + j * n0][0] = c[2] * c[0]; hom[i + j * n0][1] = c[2] * c[1]; hom[i + j * n0][2] = c[2];
-      equal_w = equal_w && std::abs(c[2] - w0) <= 1e-13 * w0;
+      const ControlPoint& c = row[i];
+      hom[i + j * n0][0] = c.w * c.x[0]; hom[i + j * n0][1] = c.w * c.x[1]; hom[i + j * n0][2] = c.w;
+      equal_w = equal_w && std::abs(c.w - w0) <= 1e-13 * w0;
     }
   }
   for (int j = 0; j < n1; ++j)

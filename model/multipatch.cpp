@@ -38,28 +38,28 @@ double patches_diameter(const std::vector<Patch>& patches) {
   double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
   for (const Patch& P : patches)
     for (const auto& c : P.cp)
-      for (int d = 0; d < 2; ++d) lo[d] = std::min(lo[d], c[d]), hi[d] = std::max(hi[d], c[d]);
+      for (int d = 0; d < 2; ++d) lo[d] = std::min(lo[d], c.x[d]), hi[d] = std::max(hi[d], c.x[d]);
   return patches.empty() ? 0.0 : std::hypot(hi[0] - lo[0], hi[1] - lo[1]);
 }
 
 namespace {
 
-double dist(const Point3& a, const Point3& b) { return std::hypot(a[0] - b[0], a[1] - b[1]); }
+double dist(const ControlPoint& a, const ControlPoint& b) { return std::hypot(a.x[0] - b.x[0], a.x[1] - b.x[1]); }
 
-std::vector<Point3> side_points(const Patch& P, Side s) {
-  std::vector<Point3> v;
+std::vector<ControlPoint> side_points(const Patch& P, Side s) {
+  std::vector<ControlPoint> v;
   for (int a : P.side_indices(s)) v.push_back(P.cp[a]);
   return v;
 }
 
-bool collapsed(const std::vector<Point3>& v, double tol) {
+bool collapsed(const std::vector<ControlPoint>& v, double tol) {
   for (const auto& p : v)
     if (dist(p, v.front()) > tol) return false;
   return true;
 }
 
 // 0: no match, 1: coincident in the same direction, 2: reversed.
-int coincide(const std::vector<Point3>& a, const std::vector<Point3>& b, double tol) {
+int coincide(const std::vector<ControlPoint>& a, const std::vector<ControlPoint>& b, double tol) {
   if (a.size() != b.size()) return 0;
   bool fwd = true, rev = true;
   for (size_t k = 0; k < a.size(); ++k) {
@@ -71,7 +71,7 @@ int coincide(const std::vector<Point3>& a, const std::vector<Point3>& b, double 
 
 // A side's knots mapped onto [0, 1], reversed if asked.
 std::vector<double> unit_knots(const Patch& P, Side s, bool reversed) {
-  const auto& U = P.knots[(s == Side::West || s == Side::East) ? 1 : 0];
+  const auto& U = P.knots[side_tangent_direction(s)];
   std::vector<double> v;
   const double a = U.front(), b = U.back();
   for (double u : U) v.push_back((u - a) / (b - a));
@@ -94,7 +94,7 @@ std::string knots_text(const std::vector<double>& v) {
 
 // "" when the two sides (coincident control points) carry the same basis: degree and knots.
 std::string same_basis(const Patch& P, Side s, const Patch& Q, Side t, bool reversed, const std::string& names) {
-  const int dp = P.degree[(s == Side::West || s == Side::East) ? 1 : 0], dq = Q.degree[(t == Side::West || t == Side::East) ? 1 : 0];
+  const int dp = P.degree[side_tangent_direction(s)], dq = Q.degree[side_tangent_direction(t)];
   const auto a = unit_knots(P, s, false), b = unit_knots(Q, t, reversed);
   bool same = dp == dq && a.size() == b.size();
   for (size_t k = 0; same && k < a.size(); ++k) same = std::abs(a[k] - b[k]) <= 1e-12;
@@ -105,7 +105,7 @@ std::string same_basis(const Patch& P, Side s, const Patch& Q, Side t, bool reve
 }
 
 int base_normal_sign(const Patch& P, Side s) {
-  return ((s == Side::East || s == Side::South) ? 1 : -1) * P.orientation();
+  return side_normal_sign(s) * P.orientation();
 }
 
 }  // namespace
@@ -119,11 +119,11 @@ template <class F>
 void for_each_side_pair(const std::vector<Patch>& patches, double tol, F f) {
   const int np = static_cast<int>(patches.size());
   for (int p = 0; p < np; ++p)
-    for (int s = 0; s < 4; ++s) {
+    for (int s = 0; s < num_sides(patches[p].dim()); ++s) {
       const auto a = side_points(patches[p], static_cast<Side>(s));
       if (collapsed(a, tol)) continue;
       for (int q = p; q < np; ++q)
-        for (int t = (q == p ? s + 1 : 0); t < 4; ++t)
+        for (int t = (q == p ? s + 1 : 0); t < num_sides(patches[q].dim()); ++t)
           if (f(PatchSide{p, static_cast<Side>(s)}, PatchSide{q, static_cast<Side>(t)}, a, side_points(patches[q], static_cast<Side>(t))))
             return;
     }
@@ -132,7 +132,7 @@ void for_each_side_pair(const std::vector<Patch>& patches, double tol, F f) {
 
 std::vector<Interface> find_interfaces(const std::vector<Patch>& patches, double tol) {
   std::vector<Interface> out;
-  for_each_side_pair(patches, tol, [&](PatchSide x, PatchSide y, const std::vector<Point3>& a, const std::vector<Point3>& b) {
+  for_each_side_pair(patches, tol, [&](PatchSide x, PatchSide y, const std::vector<ControlPoint>& a, const std::vector<ControlPoint>& b) {
     const int m = coincide(a, b, tol);
     if (m) out.push_back({x, y, m == 2});
     return false;
@@ -155,7 +155,7 @@ std::string find_nonconforming(const std::vector<Patch>& patches, const std::vec
     return false;
   };
   std::string msg;
-  for_each_side_pair(patches, tol, [&](PatchSide x, PatchSide y, const std::vector<Point3>& a, const std::vector<Point3>& b) {
+  for_each_side_pair(patches, tol, [&](PatchSide x, PatchSide y, const std::vector<ControlPoint>& a, const std::vector<ControlPoint>& b) {
     if (is_interface(x, y)) return false;
     const bool ends = (dist(a.front(), b.front()) <= tol && dist(a.back(), b.back()) <= tol) ||
                       (dist(a.front(), b.back()) <= tol && dist(a.back(), b.front()) <= tol);
@@ -227,12 +227,13 @@ int SurfaceChain::locate(const std::vector<Patch>& patches, double t, double& u,
   const double f = std::clamp((t - pc.t0) / (pc.t1 - pc.t0), 0.0, 1.0);
   const double s = pc.reversed ? pc.b - f * (pc.b - pc.a) : pc.a + f * (pc.b - pc.a);
   const Patch& P = patches[pc.side.patch];
-  switch (pc.side.side) {
-    case Side::West: u = P.knots[0].front(); v = s; break;
-    case Side::East: u = P.knots[0].back(); v = s; break;
-    case Side::South: u = s; v = P.knots[1].front(); break;
-    case Side::North: u = s; v = P.knots[1].back(); break;
-  }
+  // the fixed direction at its first or last knot, the free one at s
+  double uv[2];
+  const int d = side_direction(pc.side.side);
+  uv[d] = side_end(pc.side.side) == 1 ? P.knots[d].back() : P.knots[d].front();
+  uv[1 - d] = s;
+  u = uv[0];
+  v = uv[1];
   return pc.side.patch;
 }
 
@@ -256,7 +257,7 @@ SurfaceChain make_chain(const std::vector<Patch>& patches, const std::vector<Pat
   const size_t n = sides.size();
   // order head to tail: start from a side whose start or end meets no other side (an open
   // chain's end), else (closed) from the first listed
-  auto meets = [&](const Point3& x, size_t self) {
+  auto meets = [&](const ControlPoint& x, size_t self) {
     for (size_t j = 0; j < n; ++j)
       if (j != self && (dist(x, cv[j].cp.front()) <= tol || dist(x, cv[j].cp.back()) <= tol)) return true;
     return false;
@@ -272,7 +273,7 @@ SurfaceChain make_chain(const std::vector<Patch>& patches, const std::vector<Pat
   used[first] = true;
   for (size_t k = 1; k < n; ++k) {
     const auto& [last, lrev] = order.back();
-    const Point3 end = lrev ? cv[last].cp.front() : cv[last].cp.back();
+    const ControlPoint end = lrev ? cv[last].cp.front() : cv[last].cp.back();
     bool found = false;
     for (size_t j = 0; j < n && !found; ++j) {
       if (used[j]) continue;
@@ -324,10 +325,10 @@ SurfaceChain make_chain(const std::vector<Patch>& patches, const std::vector<Pat
     for (size_t m = (k == 0 ? 0 : static_cast<size_t>(p) + 1); m < nk - (k + 1 == n ? 0 : 1); ++m) c.knots.push_back(map(pc.knots[m]));
     // weights: a piece's rational basis is unchanged by scaling all its weights; scale so
     // the joint's weight matches the previous piece's
-    if (k > 0) scale = c.cp.back()[2] / pc.cp.front()[2];
+    if (k > 0) scale = c.cp.back().w / pc.cp.front().w;
     for (size_t m = (k == 0 ? 0 : 1); m < pc.cp.size(); ++m) {
-      Point3 q = pc.cp[m];
-      q[2] *= scale;
+      ControlPoint q = pc.cp[m];
+      q.w *= scale;
       c.cp.push_back(q);
       c.patch_index.push_back(pidx[m]);
       ch.cp_patch.push_back(sides[i].patch);

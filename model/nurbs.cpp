@@ -46,28 +46,32 @@ std::vector<int> nonempty_spans(const std::vector<double>& U, int p) {
 
 namespace {
 
+// A control point in homogeneous coordinates (w x, w y, w): the last entry is the weight.
+using Homogeneous = std::array<double, kMaxDim + 1>;
+constexpr int kHom = kMaxDim + 1;
+
 // Homogeneous evaluation of a 1-D B-spline with homogeneous control points Pw at u.
-Point3 bspline_point(const std::vector<double>& U, int p, const std::vector<Point3>& Pw, double u) {
+Homogeneous bspline_point(const std::vector<double>& U, int p, const std::vector<Homogeneous>& Pw, double u) {
   const int nb = static_cast<int>(Pw.size());
   const int span = find_span(nb, p, u, U.data());
   double ders[3][kMaxBasis1D];
   bspline_ders(span, u, p, U.data(), 0, ders);
-  Point3 r{0, 0, 0};
+  Homogeneous r{};
   for (int j = 0; j <= p; ++j)
-    for (int c = 0; c < 3; ++c) r[c] += ders[0][j] * Pw[span - p + j][c];
+    for (int c = 0; c < kHom; ++c) r[c] += ders[0][j] * Pw[span - p + j][c];
   return r;
 }
 
 // Knot insertion of u once into (U, p, Pw) (homogeneous), Boehm's algorithm.
-void insert_1d(std::vector<double>& U, int p, std::vector<Point3>& Pw, double u) {
+void insert_1d(std::vector<double>& U, int p, std::vector<Homogeneous>& Pw, double u) {
   const int nb = static_cast<int>(Pw.size());
   const int k = find_span(nb, p, u, U.data());
-  std::vector<Point3> Q(nb + 1);
+  std::vector<Homogeneous> Q(nb + 1);
   for (int i = 0; i <= k - p; ++i) Q[i] = Pw[i];
   for (int i = k; i < nb; ++i) Q[i + 1] = Pw[i];
   for (int i = k - p + 1; i <= k; ++i) {
     const double alpha = (u - U[i]) / (U[i + p] - U[i]);
-    for (int c = 0; c < 3; ++c) Q[i][c] = alpha * Pw[i][c] + (1.0 - alpha) * Pw[i - 1][c];
+    for (int c = 0; c < kHom; ++c) Q[i][c] = alpha * Pw[i][c] + (1.0 - alpha) * Pw[i - 1][c];
   }
   U.insert(U.begin() + k + 1, u);
   Pw = std::move(Q);
@@ -75,7 +79,7 @@ void insert_1d(std::vector<double>& U, int p, std::vector<Point3>& Pw, double u)
 
 // Degree elevation by t of (U, p, Pw) by interpolation at the Greville abscissae of the
 // elevated space. Returns the new knots; Pw and p are updated.
-std::vector<double> elevate_1d(const std::vector<double>& U, int& p, std::vector<Point3>& Pw, int t) {
+std::vector<double> elevate_1d(const std::vector<double>& U, int& p, std::vector<Homogeneous>& Pw, int t) {
   std::vector<double> V;
   // every distinct knot gets its multiplicity raised by t
   for (size_t k = 0; k < U.size();) {
@@ -87,7 +91,7 @@ std::vector<double> elevate_1d(const std::vector<double>& U, int& p, std::vector
   const int q = p + t;
   const int nb = static_cast<int>(V.size()) - q - 1;
   Teuchos::SerialDenseMatrix<int, double> A(nb, nb);
-  Teuchos::SerialDenseMatrix<int, double> B(nb, 3), X(nb, 3);
+  Teuchos::SerialDenseMatrix<int, double> B(nb, kHom), X(nb, kHom);
   for (int i = 0; i < nb; ++i) {
     double g = 0;
     for (int k = 1; k <= q; ++k) g += V[i + k];
@@ -96,33 +100,43 @@ std::vector<double> elevate_1d(const std::vector<double>& U, int& p, std::vector
     double ders[3][kMaxBasis1D];
     bspline_ders(span, g, q, V.data(), 0, ders);
     for (int j = 0; j <= q; ++j) A(i, span - q + j) = ders[0][j];
-    const Point3 r = bspline_point(U, p, Pw, g);
-    for (int c = 0; c < 3; ++c) B(i, c) = r[c];
+    const Homogeneous r = bspline_point(U, p, Pw, g);
+    for (int c = 0; c < kHom; ++c) B(i, c) = r[c];
   }
   Teuchos::SerialDenseSolver<int, double> solver;
   solver.setMatrix(Teuchos::rcpFromRef(A));
   solver.setVectors(Teuchos::rcpFromRef(X), Teuchos::rcpFromRef(B));
   solver.factorWithEquilibration(true);
   if (solver.solve() != 0) throw std::runtime_error("degree elevation: singular collocation matrix");
-  Pw.assign(nb, Point3{0, 0, 0});
+  Pw.assign(nb, Homogeneous{});
   for (int i = 0; i < nb; ++i)
-    for (int c = 0; c < 3; ++c) Pw[i][c] = X(i, c);
+    for (int c = 0; c < kHom; ++c) Pw[i][c] = X(i, c);
   p = q;
   return V;
 }
 
-Point3 to_homogeneous(const Point3& P) { return {P[0] * P[2], P[1] * P[2], P[2]}; }
-Point3 from_homogeneous(const Point3& P) { return {P[0] / P[2], P[1] / P[2], P[2]}; }
+Homogeneous to_homogeneous(const ControlPoint& P) {
+  Homogeneous h;
+  for (int c = 0; c < kMaxDim; ++c) h[c] = P.x[c] * P.w;
+  h[kMaxDim] = P.w;
+  return h;
+}
+ControlPoint from_homogeneous(const Homogeneous& h) {
+  ControlPoint P;
+  for (int c = 0; c < kMaxDim; ++c) P.x[c] = h[c] / h[kMaxDim];
+  P.w = h[kMaxDim];
+  return P;
+}
 
 }  // namespace
 
 std::vector<int> Curve::element_spans() const { return nonempty_spans(knots, degree); }
 
 std::array<double, 2> Curve::eval(double u) const {
-  std::vector<Point3> Pw(cp.size());
+  std::vector<Homogeneous> Pw(cp.size());
   std::transform(cp.begin(), cp.end(), Pw.begin(), to_homogeneous);
-  const Point3 r = bspline_point(knots, degree, Pw, u);
-  return {r[0] / r[2], r[1] / r[2]};
+  const Homogeneous r = bspline_point(knots, degree, Pw, u);
+  return {r[0] / r[kMaxDim], r[1] / r[kMaxDim]};
 }
 
 std::vector<int> Patch::element_spans(int d) const { return nonempty_spans(knots[d], degree[d]); }
@@ -175,8 +189,8 @@ std::string Patch::validate() const {
     return os.str();
   }
   for (size_t a = 0; a < cp.size(); ++a)
-    if (!(cp[a][2] > 0)) {
-      os << "control_points[" << a << "] has weight " << cp[a][2] << "; weights must be > 0";
+    if (!(cp[a].w > 0)) {
+      os << "control_points[" << a << "] has weight " << cp[a].w << "; weights must be > 0";
       return os.str();
     }
   return "";
@@ -192,9 +206,9 @@ std::array<double, 2> Patch::eval(double u, double v) const {
   double x = 0, y = 0, w = 0;
   for (int j = 0; j <= degree[1]; ++j)
     for (int i = 0; i <= degree[0]; ++i) {
-      const Point3& P = cp[index(s0 - degree[0] + i, s1 - degree[1] + j)];
-      const double b = N[0][i] * M[0][j] * P[2];
-      x += b * P[0]; y += b * P[1]; w += b;
+      const ControlPoint& P = cp[index(s0 - degree[0] + i, s1 - degree[1] + j)];
+      const double b = N[0][i] * M[0][j] * P.w;
+      x += b * P.x[0]; y += b * P.x[1]; w += b;
     }
   return {x / w, y / w};
 }
@@ -215,7 +229,7 @@ template <class Op>
 void apply_rows(Patch& P, int d, Op op) {
   const int n0 = P.ncp(0), n1 = P.ncp(1);
   const int nrows = d == 0 ? n1 : n0, nline = d == 0 ? n0 : n1;
-  std::vector<std::vector<Point3>> lines(nrows);
+  std::vector<std::vector<Homogeneous>> lines(nrows);
   for (int r = 0; r < nrows; ++r) {
     lines[r].resize(nline);
     for (int k = 0; k < nline; ++k)
@@ -232,7 +246,7 @@ void apply_rows(Patch& P, int d, Op op) {
   P.knots[d] = newU;
   P.degree[d] = newp;
   const int m = static_cast<int>(lines[0].size());
-  P.cp.assign(static_cast<size_t>(m) * nrows, Point3{0, 0, 0});
+  P.cp.assign(static_cast<size_t>(m) * nrows, ControlPoint{});
   for (int r = 0; r < nrows; ++r)
     for (int k = 0; k < m; ++k)
       P.cp[d == 0 ? P.index(k, r) : P.index(r, k)] = from_homogeneous(lines[r][k]);
@@ -240,7 +254,7 @@ void apply_rows(Patch& P, int d, Op op) {
 }  // namespace
 
 void Patch::insert_knot(int d, double u) {
-  apply_rows(*this, d, [u](std::vector<double>& U, int& p, std::vector<Point3>& Pw) { insert_1d(U, p, Pw, u); });
+  apply_rows(*this, d, [u](std::vector<double>& U, int& p, std::vector<Homogeneous>& Pw) { insert_1d(U, p, Pw, u); });
 }
 
 void Patch::subdivide(int d, int n) {
@@ -250,7 +264,7 @@ void Patch::subdivide(int d, int n) {
     const double a = knots[d][s], b = knots[d][s + 1];
     for (int k = 1; k < n; ++k) newknots.push_back(a + (b - a) * k / n);
   }
-  apply_rows(*this, d, [&](std::vector<double>& U, int& p, std::vector<Point3>& Pw) {
+  apply_rows(*this, d, [&](std::vector<double>& U, int& p, std::vector<Homogeneous>& Pw) {
     for (double u : newknots) insert_1d(U, p, Pw, u);
   });
 }
@@ -259,24 +273,19 @@ void Patch::elevate(int d, int t) {
   if (t <= 0) return;
   if (degree[d] + t > kMaxDegree)
     throw std::runtime_error("degree elevation beyond the supported maximum degree " + std::to_string(kMaxDegree));
-  apply_rows(*this, d, [t](std::vector<double>& U, int& p, std::vector<Point3>& Pw) { U = elevate_1d(U, p, Pw, t); });
+  apply_rows(*this, d, [t](std::vector<double>& U, int& p, std::vector<Homogeneous>& Pw) { U = elevate_1d(U, p, Pw, t); });
 }
 
 std::vector<int> Patch::side_indices(Side s) const {
   std::vector<int> idx;
-  const int n0 = ncp(0), n1 = ncp(1);
-  switch (s) {
-    case Side::West: for (int j = 0; j < n1; ++j) idx.push_back(index(0, j)); break;
-    case Side::East: for (int j = 0; j < n1; ++j) idx.push_back(index(n0 - 1, j)); break;
-    case Side::South: for (int i = 0; i < n0; ++i) idx.push_back(index(i, 0)); break;
-    case Side::North: for (int i = 0; i < n0; ++i) idx.push_back(index(i, n1 - 1)); break;
-  }
+  const int n[2] = {ncp(0), ncp(1)};
+  for (int k = 0; k < n[side_tangent_direction(s)]; ++k) idx.push_back(side_tensor_index(static_cast<int>(s), &k, n, 2));
   return idx;
 }
 
 Curve Patch::side_curve(Side s) const {
   Curve c;
-  const int d = (s == Side::West || s == Side::East) ? 1 : 0;
+  const int d = side_tangent_direction(s);
   c.degree = degree[d];
   c.knots = knots[d];
   c.patch_index = side_indices(s);

@@ -58,6 +58,10 @@ struct SideCondition {
 /// A body: one or several NURBS patches of one material. Patches meet along conforming
 /// interfaces, where their control points are merged (one set of dofs), so the displacement
 /// is continuous. Single-patch bodies are the case of one patch and no interfaces.
+/// Space dimension of every problem today (dofs per control point): 2. Problem::dim() and
+/// System::dim() give it at run time; 3-D makes it a property of the problem.
+constexpr int kDim = 2;
+
 struct Body {
   std::string name;
   double E = 0, nu = 0;
@@ -163,6 +167,8 @@ struct Problem {
   int load_steps = 1;              // all stages together
   std::vector<int> stages{1};      // load steps per stage (analysis.stages; else {load_steps})
   int num_stages() const { return static_cast<int>(stages.size()); }
+  /// Space dimension of the problem: 2 (plane strain or plane stress).
+  int dim() const { return kDim; }
   std::vector<Body> bodies;
   std::vector<ContactPair> contact;
   NewtonOptions newton;
@@ -184,12 +190,9 @@ struct Problem {
 /// Limits on what a problem file may ask for (docs/problem-file.md).
 constexpr size_t kMaxProblemFileBytes = 64u << 20;   // a patch of 10^6 control points listed inline fits
 constexpr double kMaxDofs = 1e9;                      // besides the machine's memory (checked too)
-/// solver.linear.method: auto takes the direct solver up to this many dofs, the iterative one
-/// (GMRES/CG + BoomerAMG) above: the crossover measured on the wheel and two-blocks families
-/// (docs/performance.md, "BoomerAMG beside MueLu"). With friction the Krylov solves keep the
-/// fixed tolerance (no inexact Newton) and MUMPS was still 2x faster at 55,272 dofs: the
-/// direct solver up to the larger figure.
-constexpr long long kAutoDirectMaxDofs = 20000;
+/// solver.linear.method: with friction auto takes the direct solver up to this many dofs (the
+/// Krylov solves keep the fixed tolerance there, no inexact Newton, and MUMPS was still 2x
+/// faster at 55,272 dofs); without, Problem::auto_direct_max_dofs' table per degree.
 constexpr long long kAutoDirectMaxDofsFriction = 200000;
 constexpr size_t kMaxInsertedKnots = 1000;            // per direction; subdivide refines uniformly
 constexpr int kMaxLoadSteps = 10000;

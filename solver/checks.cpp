@@ -3,6 +3,7 @@
 #include <Teuchos_CommHelpers.hpp>
 #include <Teuchos_TimeMonitor.hpp>
 
+#include "kernels/numbering.hpp"
 #include "model/configuration_check.hpp"
 
 namespace iga {
@@ -21,8 +22,8 @@ std::vector<std::vector<double>> gather_displacements(const System& sys, const V
   auto h = full.getLocalViewHost(Tpetra::Access::ReadOnly);
   for (size_t b = 0; b < sys.problem().bodies.size(); ++b) {
     const size_t n = static_cast<size_t>(sys.problem().bodies[b].num_cps);
-    std::vector<double> v(2 * n);
-    for (size_t k = 0; k < 2 * n; ++k) v[k] = h(2 * sys.body_offset(static_cast<int>(b)) + k, 0);
+    std::vector<double> v(sys.dim() * n);
+    for (size_t k = 0; k < sys.dim() * n; ++k) v[k] = h(dof_of(sys.body_offset(static_cast<int>(b)), 0, sys.dim()) + k, 0);
     out.push_back(std::move(v));
   }
   return out;

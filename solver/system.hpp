@@ -60,6 +60,8 @@ class System {
   System(const Problem& problem, RCP<const Comm> comm);
 
   const Problem& problem() const { return P_; }
+  /// Space dimension: dofs per control point (kernels/numbering.hpp: dof = dim g + c).
+  int dim() const { return P_.dim(); }
   RCP<const Comm> comm() const { return comm_; }
   RCP<const Map> owned_map() const { return owned_; }
   /// The patch blocks, body after body, patch after patch.
@@ -123,7 +125,7 @@ class System {
   /// The block of a body's patch.
   size_t block_of(int body, int patch) const;
   /// Reference position of global control point g.
-  const Point3& control_point(GO g) const;
+  const ControlPoint& control_point(GO g) const;
 
   /// Builds an overlapping map from global control point ids (sorted, unique): dofs 2g, 2g+1.
   RCP<const Map> cp_dof_map(const std::vector<GO>& cps, bool replicated_ok = true) const;
@@ -141,7 +143,7 @@ class System {
   RCP<const Map> overlap_;   // elasticity overlap
   std::vector<PatchBlock> blocks_;
   std::vector<GO> body_offset_;
-  std::vector<Point3> cp_pos_;
+  std::vector<ControlPoint> cp_pos_;
   std::vector<Material> materials_;   // reference position of every global control point
   GO num_cps_ = 0;
   bool merged_ = false;   // some control points are shared by patches (interfaces)

@@ -13,7 +13,7 @@ inline Patch annulus(double ri, double ro) {
   P.degree = {2, 1};
   P.knots = {uniform_open_knots(2, 1), uniform_open_knots(1, 1)};
   const double w = std::sqrt(0.5);
-  for (double r : {ri, ro}) P.cp.insert(P.cp.end(), {{r, 0, 1}, {r, r, w}, {0, r, 1}});
+  for (double r : {ri, ro}) P.cp.insert(P.cp.end(), {{{r, 0}, 1}, {{r, r}, w}, {{0, r}, 1}});
   return P;
 }
 

@@ -67,9 +67,9 @@ inline Block3 shell(int p, std::array<int, 3> ne, int p2) {
   a.knots[0] = {0, 0, 0, 1, 1, 1};
   a.knots[1] = {0, 0, 1, 1};
   for (double r : {ri, ro}) {
-    a.cp.push_back({r, 0, 1});
-    a.cp.push_back({r, r, w});
-    a.cp.push_back({0, r, 1});
+    a.cp.push_back(ControlPoint({r, 0}, 1));
+    a.cp.push_back(ControlPoint({r, r}, w));
+    a.cp.push_back(ControlPoint({0, r}, 1));
   }
   if (p > 2) a.elevate(0, p - 2);
   if (p > 1) a.elevate(1, p - 1);
@@ -83,7 +83,7 @@ inline Block3 shell(int p, std::array<int, 3> ne, int p2) {
   b.U[2] = uniform_open_knots(p2, ne[2]);
   const auto gz = greville(b.U[2], p2);
   for (int k = 0; k < b.n(2); ++k)
-    for (size_t g = 0; g < a.cp.size(); ++g) b.cp.push_back({a.cp[g][0], a.cp[g][1], H * gz[k], a.cp[g][2]});
+    for (size_t g = 0; g < a.cp.size(); ++g) b.cp.push_back({a.cp[g].x[0], a.cp[g].x[1], H * gz[k], a.cp[g].w});
   return b;
 }
 

@@ -214,7 +214,7 @@ inline Patch distorted_patch(int p, unsigned seed = 7, bool rational = true) {
   Patch P;
   P.degree = {1, 1};
   P.knots = {uniform_open_knots(1, 1), uniform_open_knots(1, 1)};
-  P.cp = {{0, 0, 1}, {2, 0, 1}, {0, 1, 1}, {2, 1, 1}};
+  P.cp = {{{0, 0}, 1}, {{2, 0}, 1}, {{0, 1}, 1}, {{2, 1}, 1}};
   P.elevate(0, p - 1);
   P.elevate(1, p - 1);
   P.subdivide(0, 3);
@@ -225,8 +225,8 @@ inline Patch distorted_patch(int p, unsigned seed = 7, bool rational = true) {
   for (int j = 1; j + 1 < P.ncp(1); ++j)
     for (int i = 1; i + 1 < P.ncp(0); ++i) {
       auto& c = P.cp[P.index(i, j)];
-      c[0] += d(rng); c[1] += d(rng);
-      if (rational) c[2] = w(rng);
+      c.x[0] += d(rng); c.x[1] += d(rng);
+      if (rational) c.w = w(rng);
     }
   return P;
 }
@@ -241,7 +241,7 @@ inline std::string patch_yaml(const Patch& P) {
   os << "], [";
   for (size_t k = 0; k < P.knots[1].size(); ++k) os << (k ? ", " : "") << P.knots[1][k];
   os << "]]\n        control_points:\n";
-  for (const auto& c : P.cp) os << "          - [" << c[0] << ", " << c[1] << ", " << c[2] << "]\n";
+  for (const auto& c : P.cp) os << "          - [" << c.x[0] << ", " << c.x[1] << ", " << c.w << "]\n";
   os << "    boundary:\n      west: {displacement: {x: 0.0}}\n      south: {displacement: {y: 0.0}}\n"
      << "      east: {traction: [10.0, 0.0]}\n      north: {traction: [0.0, 5.0]}\n";
   return os.str();

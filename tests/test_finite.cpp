@@ -361,8 +361,8 @@ TEST(HomogeneousStretch, MatchesTheClosedFormUniaxialSolution) {
         const Patch& pt = s.P.bodies[0].patches[0];
         double err = 0;
         for (size_t a = 0; a < pt.cp.size(); ++a) {
-          err = std::max(err, std::abs(s.disp[0][2 * a] - (l1 - 1) * pt.cp[a][0]));
-          err = std::max(err, std::abs(s.disp[0][2 * a + 1] - (l2 - 1) * pt.cp[a][1]));
+          err = std::max(err, std::abs(s.disp[0][2 * a] - (l1 - 1) * pt.cp[a].x[0]));
+          err = std::max(err, std::abs(s.disp[0][2 * a + 1] - (l2 - 1) * pt.cp[a].x[1]));
         }
         EXPECT_LT(err, 1e-10) << model << " l1 = " << l1;
         // reaction on the east side: P_11 times the reference height 1
@@ -401,8 +401,8 @@ TEST(FollowerPressure, GivesTheCauchyStress) {
   const Patch& pt = s.P.bodies[0].patches[0];
   double err = 0;
   for (size_t a = 0; a < pt.cp.size(); ++a) {
-    err = std::max(err, std::abs(s.disp[0][2 * a] - (l1 - 1) * pt.cp[a][0]));
-    err = std::max(err, std::abs(s.disp[0][2 * a + 1] - (l2 - 1) * pt.cp[a][1]));
+    err = std::max(err, std::abs(s.disp[0][2 * a] - (l1 - 1) * pt.cp[a].x[0]));
+    err = std::max(err, std::abs(s.disp[0][2 * a + 1] - (l2 - 1) * pt.cp[a].x[1]));
   }
   EXPECT_LT(err, 1e-10);
   const FieldPoint fp = BodyField(s.P, 0, s.disp[0]).eval(0.4, 0.7);

@@ -30,7 +30,7 @@ RCP<Vector> smooth_u(const System& sys, double a) {
   const auto& m = *sys.owned_map();
   for (size_t l = 0; l < m.getNodeNumElements(); ++l) {
     const GO dof = m.getGlobalElement(static_cast<LO>(l));
-    const Point3& X = sys.control_point(dof / 2);
+    const auto& X = sys.control_point(dof / 2).x;
     v(l, 0) = a * (dof % 2 == 0 ? std::sin(X[0] + 2 * X[1]) : std::cos(3 * X[0] - X[1]));
   }
   return u;

@@ -22,7 +22,7 @@ Patch bilinear(std::array<double, 2> a, std::array<double, 2> b, std::array<doub
   Patch P;
   P.degree = {1, 1};
   P.knots = {uniform_open_knots(1, 1), uniform_open_knots(1, 1)};
-  P.cp = {{a[0], a[1], 1}, {b[0], b[1], 1}, {c[0], c[1], 1}, {d[0], d[1], 1}};
+  P.cp = {{{a[0], a[1]}, 1}, {{b[0], b[1]}, 1}, {{c[0], c[1]}, 1}, {{d[0], d[1]}, 1}};
   return P;
 }
 
@@ -34,7 +34,7 @@ Patch biquadratic_square() {
   P.degree = {2, 2};
   P.knots = {uniform_open_knots(2, 1), uniform_open_knots(2, 1)};
   for (int j = 0; j < 3; ++j)
-    for (int i = 0; i < 3; ++i) P.cp.push_back({0.5 * i, 0.5 * j, 1});
+    for (int i = 0; i < 3; ++i) P.cp.push_back({{0.5 * i, 0.5 * j}, 1});
   return P;
 }
 
@@ -65,7 +65,7 @@ TEST(GeometryCheck, AcceptsRectanglesAnnuliAndLeftHandedPatches) {
     P.insert_knot(0, 0.123);
     EXPECT_EQ(P.orientation(), -1);   // xi counter-clockwise, eta outwards: left-handed
     EXPECT_EQ(check_jacobian(P), "") << "p = " << p;
-    for (auto& c : P.cp) c[0] = -c[0];   // mirrored: right-handed
+    for (auto& c : P.cp) c.x[0] = -c.x[0];   // mirrored: right-handed
     EXPECT_EQ(P.orientation(), 1);
     EXPECT_EQ(check_jacobian(P), "") << "mirrored, p = " << p;
   }
@@ -101,7 +101,7 @@ TEST(GeometryCheck, AcceptsACollapsedEdge) {
   Patch two;   // the middle row of control points collapsed to (0, 0.5): two triangles
   two.degree = {1, 1};
   two.knots = {uniform_open_knots(1, 1), {0, 0, 0.5, 1, 1}};
-  two.cp = {{0, 0, 1}, {1, 0, 1}, {0, 0.5, 1}, {0, 0.5, 1}, {0, 1, 1}, {1, 1, 1}};
+  two.cp = {{{0, 0}, 1}, {{1, 0}, 1}, {{0, 0.5}, 1}, {{0, 0.5}, 1}, {{0, 1}, 1}, {{1, 1}, 1}};
   const std::string err = check_jacobian(two);
   EXPECT_TRUE(contains(err, "det J vanishes inside the patch")) << err;
 }
@@ -111,14 +111,14 @@ TEST(GeometryCheck, AcceptsAStronglyDistortedValidPatch) {
   // Bernstein coefficients of D are negative, yet det J >= 0.2 everywhere (subdivision
   // proves it; the quick test of step 1 does not)
   Patch P = biquadratic_square();
-  P.cp[4] = {1.3, 1.3, 1};
+  P.cp[4] = {{1.3, 1.3}, 1};
   double lo = 1e300;
   for (int i = 0; i <= 200; ++i)
     for (int j = 0; j <= 200; ++j) lo = std::min(lo, det_fd(P, 0.0025 + i * 0.995 / 200, 0.0025 + j * 0.995 / 200));
   EXPECT_GT(lo, 0.15);
   EXPECT_EQ(check_jacobian(P), "");
   Patch Q = P;   // rational, refined
-  Q.cp[4][2] = 0.5;
+  Q.cp[4].w = 0.5;
   Q.elevate(0, 1);
   Q.subdivide(0, 3);
   Q.subdivide(1, 2);
@@ -132,7 +132,7 @@ TEST(GeometryCheck, AcceptsAStronglyDistortedValidPatch) {
 TEST(GeometryCheck, FindsAFoldMadeByAWeight) {
   // the same net, but weight 3 on the middle point pulls the patch over itself near the east side
   Patch P = biquadratic_square();
-  P.cp[4] = {1.3, 1.3, 3.0};
+  P.cp[4] = {{1.3, 1.3}, 3.0};
   P.elevate(0, 1);
   P.subdivide(0, 3);
   P.subdivide(1, 2);
@@ -161,7 +161,7 @@ TEST(GeometryCheck, FindsABowTieInTheRightElement) {
 TEST(GeometryCheck, FindsAFoldInTheRightElement) {
   // the middle control point pushed through the south side: det J < 0 near the south edge
   Patch P = biquadratic_square();
-  P.cp[4] = {0.5, -0.6, 1};
+  P.cp[4] = {{0.5, -0.6}, 1};
   std::string err = check_jacobian(P);
   EXPECT_TRUE(contains(err, "det J changes sign in element [0, 1] x [0, 1]")) << err;
   P.subdivide(0, 2);
@@ -223,7 +223,7 @@ TEST(GeometryCheck, FindsZeroAreaAndInteriorZeros) {
   cusp.degree = {3, 1};
   cusp.knots = {uniform_open_knots(3, 1), uniform_open_knots(1, 1)};
   for (double y : {0.0, 1.0})
-    for (double x : {-1.0, 1.0, -1.0, 1.0}) cusp.cp.push_back({x, y, 1});
+    for (double x : {-1.0, 1.0, -1.0, 1.0}) cusp.cp.push_back({{x, y}, 1});
   const std::string err2 = check_jacobian(cusp);
   EXPECT_TRUE(contains(err2, "det J vanishes inside the patch in element [0, 1] x [0, 1]")) << err2;
   EXPECT_TRUE(contains(err2, "xi = 0.5")) << err2;
@@ -269,7 +269,7 @@ TEST(GeometryCheck, DISABLED_TimeOnAMillionDofs) {
   R.degree = {2, 2};
   R.knots = {uniform_open_knots(2, 1), uniform_open_knots(2, 1)};
   for (int j = 0; j < 3; ++j)
-    for (int i = 0; i < 3; ++i) R.cp.push_back({0.5 * i + 0.1 * j * j, 0.5 * j, 1});
+    for (int i = 0; i < 3; ++i) R.cp.push_back({{0.5 * i + 0.1 * j * j, 0.5 * j}, 1});
   R.subdivide(0, 700);
   R.subdivide(1, 700);
   const auto t0 = std::chrono::steady_clock::now();

@@ -104,9 +104,10 @@ void expect_same_patches(const MultiPatch& a, const MultiPatch& b, double tol, c
     EXPECT_EQ(P.knots[1], Q.knots[1]) << what << " patch " << k;
     ASSERT_EQ(P.cp.size(), Q.cp.size()) << what << " patch " << k;
     for (size_t i = 0; i < P.cp.size(); ++i)
-      for (int c = 0; c < 3; ++c) {
-        if (tol == 0) EXPECT_EQ(P.cp[i][c], Q.cp[i][c]) << what << " patch " << k << " cp " << i;
-        else EXPECT_NEAR(P.cp[i][c], Q.cp[i][c], tol * (1 + std::abs(P.cp[i][c]))) << what << " patch " << k << " cp " << i;
+      for (int c = 0; c < 3; ++c) {   // x, y, then the weight
+        const double pc = c < 2 ? P.cp[i].x[c] : P.cp[i].w, qc = c < 2 ? Q.cp[i].x[c] : Q.cp[i].w;
+        if (tol == 0) EXPECT_EQ(pc, qc) << what << " patch " << k << " cp " << i;
+        else EXPECT_NEAR(pc, qc, tol * (1 + std::abs(pc))) << what << " patch " << k << " cp " << i;
       }
     for (double u : {0.0, 0.13, 0.5, 0.61, 1.0})
       for (double v : {0.0, 0.29, 0.5, 0.87, 1.0}) {
@@ -141,7 +142,7 @@ TEST(GeometryFile, SameTwoPatchGeometryInBothFormatsWithAReversedInterface) {
   EXPECT_EQ(x.patches[0].degree, (std::array<int, 2>{2, 1}));
   EXPECT_EQ(x.patches[1].degree, (std::array<int, 2>{1, 1}));
   EXPECT_EQ(x.patches[0].knots[0], (std::vector<double>{0, 0, 0, 0.5, 1, 1, 1}));
-  EXPECT_DOUBLE_EQ(x.patches[0].cp[1][2], 0.8);
+  EXPECT_DOUBLE_EQ(x.patches[0].cp[1].w, 0.8);
   ASSERT_EQ(x.interfaces.size(), 1u);
   EXPECT_TRUE((x.interfaces[0].a == PatchSide{0, Side::East}));
   EXPECT_TRUE((x.interfaces[0].b == PatchSide{1, Side::South}));
@@ -171,9 +172,9 @@ TEST(GeometryFile, LegacyFiveNumberInterfacesAndFilesWithoutMultiPatch) {
   EXPECT_TRUE(plain.boundary.empty());
   EXPECT_TRUE(plain.named.empty());
   // order="coordinates": all x then all y.
-  const std::vector<Point3> expect{{1, 0, 1}, {2, 0, 1}, {1, 1, 1}, {2, 1, 1}};
+  const std::vector<ControlPoint> expect{{{1, 0}, 1}, {{2, 0}, 1}, {{1, 1}, 1}, {{2, 1}, 1}};
   EXPECT_EQ(plain.patches[1].cp, expect);
-  EXPECT_EQ(plain.patches[0].cp[1], (Point3{1, 0, 1}));
+  EXPECT_EQ(plain.patches[0].cp[1], (ControlPoint{{1, 0}, 1}));
 }
 
 TEST(GeometryFile, QuarterAnnuliReproduceExactRadii) {
@@ -278,7 +279,7 @@ TEST(GeometryFile, RealGismoFiles) {
   EXPECT_EQ(rect.interfaces.size(), 11u);
   EXPECT_EQ(rect.boundary.size(), 22u);
   expect_interfaces_match(rect, 1e-13, "rectangle_with_disk_hole");
-  EXPECT_EQ(rect.patches[0].cp.front()[2], 1.0);   // TensorBSpline2
+  EXPECT_EQ(rect.patches[0].cp.front().w, 1.0);   // TensorBSpline2
 }
 
 TEST(GeometryFile, WriteThenReadGivesIdenticalPatchesAndTopology) {
@@ -308,9 +309,9 @@ TEST(GeometryFile, WriteThenReadGivesIdenticalPatchesAndTopology) {
   EXPECT_EQ(text.find("<boundary>"), std::string::npos);
   // 17 significant digits where needed: 0.1 + 0.2 comes back exactly.
   MultiPatch odd = two;
-  odd.patches[1].cp[0][0] = 0.1 + 0.2;
+  odd.patches[1].cp[0].x[0] = 0.1 + 0.2;
   write_gismo_xml((dir / "odd.xml").string(), {&odd});
-  EXPECT_EQ(read_gismo_xml((dir / "odd.xml").string()).patches[1].cp[0][0], 0.1 + 0.2);
+  EXPECT_EQ(read_gismo_xml((dir / "odd.xml").string()).patches[1].cp[0].x[0], 0.1 + 0.2);
   // No temporary file is left beside the output.
   for (const auto& e : fs::directory_iterator(dir.path))
     EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();

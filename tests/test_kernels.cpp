@@ -34,8 +34,8 @@ std::vector<double> reference_ke(const Patch& P, const Material& m, int s0, int 
         for (int i = 0; i <= p0; ++i) {
           const auto& c = P.cp[P.index(s0 - p0 + i, s1 - p1 + j)];
           const int a = i + j * (p0 + 1);
-          Nw[a] = N[0][i] * M[0][j] * c[2]; Nu[a] = N[1][i] * M[0][j] * c[2]; Nv[a] = N[0][i] * M[1][j] * c[2];
-          X[a] = c[0]; Y[a] = c[1];
+          Nw[a] = N[0][i] * M[0][j] * c.w; Nu[a] = N[1][i] * M[0][j] * c.w; Nv[a] = N[0][i] * M[1][j] * c.w;
+          X[a] = c.x[0]; Y[a] = c.x[1];
           W += Nw[a]; Wu += Nu[a]; Wv += Nv[a];
         }
       std::vector<double> Ru(nen), Rv(nen);
@@ -107,7 +107,7 @@ TEST_P(KernelDegree, ElementStiffnessMatchesHostReference) {
         for (int c = 0; c < nd; ++c) {
           const int a = c / 2;
           const auto& cp = P.cp[P.index(sp0[e % sp0.size()] - p + a % (p + 1), sp1[e / sp0.size()] - p + a / (p + 1))];
-          const double z = mode == 0 ? (c % 2 == 0) : mode == 1 ? (c % 2 == 1) : (c % 2 == 0 ? -cp[1] : cp[0]);
+          const double z = mode == 0 ? (c % 2 == 0) : mode == 1 ? (c % 2 == 1) : (c % 2 == 0 ? -cp.x[1] : cp.x[0]);
           s += h(e, r * nd + c) * z;
         }
         worst = std::max(worst, std::abs(s));

@@ -125,8 +125,8 @@ TEST(MultiPatchTopology, InterfacesAreFoundAndControlPointsMerged) {
       for (size_t a = 0; a < b.patches[p].cp.size(); ++a)
         for (size_t c = 0; c < b.patches[q].cp.size(); ++c)
           if (b.cp_index[p][a] == b.cp_index[q][c]) {
-            EXPECT_NEAR(b.patches[p].cp[a][0], b.patches[q].cp[c][0], 1e-14);
-            EXPECT_NEAR(b.patches[p].cp[a][1], b.patches[q].cp[c][1], 1e-14);
+            EXPECT_NEAR(b.patches[p].cp[a].x[0], b.patches[q].cp[c].x[0], 1e-14);
+            EXPECT_NEAR(b.patches[p].cp[a].x[1], b.patches[q].cp[c].x[1], 1e-14);
           }
 }
 

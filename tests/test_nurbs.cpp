@@ -142,7 +142,7 @@ TEST(Validation, RejectsBadKnotsCountsAndWeights) {
   EXPECT_NE(a.validate().find("not non-decreasing"), std::string::npos);
   Patch b = P; b.cp.pop_back();
   EXPECT_NE(b.validate().find("control_points has 5 points"), std::string::npos);
-  Patch c = P; c.cp[1][2] = 0.0;
+  Patch c = P; c.cp[1].w = 0.0;
   EXPECT_NE(c.validate().find("weights must be > 0"), std::string::npos);
   Patch d = P; d.knots[0] = {0, 0, 0.5, 1, 1, 1};
   EXPECT_NE(d.validate().find("not open"), std::string::npos);
@@ -187,9 +187,9 @@ TEST(Bezier, RefinedQuarterAnnulusCellsLieOnTheCirclesAndCarryTheField) {
   ASSERT_EQ(B.num_elements(), 6 * 2);
   // a field in the NURBS space: the control point coordinates themselves reproduce x, y
   std::vector<double> f;
-  for (const auto& c : P.cp) f.insert(f.end(), {c[0], c[1]});
+  for (const auto& c : P.cp) f.insert(f.end(), {c.x[0], c.x[1]});
   const int n0 = B.degree()[0] + 1, n1 = B.degree()[1] + 1;
-  std::vector<Point3> pts(B.points_per_element());
+  std::vector<ControlPoint> pts(B.points_per_element());
   std::vector<double> fb(2 * B.points_per_element());
   for (int e = 0; e < B.num_elements(); ++e) {
     B.element_points(e, pts.data());
@@ -202,8 +202,8 @@ TEST(Bezier, RefinedQuarterAnnulusCellsLieOnTheCirclesAndCarryTheField) {
         for (int k1 = 0; k1 < n1; ++k1)
           for (int k0 = 0; k0 < n0; ++k0) {
             const int k = k0 + k1 * n0;
-            const double r = b0[k0] * b1[k1] * pts[k][2];
-            X += r * pts[k][0]; Y += r * pts[k][1]; W += r;
+            const double r = b0[k0] * b1[k1] * pts[k].w;
+            X += r * pts[k].x[0]; Y += r * pts[k].x[1]; W += r;
             FX += r * fb[2 * k]; FY += r * fb[2 * k + 1];
           }
         X /= W; Y /= W; FX /= W; FY /= W;

@@ -301,14 +301,14 @@ TEST(VtkBezier, StressFitIsExactForAFieldInTheSpace) {
     const auto t = fit_points(p0, p1);
     double umax = 0;
     for (double v : s.disp[b]) umax = std::max(umax, std::abs(v));
-    std::vector<Point3> pts(n);
+    std::vector<ControlPoint> pts(n);
     std::vector<double> w(n), ub(2 * n), vals(4 * n), coef(4 * n);
     for (int e = 0; e < B.num_elements(); ++e) {
       B.element_points(e, pts.data());
       B.element_field(e, s.disp[b].data(), 2, ub.data());
       const auto r0 = B.range(e, 0), r1 = B.range(e, 1);
       for (int j = 0; j < n; ++j) {
-        w[j] = pts[j][2];
+        w[j] = pts[j].w;
         const FieldPoint p = f.eval(r0[0] + t[j][0] * (r0[1] - r0[0]), r1[0] + t[j][1] * (r1[1] - r1[0]), B.span(e, 0),
                                     B.span(e, 1));
         const double v[4] = {p.x, p.y, p.ux, p.uy};
@@ -316,8 +316,8 @@ TEST(VtkBezier, StressFitIsExactForAFieldInTheSpace) {
       }
       fit_rational_bezier(p0, p1, w.data(), 4, vals.data(), coef.data());
       for (int k = 0; k < n; ++k) {
-        EXPECT_NEAR(coef[4 * k], pts[k][0], 1e-13);
-        EXPECT_NEAR(coef[4 * k + 1], pts[k][1], 1e-13);
+        EXPECT_NEAR(coef[4 * k], pts[k].x[0], 1e-13);
+        EXPECT_NEAR(coef[4 * k + 1], pts[k].x[1], 1e-13);
         EXPECT_NEAR(coef[4 * k + 2], ub[2 * k], 1e-13 * umax);
         EXPECT_NEAR(coef[4 * k + 3], ub[2 * k + 1], 1e-13 * umax);
       }

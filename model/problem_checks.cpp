@@ -1,0 +1,132 @@
+// Problem file: checks of the whole problem: rigid-body freedom, floating-point scales, and
+// whether it fits the machine.
+#include "model/yaml_reader.hpp"
+#include "kernels/numbering.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace iga {
+
+namespace detail {
+
+// Rank of the rigid-body modes restricted to the constrained dofs of a body: 3 means no
+// rigid motion is left free.
+int rigid_rank(const Body& b) {
+  double G[3][3] = {};
+  auto add = [&](const ControlPoint& cp, int c) {
+    const double x = cp.x[0], y = cp.x[1];
+    const double row[3] = {c == 0 ? 1.0 : 0.0, c == 1 ? 1.0 : 0.0, c == 0 ? -y : x};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) G[i][j] += row[i] * row[j];
+  };
+  for (size_t k = 0; k < b.patches.size(); ++k)
+    for (int s = 0; s < 4; ++s) {
+      for (int c = 0; c < 2; ++c) {
+        if (b.sides[k][s].fixed[c])
+          for (int a : b.patches[k].side_indices(static_cast<Side>(s))) add(b.patches[k].cp[a], c);
+        if (b.corners[k][s].fixed[c]) add(b.patches[k].cp[corner_index(b.patches[k], static_cast<Corner>(s))], c);
+      }
+    }
+  // rank by Gaussian elimination with full pivoting on the 3x3 Gram matrix
+  double scale = 0;
+  for (int i = 0; i < 3; ++i) scale = std::max(scale, G[i][i]);
+  if (scale == 0) return 0;
+  int rank = 0;
+  bool used_r[3] = {}, used_c[3] = {};
+  for (int k = 0; k < 3; ++k) {
+    int pr = -1, pc = -1;
+    double best = 0;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        if (!used_r[i] && !used_c[j] && std::abs(G[i][j]) > best) { best = std::abs(G[i][j]); pr = i; pc = j; }
+    if (pr < 0 || best < 1e-10 * scale) break;
+    used_r[pr] = used_c[pc] = true;
+    ++rank;
+    for (int i = 0; i < 3; ++i)
+      if (!used_r[i]) {
+        const double f = G[i][pc] / G[pr][pc];
+        for (int j = 0; j < 3; ++j) G[i][j] -= f * G[pr][j];
+      }
+  }
+  return rank;
+}
+
+void check_problem(const Reader& R, const YAML::Node& root, Problem& P) {
+  const YAML::Node bodies = root["bodies"];
+  // Scales: stiffness and penalty times thickness must stay normal floating-point numbers
+  // (a thickness of 1e-320 made every stiffness vanish and "converged" at zero displacement).
+  for (size_t b = 0; b < P.bodies.size(); ++b) {
+    const double et = P.bodies[b].E * P.thickness;
+    if (!(std::isfinite(et) && et >= std::numeric_limits<double>::min()))
+      R.fail(root["analysis"] && root["analysis"]["thickness"] ? "analysis.thickness" : "bodies[" + std::to_string(b) + "].material.youngs_modulus",
+             root["analysis"] && root["analysis"]["thickness"] ? root["analysis"]["thickness"] : bodies[b]["material"]["youngs_modulus"],
+             "youngs_modulus x thickness of body '" + P.bodies[b].name + "' is not a normal floating-point number; rescale the units");
+  }
+  for (size_t k = 0; k < P.contact.size(); ++k) {
+    const double pt = P.contact[k].penalty * P.thickness;
+    if (!(std::isfinite(pt) && pt >= std::numeric_limits<double>::min()))
+      R.fail("contact[" + std::to_string(k) + "].penalty", root["contact"][k]["penalty"],
+             "penalty x thickness is not a normal floating-point number; rescale the units");
+  }
+
+  // The whole problem, output samples included, must fit the machine.
+  {
+    double dofs = 0, out_bytes = 0;
+    int degree = 1;
+    for (const auto& b : P.bodies) {
+      dofs += static_cast<double>(P.dim()) * b.num_cps;
+      for (const Patch& q : b.patches) {
+        degree = std::max({degree, q.degree[0], q.degree[1]});
+        out_bytes += R.sample_bytes(static_cast<double>(q.element_spans(0).size()), static_cast<double>(q.element_spans(1).size()));
+      }
+    }
+    const bool output_dominates = out_bytes > 0.5 * dofs * 103.0 * (2 * degree + 1) * (2 * degree + 1);
+    if (output_dominates && root["output"] && root["output"]["samples_per_element"])
+      R.fits("output.samples_per_element", root["output"]["samples_per_element"], dofs, degree, out_bytes);
+    else
+      R.fits("bodies", bodies, dofs, degree, out_bytes);
+  }
+
+  // Rigid-body motion: a body that no contact pair touches must be held by its supports.
+  for (size_t b = 0; b < P.bodies.size(); ++b) {
+    bool in_contact = false;
+    for (const auto& c : P.contact) in_contact = in_contact || c.master.body == (int)b || c.slave.body == (int)b;
+    if (!in_contact && rigid_rank(P.bodies[b]) < 3)
+      R.fail("bodies[" + std::to_string(b) + "].boundary", bodies[b]["boundary"],
+             "body '" + P.bodies[b].name +
+                 "' is free to move as a rigid body (singular system): prescribe x and y displacements "
+                 "that fix translation and rotation");
+  }
+}
+
+// MemAvailable of /proc/meminfo in bytes (0 where unknown), or less where the environment's
+// IGACONTACT_MEMORY_LIMIT (bytes) says so: a shared machine, or the fuzzer, which must not
+// spend its time refining a valid 2e7-dof mesh.
+double available_memory_bytes() {
+  std::ifstream in("/proc/meminfo");
+  std::string key;
+  double kib = 0, bytes = 0;
+  std::string unit;
+  while (in >> key >> kib >> unit)
+    if (key == "MemAvailable:") { bytes = kib * 1024.0; break; }
+  if (const char* lim = std::getenv("IGACONTACT_MEMORY_LIMIT")) {
+    char* end = nullptr;
+    const double l = std::strtod(lim, &end);
+    if (end != lim && l > 0 && std::isfinite(l)) bytes = bytes > 0 ? std::min(bytes, l) : l;
+  }
+  return bytes;
+}
+
+}  // namespace detail
+
+}  // namespace iga

@@ -1,0 +1,381 @@
+// Problem file: bodies (material, geometry: inline NURBS, generators, geometry files;
+// interfaces, refinement, the boundary block) and their geometry after the read.
+#include "model/yaml_reader.hpp"
+#include "model/geometry_check.hpp"
+#include "model/geometry_file.hpp"
+#include "kernels/numbering.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace iga {
+
+std::string Body::side_label(int patch, Side s) const {
+  return multipatch() ? patch_side_name({patch, s}) : std::string(side_name(s));
+}
+
+bool Body::is_interface(const PatchSide& s) const {
+  for (const Interface& f : interfaces)
+    if (f.a == s || f.b == s) return true;
+  return false;
+}
+
+std::string Body::corner_label(int patch, Corner c) const {
+  return (multipatch() ? "patch" + std::to_string(patch) + "." : std::string()) + corner_name(c);
+}
+
+std::vector<double> Body::patch_values(int patch, const std::vector<double>& u) const {
+  const auto& idx = cp_index[patch];
+  std::vector<double> v(kDim * idx.size());
+  for (size_t a = 0; a < idx.size(); ++a)
+    for (int c = 0; c < kDim; ++c) v[dof_of(a, c, kDim)] = u[dof_of(static_cast<size_t>(idx[a]), c, kDim)];
+  return v;
+}
+
+MultiPatch body_geometry(const Body& b, const std::vector<double>* u) {
+  MultiPatch mp;
+  mp.patches = b.patches;
+  mp.interfaces = b.interfaces;
+  mp.named = b.named;
+  for (size_t k = 0; k < b.patches.size(); ++k) {
+    for (int s = 0; s < num_sides(b.patches[k].dim()); ++s) {
+      const PatchSide ps{static_cast<int>(k), static_cast<Side>(s)};
+      if (!b.is_interface(ps)) mp.boundary.push_back(ps);
+    }
+    if (u) {
+      const std::vector<double> uk = b.patch_values(static_cast<int>(k), *u);
+      for (size_t a = 0; a < b.patches[k].cp.size(); ++a)
+        for (int c = 0; c < kDim; ++c) mp.patches[k].cp[a].x[c] += uk[dof_of(a, c, kDim)];
+    }
+  }
+  return mp;
+}
+
+
+namespace detail {
+
+// Number of distinct values of a knot vector.
+int distinct_knots(const std::vector<double>& U) {
+  int k = 0;
+  for (size_t i = 0; i < U.size(); ++i) k += (i == 0 || U[i] != U[i - 1]) ? 1 : 0;
+  return k;
+}
+
+Patch read_nurbs(const Reader& R, const YAML::Node& n, const std::string& path) {
+  R.keys(n, path, {"degree", "knots", "control_points"});
+  Patch P;
+  if (!n["degree"]) R.missing(path + ".degree");
+  if (!n["knots"]) R.missing(path + ".knots");
+  if (!n["control_points"]) R.missing(path + ".control_points");
+  const YAML::Node deg = n["degree"];
+  if (!deg.IsSequence() || deg.size() != 2) R.fail(path + ".degree", deg, "expected [p_xi, p_eta]");
+  for (int d = 0; d < 2; ++d) P.degree[d] = R.integer(deg[d], path + ".degree[" + std::to_string(d) + "]");
+  const YAML::Node kn = n["knots"];
+  if (!kn.IsSequence() || kn.size() != 2) R.fail(path + ".knots", kn, "expected two knot vectors [[...], [...]]");
+  for (int d = 0; d < 2; ++d) P.knots[d] = R.numbers(kn[d], path + ".knots[" + std::to_string(d) + "]");
+  const YAML::Node cps = n["control_points"];
+  if (!cps.IsSequence()) R.fail(path + ".control_points", cps, "expected a list of [x, y, w]");
+  for (size_t a = 0; a < cps.size(); ++a) {
+    const std::string key = path + ".control_points[" + std::to_string(a) + "]";
+    if (!cps[a].IsSequence() || (cps[a].size() != 3 && cps[a].size() != 2))
+      R.fail(key, cps[a], "expected [x, y, w]");
+    const auto v = R.numbers(cps[a], key);
+    P.cp.push_back(ControlPoint{{v[0], v[1]}, v.size() == 3 ? v[2] : 1.0});
+  }
+  for (int d = 0; d < 2; ++d)
+    if (P.degree[d] < 1 || P.degree[d] > 5)
+      R.fail(path + ".degree[" + std::to_string(d) + "]", deg[d], "degree must be 1..5");
+  const std::string err = P.validate();
+  if (!err.empty()) {
+    // name the most specific key the message is about
+    std::string key = path;
+    YAML::Node at = n;
+    if (err.rfind("knots[0]", 0) == 0) { key += ".knots[0]"; at = kn[0]; }
+    else if (err.rfind("knots[1]", 0) == 0) { key += ".knots[1]"; at = kn[1]; }
+    else if (err.rfind("control_points[", 0) == 0) {
+      const size_t a = std::stoul(err.substr(15));
+      key += ".control_points[" + std::to_string(a) + "]"; at = cps[a];
+    } else if (err.rfind("control_points", 0) == 0) {
+      key += ".control_points"; 
+      throw InputError(printable(R.file + ":" + std::to_string(cps.Mark().line + 1) + ": " + key + ": " + err));
+    }
+    R.fail(key, at, err);
+  }
+  return P;
+}
+
+Patch make_rectangle(const Reader& R, const YAML::Node& n, const std::string& path) {
+  R.keys(n, path, {"origin", "size"});
+  if (!n["origin"]) R.missing(path + ".origin");
+  if (!n["size"]) R.missing(path + ".size");
+  const auto o = R.numbers(n["origin"], path + ".origin", 2);
+  const auto s = R.numbers(n["size"], path + ".size", 2);
+  for (int d = 0; d < 2; ++d)
+    if (!(s[d] > 0)) R.fail(path + ".size", n["size"], "both sizes must be > 0");
+  Patch P;
+  P.degree = {1, 1};
+  P.knots = {uniform_open_knots(1, 1), uniform_open_knots(1, 1)};
+  P.cp = {ControlPoint{{o[0], o[1]}, 1}, ControlPoint{{o[0] + s[0], o[1]}, 1}, ControlPoint{{o[0], o[1] + s[1]}, 1},
+          ControlPoint{{o[0] + s[0], o[1] + s[1]}, 1}};
+  return P;
+}
+
+Patch make_quarter_annulus(const Reader& R, const YAML::Node& n, const std::string& path) {
+  R.keys(n, path, {"center", "inner_radius", "outer_radius", "start_angle"});
+  for (const char* k : {"center", "inner_radius", "outer_radius"})
+    if (!n[k]) R.missing(path + "." + k);
+  const auto c = R.numbers(n["center"], path + ".center", 2);
+  const double ri = R.positive(n["inner_radius"], path + ".inner_radius");
+  const double ro = R.positive(n["outer_radius"], path + ".outer_radius");
+  if (!(ro > ri)) R.fail(path + ".outer_radius", n["outer_radius"], "must be > inner_radius");
+  const double a0 = n["start_angle"] ? R.number(n["start_angle"], path + ".start_angle") : 0.0;
+  const double th = a0 * M_PI / 180.0, cs = std::cos(th), sn = std::sin(th);
+  Patch P;
+  P.degree = {2, 1};
+  P.knots = {uniform_open_knots(2, 1), uniform_open_knots(1, 1)};
+  const double w = std::sqrt(0.5);
+  for (double r : {ri, ro}) {
+    const double loc[3][2] = {{r, 0}, {r, r}, {0, r}};
+    const double wt[3] = {1, w, 1};
+    for (int k = 0; k < 3; ++k)
+      P.cp.push_back(ControlPoint{{c[0] + cs * loc[k][0] - sn * loc[k][1], c[1] + sn * loc[k][0] + cs * loc[k][1]}, wt[k]});
+  }
+  return P;
+}
+
+Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
+  R.keys(n, path, {"name", "material", "geometry", "refine", "boundary"});
+  Body b;
+  if (!n["name"]) R.missing(path + ".name");
+  b.name = R.string(n["name"], path + ".name");
+  if (b.name.empty()) R.fail(path + ".name", n["name"], "must not be empty");
+  // names become HDF5 groups, XML attributes and file names: keep them plain
+  bool plain = b.name.size() <= 64 && (std::isalnum(static_cast<unsigned char>(b.name[0])) || b.name[0] == '_');
+  for (const char c : b.name) plain = plain && (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.');
+  if (!plain)
+    R.fail(path + ".name", n["name"],
+           "a body name is 1..64 letters, digits, '_', '-' or '.', starting with a letter, digit or '_'");
+  if (!n["material"]) R.missing(path + ".material");
+  const YAML::Node m = n["material"];
+  R.keys(m, path + ".material", {"model", "youngs_modulus", "poisson_ratio"});
+  if (m["model"]) {
+    const std::string t = R.string(m["model"], path + ".material.model");
+    if (t == "linear") b.model = MaterialModel::Linear;
+    else if (t == "saint_venant_kirchhoff") b.model = MaterialModel::SaintVenantKirchhoff;
+    else if (t == "neo_hookean") b.model = MaterialModel::NeoHookean;
+    else R.fail(path + ".material.model", m["model"], "expected linear, saint_venant_kirchhoff or neo_hookean");
+  }
+  if (!m["youngs_modulus"]) R.missing(path + ".material.youngs_modulus");
+  if (!m["poisson_ratio"]) R.missing(path + ".material.poisson_ratio");
+  b.E = R.number(m["youngs_modulus"], path + ".material.youngs_modulus");
+  if (!(b.E > 0)) R.fail(path + ".material.youngs_modulus", m["youngs_modulus"], "must be > 0");
+  b.nu = R.number(m["poisson_ratio"], path + ".material.poisson_ratio");
+  if (!(b.nu > -1.0 && b.nu < 0.5))
+    R.fail(path + ".material.poisson_ratio", m["poisson_ratio"], "must lie in (-1, 0.5)");
+
+  if (!n["geometry"]) R.missing(path + ".geometry");
+  const YAML::Node g = n["geometry"];
+  R.keys(g, path + ".geometry", {"nurbs", "rectangle", "quarter_annulus", "file", "patches"});
+  if (g.size() != 1) R.fail(path + ".geometry", g, "give exactly one of nurbs, patches, rectangle, quarter_annulus, file");
+  std::vector<Interface> declared;
+  if (g["nurbs"]) b.patches = {read_nurbs(R, g["nurbs"], path + ".geometry.nurbs")};
+  else if (g["patches"]) {
+    // several patches listed inline, each as `nurbs`; interfaces are found by coincidence
+    const YAML::Node ps = g["patches"];
+    if (!ps.IsSequence() || ps.size() == 0) R.fail(path + ".geometry.patches", ps, "expected a list of patches {degree, knots, control_points}");
+    for (size_t k = 0; k < ps.size(); ++k) b.patches.push_back(read_nurbs(R, ps[k], path + ".geometry.patches[" + std::to_string(k) + "]"));
+  }
+  else if (g["rectangle"]) b.patches = {make_rectangle(R, g["rectangle"], path + ".geometry.rectangle")};
+  else if (g["quarter_annulus"]) b.patches = {make_quarter_annulus(R, g["quarter_annulus"], path + ".geometry.quarter_annulus")};
+  else {
+    // a geometry file, relative to the problem file; its own errors name it and its line
+    const std::string name = R.string(g["file"], path + ".geometry.file");
+    namespace fs = std::filesystem;
+    const fs::path gp = fs::path(name).is_absolute() ? fs::path(name) : fs::path(R.file).parent_path() / name;
+    std::error_code ec;
+    if (fs::is_directory(gp, ec)) R.fail(path + ".geometry.file", g["file"], gp.string() + " is a directory, not a geometry file");
+    if (!fs::is_regular_file(gp, ec)) R.fail(path + ".geometry.file", g["file"], "cannot open the geometry file " + gp.string());
+    MultiPatch mp = read_geometry_file(gp.string());
+    if (mp.patches.empty()) R.fail(path + ".geometry.file", g["file"], "the geometry file holds no patch");
+    for (size_t k = 0; k < mp.patches.size(); ++k)
+      for (int d = 0; d < 2; ++d)
+        if (mp.patches[k].degree[d] > 5)
+          R.fail(path + ".geometry.file", g["file"], "patch " + std::to_string(k) + " has degree " +
+                 std::to_string(mp.patches[k].degree[d]) + " (1..5 are supported)");
+    b.patches = std::move(mp.patches);
+    declared = std::move(mp.interfaces);
+    b.named = std::move(mp.named);
+  }
+  const int np = static_cast<int>(b.patches.size());
+  // interfaces: declared ones and those found on the unrefined patches (refinement keeps
+  // conforming sides conforming only when both are refined alike: checked after it)
+  b.tolerance = 1e-8 * std::max(patches_diameter(b.patches), 1e-300);
+  {
+    for (const Interface& f : declared) {
+      const std::string err = check_interface(b.patches, f, b.tolerance);
+      if (!err.empty()) R.fail(path + ".geometry.file", g["file"], "body '" + b.name + "': " + err);
+    }
+    b.interfaces = declared;
+    for (const Interface& f : find_interfaces(b.patches, b.tolerance)) {
+      bool known = false;
+      for (const Interface& d : declared) known = known || (d.a == f.a && d.b == f.b) || (d.a == f.b && d.b == f.a);
+      if (!known) b.interfaces.push_back(f);
+    }
+    const std::string nc = find_nonconforming(b.patches, b.interfaces, b.tolerance);
+    if (!nc.empty()) R.fail(path + ".geometry", g, "body '" + b.name + "': " + nc);
+  }
+
+  if (n["refine"]) {
+    const YAML::Node r = n["refine"];
+    R.keys(r, path + ".refine", {"degree_elevate", "insert_knots", "subdivide"});
+    // sizes after each refinement, checked before it is done (a refinement too large for
+    // the machine is refused at once, not after minutes of knot insertion); every patch of
+    // the body is refined alike
+    using NcpFn = std::function<std::array<long long, 2>(const Patch&)>;
+    using ElFn = std::function<std::array<double, 2>(const Patch&)>;
+    auto totals = [&](const NcpFn& ncp, const ElFn& el) {
+      double dofs = 0, sample = 0;
+      for (const Patch& q : b.patches) {
+        const auto c = ncp(q);
+        const auto e = el(q);
+        dofs += static_cast<double>(kDim) * static_cast<double>(c[0]) * static_cast<double>(c[1]);
+        sample += R.sample_bytes(e[0], e[1]);
+      }
+      return std::pair<double, double>(dofs, sample);
+    };
+    auto elements = [](const Patch& q) {
+      return std::array<double, 2>{static_cast<double>(q.element_spans(0).size()), static_cast<double>(q.element_spans(1).size())};
+    };
+    auto max_degree = [&] {
+      int m = 1;
+      for (const Patch& q : b.patches) m = std::max({m, q.degree[0], q.degree[1]});
+      return m;
+    };
+    if (r["degree_elevate"]) {
+      const auto e = R.int_pair(r["degree_elevate"], path + ".refine.degree_elevate");
+      for (const Patch& q : b.patches)
+        for (int d = 0; d < 2; ++d) {
+          if (e[d] < 0) R.fail(path + ".refine.degree_elevate", r["degree_elevate"], "must be >= 0");
+          if (q.degree[d] + e[d] > 5)
+            R.fail(path + ".refine.degree_elevate", r["degree_elevate"],
+                   "would raise degree " + std::to_string(q.degree[d]) + " above the supported 5");
+        }
+      const auto t = totals([&](const Patch& q) {
+        std::array<long long, 2> c{};
+        for (int d = 0; d < 2; ++d) c[d] = q.ncp(d) + static_cast<long long>(e[d]) * (distinct_knots(q.knots[d]) - 1);
+        return c;
+      }, elements);
+      R.fits(path + ".refine.degree_elevate", r["degree_elevate"], t.first, max_degree() + std::max(e[0], e[1]), t.second);
+      for (Patch& q : b.patches)
+        for (int d = 0; d < 2; ++d) q.elevate(d, e[d]);
+    }
+    if (r["insert_knots"]) {
+      const YAML::Node ik = r["insert_knots"];
+      const std::string key = path + ".refine.insert_knots";
+      if (!ik.IsSequence() || ik.size() != 2) R.fail(key, ik, "expected two lists [[xi knots], [eta knots]] in [0, 1]");
+      std::array<long long, 2> added{};
+      for (int d = 0; d < 2; ++d) {
+        if (ik[d].IsSequence() && ik[d].size() > kMaxInsertedKnots)
+          R.fail(key + "[" + std::to_string(d) + "]", ik[d],
+                 "at most " + std::to_string(kMaxInsertedKnots) + " knots per direction; use subdivide for uniform refinement");
+        added[d] = ik[d].IsSequence() ? static_cast<long long>(ik[d].size()) : 0;
+      }
+      const auto t = totals([&](const Patch& q) { return std::array<long long, 2>{q.ncp(0) + added[0], q.ncp(1) + added[1]}; },
+                            [&](const Patch& q) {
+                              auto e = elements(q);
+                              return std::array<double, 2>{e[0] + added[0], e[1] + added[1]};
+                            });
+      R.fits(key, ik, t.first, max_degree(), t.second);
+      for (int d = 0; d < 2; ++d) {
+        const auto ks = R.numbers(ik[d], key + "[" + std::to_string(d) + "]");
+        for (Patch& q : b.patches) {
+          const auto U = q.knots[d];
+          for (double t : ks) {
+            if (!(t > 0 && t < 1)) R.fail(key + "[" + std::to_string(d) + "]", ik[d], "knots must lie strictly inside (0, 1)");
+            q.insert_knot(d, U.front() + t * (U.back() - U.front()));
+          }
+          const std::string err = q.validate();
+          if (!err.empty()) R.fail(key + "[" + std::to_string(d) + "]", ik[d], err);
+        }
+      }
+    }
+    if (r["subdivide"]) {
+      const auto s = R.int_pair(r["subdivide"], path + ".refine.subdivide");
+      for (int d = 0; d < 2; ++d)
+        if (s[d] < 1 || s[d] > 100000) R.fail(path + ".refine.subdivide", r["subdivide"], "must be 1..100000");
+      const auto t = totals([&](const Patch& q) {
+        std::array<long long, 2> c{};
+        for (int d = 0; d < 2; ++d) c[d] = q.ncp(d) + static_cast<long long>(s[d] - 1) * static_cast<long long>(q.element_spans(d).size());
+        return c;
+      }, [&](const Patch& q) {
+        auto e = elements(q);
+        return std::array<double, 2>{e[0] * s[0], e[1] * s[1]};
+      });
+      R.fits(path + ".refine.subdivide", r["subdivide"], t.first, max_degree(), t.second);
+      for (Patch& q : b.patches)
+        for (int d = 0; d < 2; ++d) q.subdivide(d, s[d]);
+    }
+    for (const Interface& f : b.interfaces) {
+      const std::string err = check_interface(b.patches, f, b.tolerance);
+      if (!err.empty()) R.fail(path + ".refine", r, "body '" + b.name + "': " + err);
+    }
+  }
+  b.cp_index = merge_control_points(b.patches, b.interfaces, b.num_cps);
+  // a folded or flat patch (det J changing sign or vanishing inside) is bad input, blamed on
+  // the control points where they were given
+  for (int k = 0; k < np; ++k) {
+    const std::string bad = check_jacobian(b.patches[k]);
+    if (bad.empty()) continue;
+    const std::string who = "body '" + b.name + "'" + (np > 1 ? ", patch " + std::to_string(k) : std::string()) + ": ";
+    if (g["nurbs"]) R.fail(path + ".geometry.nurbs.control_points", g["nurbs"]["control_points"], who + bad);
+    if (g["patches"])
+      R.fail(path + ".geometry.patches[" + std::to_string(k) + "].control_points", g["patches"][k]["control_points"], who + bad);
+    R.fail(path + (g["file"] ? ".geometry.file" : ".geometry"), g["file"] ? g["file"] : g, who + bad);
+  }
+  b.sides.assign(np, {});
+  b.corners.assign(np, {});
+  if (n["boundary"]) {
+    const YAML::Node bc = n["boundary"];
+    if (!bc.IsMap()) R.fail(path + ".boundary", bc, "expected a mapping");
+    std::map<std::string, std::string> given;   // side or corner -> the key that gave its condition
+    for (const auto& kv : bc) {
+      const std::string name = kv.first.as<std::string>(), key = path + ".boundary." + name;
+      const auto where = boundary_places(R, b, name, key, kv.second);
+      for (const auto& [ps, corner] : where) {
+        SideCondition& sc = corner < 0 ? b.sides[ps.patch][static_cast<int>(ps.side)] : b.corners[ps.patch][corner];
+        const std::string what = corner < 0 ? b.side_label(ps.patch, ps.side) : b.corner_label(ps.patch, static_cast<Corner>(corner));
+        if (!sc.value.empty())
+          R.fail(key, kv.second, what + (what == name ? "" : ", a side of " + name + ",") + " already has a condition (" + given[what] + ")");
+        given[what] = key;
+        read_side(R, kv.second, key, sc);
+        if (corner >= 0 && sc.load != LoadKind::None)
+          R.fail(key, kv.second, "a corner takes a displacement only (a point load is not supported)");
+        if (corner < 0 && sc.load != LoadKind::None && b.is_interface(ps))
+          R.fail(key, kv.second, patch_side_name(ps) + " is an interface between patches, inside the body: no load there");
+      }
+    }
+  }
+  for (int k = 0; k < np; ++k)
+    for (auto* arr : {&b.sides[k], &b.corners[k]})
+      for (auto& sc : *arr)   // free sides: zero values at every stage end
+        if (sc.value.empty()) {
+          sc.value.assign(R.stages, {0.0, 0.0});
+          sc.p0.assign(R.stages, 0.0);
+          sc.p1.assign(R.stages, 0.0);
+          sc.traction.assign(R.stages, {0.0, 0.0});
+        }
+  return b;
+}
+
+}  // namespace detail
+
+}  // namespace iga

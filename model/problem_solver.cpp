@@ -1,0 +1,211 @@
+// Problem file: solver options (Newton, the linear method and preconditioner, MueLu's XML),
+// the automatic linear method and the symmetry of the tangent.
+#include "model/yaml_reader.hpp"
+#include <MueLu_MasterList.hpp>
+#include <Teuchos_XMLParameterListHelpers.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace iga {
+
+// auto: not for the direct solver (its factorisations are exact, and its GMRES on kept factors
+// solves to the tolerance), and not with friction: the inexact steps of the wheel with mortar
+// friction 0.3 sent points through slip on the way, and the step ended in a different stick
+// state (tangential force 1.3e-4 apart, whatever Newton's tolerance), where every exact path
+// ended in the same one.
+bool eisenstat_walker_forcing(const Problem& P) {
+  if (P.linear.forcing != Forcing::Auto) return P.linear.forcing == Forcing::EisenstatWalker;
+  // a linear problem (small strain, no contact) is solved by one linear solve to the fixed
+  // tolerance, after which Newton's residual check passes: inexact steps took 3 (issue 34)
+  const bool linear = P.contact.empty() && P.kinematics == Kinematics::Small;
+  return P.linear.method != LinearMethod::Direct && !P.has_friction() && !linear;
+}
+
+bool Problem::has_friction() const {
+  return std::any_of(contact.begin(), contact.end(), [](const ContactPair& c) { return c.friction > 0; });
+}
+
+// solver.linear.method: auto takes MUMPS up to this many dofs and GMRES/CG + BoomerAMG above:
+// where the two cost the same, measured per degree p (the highest of any patch) by
+// benchmarks/auto_crossover.py (docs/performance.md, "auto by degree"). A linear problem (small
+// strain, no contact) is one CG solve to the fixed tolerance, and there the factorisation stays
+// ahead far longer, the more so at high degree (on the Lame cylinder MUMPS was ahead or even
+// up to 6e4-2.4e5 dofs at p = 2, 1.2e5-2.4e5 at p = 3, 4, and past 2.4e5 at p = 5; a plate
+// at p = 1: 6e4). A nonlinear one (contact, finite strain) is solved by GMRES with inexact
+// Newton, which won on two blocks in contact from 1e4 dofs at p <= 3 and from 1.5e4-3e4 at
+// p = 4, 5. With friction the Krylov solves keep the fixed tolerance and MUMPS was 2x faster
+// at 55,272 dofs: kAutoDirectMaxDofsFriction.
+long long Problem::auto_direct_max_dofs() const {
+  if (has_friction()) return kAutoDirectMaxDofsFriction;
+  int p = 1;
+  for (const Body& b : bodies)
+    for (const Patch& pt : b.patches) p = std::max(p, std::max(pt.degree[0], pt.degree[1]));
+  const bool linear = contact.empty() && kinematics == Kinematics::Small;
+  //                                                 p = 1      2       3       4       5
+  static constexpr long long kMaxDofs[2][5] = {/* nonlinear */ {10000, 10000, 20000, 20000, 30000},
+                                               /* linear */ {60000, 60000, 150000, 150000, 240000}};
+  return kMaxDofs[linear ? 1 : 0][std::min(p, 5) - 1];
+}
+
+
+namespace detail {
+
+// solver.linear.muelu_xml: a MueLu XML parameter list (MueLu's own format), relative to the
+// problem file's folder. Read and checked here, once, so that a bad file stops the run before
+// anything is solved or written: it must parse, and every top-level name must be a MueLu
+// parameter (MueLu's master list) or a "level N" sublist.
+Teuchos::RCP<const Teuchos::ParameterList> muelu_xml(const Reader& R, const YAML::Node& n) {
+  const std::string key = "solver.linear.muelu_xml";
+  const std::string given = R.string(n, key);
+  if (given.empty()) R.fail(key, n, "must not be empty");
+  const std::string path = (std::filesystem::path(R.file).parent_path() / given).string();
+  std::error_code ec;   // a regular file only: Teuchos' XML reader loops on a folder or a device
+  if (!std::filesystem::is_regular_file(path, ec) || !std::ifstream(path)) R.fail(key, n, "cannot read " + path);
+  Teuchos::RCP<Teuchos::ParameterList> list;
+  try {
+    list = Teuchos::getParametersFromXmlFile(path);
+  } catch (const std::exception& e) {
+    // Teuchos' message ends with the reason, after the throwing source line and test
+    std::string why = e.what();
+    while (!why.empty() && std::isspace(static_cast<unsigned char>(why.back()))) why.pop_back();
+    why = why.substr(why.find_last_of('\n') + 1);
+    R.fail(key, n, "not a Teuchos XML parameter list: " + why);
+  }
+  const Teuchos::RCP<const Teuchos::ParameterList> master = MueLu::MasterList::List();
+  for (auto it = list->begin(); it != list->end(); ++it) {
+    const std::string& name = list->name(it);
+    if (master->isParameter(name) || name.rfind("level ", 0) == 0) continue;
+    R.fail(key, n, "'" + name + "' is not a MueLu parameter");
+  }
+  return list;
+}
+
+void read_solver(const Reader& R, const YAML::Node& root, Problem& P) {
+  if (root["solver"]) {
+    const YAML::Node s = root["solver"];
+    R.keys(s, "solver", {"newton", "linear", "quadrature", "formation"});
+    if (s["formation"]) {
+      const std::string f = R.string(s["formation"], "solver.formation");
+      if (f == "sum_factorized") P.formation = Formation::SumFactorized;
+      else if (f == "elements") P.formation = Formation::Elements;
+      else R.fail("solver.formation", s["formation"], "expected sum_factorized or elements");
+    }
+    if (s["quadrature"]) {
+      const std::string q = R.string(s["quadrature"], "solver.quadrature");
+      if (q == "gauss") P.quadrature = Quadrature::Gauss;
+      else if (q == "spline") P.quadrature = Quadrature::Spline;
+      else R.fail("solver.quadrature", s["quadrature"], "expected gauss or spline");
+    }
+    if (s["newton"]) {
+      const YAML::Node n = s["newton"];
+      R.keys(n, "solver.newton", {"max_iterations", "tolerance", "line_search", "max_cuts"});
+      if (n["line_search"]) P.newton.line_search = R.boolean(n["line_search"], "solver.newton.line_search");
+      if (n["max_cuts"]) {
+        P.newton.max_cuts = R.integer(n["max_cuts"], "solver.newton.max_cuts");
+        if (P.newton.max_cuts < 0 || P.newton.max_cuts > 30) R.fail("solver.newton.max_cuts", n["max_cuts"], "must be 0..30");
+      }
+      if (n["max_iterations"]) {
+        P.newton.max_iterations = R.integer(n["max_iterations"], "solver.newton.max_iterations");
+        if (P.newton.max_iterations < 1) R.fail("solver.newton.max_iterations", n["max_iterations"], "must be >= 1");
+      }
+      if (n["tolerance"]) P.newton.tolerance = R.positive(n["tolerance"], "solver.newton.tolerance");
+    }
+    if (s["linear"]) {
+      const YAML::Node l = s["linear"];
+      R.keys(l, "solver.linear", {"method", "preconditioner", "tolerance", "max_iterations", "muelu_xml",
+                                   "reuse_preconditioner", "forcing"});
+      if (l["method"]) {
+        const std::string m = R.string(l["method"], "solver.linear.method");
+        if (m == "cg") P.linear.method = LinearMethod::CG;
+        else if (m == "gmres") P.linear.method = LinearMethod::GMRES;
+        else if (m == "direct") P.linear.method = LinearMethod::Direct;
+        else if (m != "auto") R.fail("solver.linear.method", l["method"], "expected auto, direct, gmres or cg");
+        P.linear.method_given = m != "auto";
+      }
+      if (l["preconditioner"]) {
+        const std::string m = R.string(l["preconditioner"], "solver.linear.preconditioner");
+        if (m == "muelu") P.linear.preconditioner = Preconditioner::MueLu;
+        else if (m == "boomeramg") P.linear.preconditioner = Preconditioner::BoomerAMG;
+        else if (m == "ilut") P.linear.preconditioner = Preconditioner::ILUT;
+        else if (m == "relaxation") P.linear.preconditioner = Preconditioner::Relaxation;
+        else if (m == "none") P.linear.preconditioner = Preconditioner::None;
+        else R.fail("solver.linear.preconditioner", l["preconditioner"], "expected boomeramg, muelu, ilut, relaxation or none");
+      }
+      if (l["tolerance"]) P.linear.tolerance = R.positive(l["tolerance"], "solver.linear.tolerance");
+      if (l["max_iterations"]) {
+        P.linear.max_iterations = R.integer(l["max_iterations"], "solver.linear.max_iterations");
+        if (P.linear.max_iterations < 1) R.fail("solver.linear.max_iterations", l["max_iterations"], "must be >= 1");
+      }
+      if (l["muelu_xml"]) {
+        // MueLu's parameters choose MueLu where no preconditioner is named (the default is
+        // BoomerAMG); beside another named one they would be ignored: bad input
+        if (!l["preconditioner"]) P.linear.preconditioner = Preconditioner::MueLu;
+        else if (P.linear.preconditioner != Preconditioner::MueLu)
+          R.fail("solver.linear.muelu_xml", l["muelu_xml"],
+                 std::string("MueLu parameters, but solver.linear.preconditioner is ") +
+                     preconditioner_name(P.linear.preconditioner) + " (name muelu, or drop muelu_xml)");
+        P.linear.muelu_parameters = muelu_xml(R, l["muelu_xml"]);
+      }
+      if (l["reuse_preconditioner"])
+        P.linear.reuse_preconditioner = R.boolean(l["reuse_preconditioner"], "solver.linear.reuse_preconditioner");
+      if (l["forcing"]) {
+        const std::string m = R.string(l["forcing"], "solver.linear.forcing");
+        if (m == "eisenstat_walker") P.linear.forcing = Forcing::EisenstatWalker;
+        else if (m == "fixed") P.linear.forcing = Forcing::Fixed;
+        else if (m != "auto") R.fail("solver.linear.forcing", l["forcing"], "expected auto, eisenstat_walker or fixed");
+      }
+    }
+  }
+}
+
+void choose_linear_method(const Reader& R, const YAML::Node& root, Problem& P) {
+  // Default linear method (auto): the direct solver up to auto_direct_max_dofs() dofs; above, CG for
+  // elasticity (SPD), GMRES with contact, whose consistent tangent (the -p G term of the
+  // moving projection) is not positive definite far from the solution.
+  if (!P.linear.method_given) {
+    long long dofs = 0;
+    for (const Body& b : P.bodies) dofs += static_cast<long long>(P.dim()) * b.num_cps;
+    P.linear.automatic = true;
+    // finite strain: the tangent may be indefinite (buckling) and, with follower pressure,
+    // non-symmetric: GMRES
+    P.linear.method = dofs <= P.auto_direct_max_dofs()                         ? LinearMethod::Direct
+                      : P.contact.empty() && P.kinematics == Kinematics::Small ? LinearMethod::CG
+                                                                               : LinearMethod::GMRES;
+  }
+  for (const ContactPair& c : P.contact)
+    if (c.friction > 0) P.linear.symmetric = false;
+  // a pressure following the deformed surface has a non-symmetric tangent
+  bool follower = false;
+  if (P.kinematics == Kinematics::Finite)
+    for (const Body& b : P.bodies)
+      for (const auto& sides : b.sides)
+        for (const SideCondition& sc : sides)
+        if (sc.load == LoadKind::Pressure || sc.load == LoadKind::LinearPressure) follower = true;
+  if (follower) {
+    P.linear.symmetric = false;
+    if (P.linear.method == LinearMethod::CG)
+      R.fail("solver.linear.method", root["solver"]["linear"]["method"],
+             "cg needs a symmetric tangent, and a pressure with analysis.kinematics: finite follows the deformed "
+             "surface, whose tangent is non-symmetric; use gmres or direct");
+  }
+  // friction in slip makes the tangent non-symmetric: CG does not apply
+  for (size_t k = 0; k < P.contact.size(); ++k)
+    if (P.contact[k].friction > 0 && P.linear.method == LinearMethod::CG)
+      R.fail("solver.linear.method", root["solver"]["linear"]["method"],
+             "cg needs a symmetric tangent, and friction (contact[" + std::to_string(k) +
+                 "].friction > 0) makes it non-symmetric in slip; use gmres or direct");
+}
+
+}  // namespace detail
+
+}  // namespace iga

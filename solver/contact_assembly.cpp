@@ -1,0 +1,181 @@
+// Contact assembly: the contact graph (groups of coupled control points) and the KTS, mortar
+// and friction kernels of every pair into one matrix and residual.
+#include "solver/contact.hpp"
+#include "solver/contact_internal.hpp"
+#include "kernels/numbering.hpp"
+
+#include <Teuchos_CommHelpers.hpp>
+#include <Teuchos_TimeMonitor.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace iga {
+
+ContactContribution assemble_contact(const System& sys, std::vector<ContactPairData>& pairs) {
+  // 1) the dofs this rank's contributions couple: overlap map and graph. A group is a set
+  //    of control points coupled all to all: the element pair of a quadrature point (KTS,
+  //    and the mortar pressure term), or the support of delta g_A (mortar). The pattern is
+  //    reserved beyond what is active now: every point with a projection, with its master
+  //    element widened by two neighbours on each side, and every weighted gap with such
+  //    points; only active ones get values. So K_T's pattern, rebuilt when K_c has a
+  //    nonzero outside it (tangent.hpp), seldom changes as the contact zone grows or
+  //    points slide: once per run on the scaling problem, where it was twice per load step.
+  std::vector<GO> cps;
+  std::vector<std::vector<GO>> groups;
+  int active = 0;
+  for (size_t k = 0; k < pairs.size(); ++k) {
+    auto& pd = pairs[k];
+    auto valid = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.valid);
+    auto gap = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.gap);
+    auto lam = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.lambda);
+    auto sspan = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.span);
+    auto mspan = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.mspan);
+    const int nm = static_cast<int>(pd.master_gid.size());
+    // two elements each side: on the scaling problem at 6.6e5 dofs the edge of the slave
+    // block slides across more than one master element (one gave two builds there)
+    constexpr int kWiden = 2;
+    auto point_group = [&](int i) {
+      std::vector<GO> g;
+      for (int a = sspan(i) - pd.slave.p; a <= sspan(i); ++a) g.push_back(pd.slave_gid[a]);
+      for (int b = std::max(0, mspan(i) - pd.master.p - kWiden); b <= std::min(nm - 1, mspan(i) + kWiden); ++b)
+        g.push_back(pd.master_gid[b]);
+      return g;
+    };
+    for (int i = pd.p_begin; i < pd.p_end; ++i) {
+      if (sspan(i) < 0 || !valid(i)) continue;
+      if (!pd.mortar() && kts_active(lam(i), pd.pair().penalty, gap(i), pd.sp_.touch)) ++active;
+      groups.push_back(point_group(i));
+    }
+    if (pd.mortar()) {
+      auto act = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.ms_.active);
+      auto espan = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.slave.span);
+      for (int A = pd.a_begin; A < pd.a_end; ++A) {
+        if (act(A)) ++active;
+        std::vector<GO> g;
+        for (int e = 0; e < pd.slave.ne; ++e) {
+          if (espan(e) < A || espan(e) > A + pd.slave.p) continue;
+          for (int i = e * pd.slots; i < (e + 1) * pd.slots; ++i)
+            if (sspan(i) >= 0 && valid(i)) {
+              const auto pg = point_group(i);
+              g.insert(g.end(), pg.begin(), pg.end());
+            }
+        }
+        std::sort(g.begin(), g.end());
+        g.erase(std::unique(g.begin(), g.end()), g.end());
+        if (!g.empty()) groups.push_back(std::move(g));
+      }
+    }
+  }
+  for (const auto& g : groups) cps.insert(cps.end(), g.begin(), g.end());
+  std::sort(cps.begin(), cps.end());
+  cps.erase(std::unique(cps.begin(), cps.end()), cps.end());
+  RCP<const Map> ov = sys.cp_dof_map(cps);
+  auto lid_of = [&](GO g) { return static_cast<LO>(std::lower_bound(cps.begin(), cps.end(), g) - cps.begin()); };
+  std::vector<std::vector<LO>> nbr(cps.size());
+  std::vector<LO> el;
+  for (const auto& g : groups) {
+    el.clear();
+    for (GO c : g) el.push_back(lid_of(c));
+    for (LO r : el) nbr[r].insert(nbr[r].end(), el.begin(), el.end());
+  }
+  const LO n = static_cast<LO>(cps.size());
+  const int D = sys.dim();
+  Teuchos::ArrayRCP<size_t> rowptr(D * n + 1);
+  rowptr[0] = 0;
+  for (LO r = 0; r < n; ++r) {
+    auto& v = nbr[r];
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+    for (int c = 0; c < D; ++c) rowptr[dof_of(r, c, D) + 1] = rowptr[dof_of(r, c, D)] + D * v.size();
+  }
+  Teuchos::ArrayRCP<LO> cols(std::max<size_t>(rowptr[D * n], 1));
+  for (LO r = 0; r < n; ++r)
+    for (int c = 0; c < D; ++c) {
+      size_t k = rowptr[dof_of(r, c, D)];
+      for (LO l : nbr[r])
+        for (int cc = 0; cc < D; ++cc) cols[k++] = dof_of(l, cc, D);
+    }
+  cols = cols.persistingView(0, rowptr[D * n]);
+  RCP<Graph> graph = rcp(new Graph(ov, ov, rowptr, cols));
+  graph->fillComplete(sys.owned_map(), sys.owned_map());
+  RCP<Matrix> K = rcp(new Matrix(graph));
+  Vector f(ov);
+  // 2) kernels: every pair's active points of this rank. A mortar weighted gap whose dofs
+  // outgrow its pair's scratch rows reports what it needs: the rows grow and the kernels run
+  // again on zeroed K and f (once per growth, so rarely after the first steps)
+  for (bool again = false, first = true; first || again; first = false) {
+    auto lcl = K->getLocalMatrixDevice();
+    auto fv = Kokkos::subview(f.getLocalViewDevice(Tpetra::Access::ReadWrite), Kokkos::ALL(), 0);
+    if (again) {   // a rerun: the first pass's sums go (K and f start at zero)
+      Kokkos::deep_copy(lcl.values, 0.0);
+      Kokkos::deep_copy(fv, 0.0);
+    }
+    again = false;
+    for (auto& pd : pairs) {
+      if (pd.mortar()) Kokkos::deep_copy(pd.ms_.flags, 0);
+      Kokkos::deep_copy(pd.force_, 0.0);
+    }
+    for (auto& pd : pairs) {
+      for (CurveData* c : {&pd.slave, &pd.master}) {
+        const auto& gid = c == &pd.slave ? pd.slave_gid : pd.master_gid;
+        auto h = Kokkos::create_mirror_view(c->lid);
+        for (int k = 0; k < c->nb; ++k) {
+          auto it = std::lower_bound(cps.begin(), cps.end(), gid[k]);
+          h(k) = (it != cps.end() && *it == gid[k]) ? static_cast<int>(it - cps.begin()) : -1;
+        }
+        Kokkos::deep_copy(c->lid, h);
+      }
+      if (pd.p_end > pd.p_begin)
+        dispatch_degree(std::max(pd.slave.p, pd.master.p), [&](auto P) {
+          AssembleKts<decltype(P)::value, decltype(lcl), decltype(fv)> k;
+          k.s = pd.slave; k.m = pd.master; k.sp = pd.sp_; k.eps = pd.pair().penalty;
+          k.p_begin = pd.p_begin; k.mortar = pd.mortar(); k.K = lcl; k.f = fv; k.force = pd.force_;
+          Kokkos::parallel_for(pd.mortar() ? "iga::AssembleMortarPressure" : "iga::AssembleKts",
+                               Kokkos::RangePolicy<ExecSpace>(0, pd.p_end - pd.p_begin), k);
+        });
+      if (pd.friction() && pd.p_end > pd.p_begin)
+        dispatch_degree(std::max(pd.slave.p, pd.master.p), [&](auto P) {
+          AssembleFriction<decltype(P)::value, decltype(lcl), decltype(fv)> k;
+          k.s = pd.slave; k.m = pd.master; k.sp = pd.sp_; k.fr = pd.fr_; k.eps = pd.pair().penalty;
+          k.p_begin = pd.p_begin; k.mortar = pd.mortar(); k.K = lcl; k.f = fv; k.force = pd.force_;
+          Kokkos::parallel_for("iga::AssembleFriction", Kokkos::RangePolicy<ExecSpace>(0, pd.p_end - pd.p_begin), k);
+        });
+      if (pd.friction() && pd.mortar() && pd.a_end > pd.a_begin)
+        dispatch_degree(std::max(pd.slave.p, pd.master.p), [&](auto P) {
+          AssembleMortarFriction<decltype(P)::value, decltype(lcl)> k;
+          k.s = pd.slave; k.m = pd.master; k.sp = pd.sp_; k.ms = pd.ms_; k.fr = pd.fr_; k.eps = pd.pair().penalty;
+          k.sc = pd.scratch_; k.slots = pd.slots; k.a_begin = pd.a_begin; k.K = lcl;
+          Kokkos::parallel_for("iga::AssembleMortarFriction", Kokkos::RangePolicy<ExecSpace>(0, pd.a_end - pd.a_begin), k);
+        });
+      if (pd.mortar() && pd.a_end > pd.a_begin) {
+        AssembleMortarGap<decltype(lcl)> k;
+        k.s = pd.slave; k.m = pd.master; k.sp = pd.sp_; k.ms = pd.ms_; k.eps = pd.pair().penalty;
+        k.sc = pd.scratch_; k.slots = pd.slots; k.a_begin = pd.a_begin; k.K = lcl;
+        Kokkos::parallel_for("iga::AssembleMortarGap", Kokkos::RangePolicy<ExecSpace>(0, pd.a_end - pd.a_begin), k);
+        Kokkos::fence();
+        auto fl = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.ms_.flags);
+        if (fl(1) > 0) {
+          pd.mortar_scratch(std::max(fl(1), pd.scratch_.cap() + pd.scratch_.cap() / 2));
+          again = true;
+        }
+      }
+    }
+    Kokkos::fence();
+  }
+  K->fillComplete(sys.owned_map(), sys.owned_map());
+  // each pair's force on its slave body: this rank's points summed by the kernels, all ranks'
+  for (auto& pd : pairs) {
+    auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.force_);
+    double loc[4] = {h(0), h(1), h(2), h(3)};
+    Teuchos::reduceAll(*sys.comm(), Teuchos::REDUCE_SUM, 4, loc, pd.assembled_);
+  }
+  ContactContribution out;
+  out.K = sys.export_matrix(K);
+  out.f = sys.export_vector(f);
+  Teuchos::reduceAll(*sys.comm(), Teuchos::REDUCE_SUM, 1, &active, &out.active);
+  return out;
+}
+
+}  // namespace iga

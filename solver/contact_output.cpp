@@ -1,0 +1,98 @@
+// What a contact pair reports: host copies of its mortar vectors, its potential, the state
+// of its points and its summary.
+#include "solver/contact.hpp"
+#include "solver/contact_internal.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace iga {
+
+namespace {
+std::vector<double> host_vector(const Kokkos::View<double*, MemSpace>& v) {
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), v);
+  return std::vector<double>(h.data(), h.data() + h.extent(0));
+}
+}  // namespace
+
+std::vector<double> ContactPairData::weighted_gaps() const { return mortar_ ? host_vector(ms_.gA) : std::vector<double>{}; }
+std::vector<double> ContactPairData::mortar_weights() const { return mortar_ ? host_vector(ms_.wA) : std::vector<double>{}; }
+std::vector<double> ContactPairData::mortar_multipliers() const {
+  return mortar_ ? host_vector(ms_.lambda) : std::vector<double>{};
+}
+
+double ContactPairData::potential() const {
+  double pi = 0;
+  if (mortar_) {
+    const auto l = mortar_multipliers(), w = mortar_weights();
+    for (size_t A = 0; A < l.size(); ++A) pi += 0.5 / pair_.penalty * w[A] * l[A] * l[A];
+    return pi;
+  }
+  const auto st = state();
+  for (size_t i = 0; i < st.gap.size(); ++i)
+    if (st.active[i]) pi += 0.5 / pair_.penalty * st.pressure[i] * st.pressure[i] * st.weight[i];
+  return pi;
+}
+
+ContactPointState ContactPairData::state(bool projected_only) const {
+  ContactPointState s;
+  const int n = num_points();
+  auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.x);
+  auto nrm = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.normal);
+  auto xi = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.xi);
+  auto gap = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.gap);
+  auto pr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.pressure);
+  auto lam = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.lambda);
+  auto valid = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.valid);
+  auto w = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.weight);
+  auto span = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.span);
+  auto tau = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr_.tau);
+  auto slip = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr_.slip);
+  auto fst = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr_.state);
+  auto tan = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr_.tangent);
+  for (int i = 0; i < n; ++i) {
+    if (span(i) < 0) continue;   // unused mortar slot
+    // a point without a projection on the master (beyond its ends, far from it) has no gap
+    // and takes no part in the contact: NaN gap here, left out of the outputs
+    if (projected_only && !valid(i)) continue;
+    s.x.push_back(x(i, 0));
+    s.y.push_back(x(i, 1));
+    s.nx.push_back(valid(i) ? nrm(i, 0) : 0.0);
+    s.ny.push_back(valid(i) ? nrm(i, 1) : 0.0);
+    s.xi.push_back(xi(i));
+    s.gap.push_back(valid(i) ? gap(i) : std::nan(""));
+    s.pressure.push_back(pr(i));
+    s.weight.push_back(w(i));
+    if (mortar_) s.active.push_back(valid(i) && pr(i) > 0 ? 1 : 0);
+    else s.active.push_back(valid(i) && kts_active(lam(i), pair_.penalty, gap(i), sp_.touch) ? 1 : 0);
+    s.tangential.push_back(tau(i));
+    s.slip.push_back(slip(i));
+    s.state.push_back(fst(i));
+    s.tx.push_back(tan(i, 0));
+    s.ty.push_back(tan(i, 1));
+  }
+  return s;
+}
+
+ContactSummary ContactPairData::summary() const {
+  const auto st = state(true);
+  ContactSummary c;
+  // the forces: what the last assembly put on the slave dofs (assemble_contact), so that
+  // they are the residual's and equal the reactions
+  c.fx = assembled_[0];
+  c.fy = assembled_[1];
+  c.normal_force = assembled_[2];
+  c.tangential_force = assembled_[3];
+  for (size_t i = 0; i < st.x.size(); ++i) {
+    if (!st.active[i]) continue;
+    ++c.active_points;
+    if (st.state[i] == 1) c.stick_length += st.weight[i] / thickness;
+    if (st.state[i] == 2) c.slip_length += st.weight[i] / thickness;
+    c.max_pressure = std::max(c.max_pressure, st.pressure[i]);
+    c.contact_length += st.weight[i] / thickness;
+    c.max_penetration = std::max(c.max_penetration, -st.gap[i]);
+  }
+  return c;
+}
+
+}  // namespace iga
