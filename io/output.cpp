@@ -16,6 +16,7 @@
 #include "io/vtk.hpp"
 #include "io/files.hpp"
 #include "model/geometry_file.hpp"
+#include "kernels/numbering.hpp"
 
 namespace iga {
 
@@ -46,14 +47,15 @@ nlohmann::json linear_solver_json(const Problem& P, const DirectSolverStats& ds,
 }
 
 nlohmann::json reactions_json(const System& sys, const Vector& residual) {
-  // per patch block: 4 sides and 4 corners, [Rx, Ry] each
+  // per patch block: 4 sides and 4 corners, [Rx, Ry] each (dim components per place)
   const Problem& P = sys.problem();
   const size_t nb = sys.blocks().size();
-  std::vector<double> local(nb * 16, 0.0), global(nb * 16, 0.0);
+  const int dim = sys.dim(), per_block = 8 * dim;
+  std::vector<double> local(nb * per_block, 0.0), global(nb * per_block, 0.0);
   auto h = residual.getLocalViewHost(Tpetra::Access::ReadOnly);
   for (const DirichletDof& d : sys.dirichlet()) {
     const LO l = sys.owned_map()->getLocalElement(d.dof);
-    local[d.block * 16 + d.side * 2 + d.dof % 2] += -h(l, 0);
+    local[d.block * per_block + d.side * dim + component_of_dof(d.dof, dim)] += -h(l, 0);
   }
   Teuchos::reduceAll(*sys.comm(), Teuchos::REDUCE_SUM, static_cast<int>(local.size()), local.data(), global.data());
   nlohmann::json j = nlohmann::json::object();
@@ -65,7 +67,8 @@ nlohmann::json reactions_json(const System& sys, const Vector& residual) {
       const auto& sc = s < 4 ? body.sides[bd.patch][s] : body.corners[bd.patch][s - 4];
       if (!(sc.fixed[0] || sc.fixed[1])) continue;
       const std::string name = s < 4 ? body.side_label(bd.patch, static_cast<Side>(s)) : body.corner_label(bd.patch, static_cast<Corner>(s - 4));
-      sides[name] = {global[k * 16 + 2 * s], global[k * 16 + 2 * s + 1]};
+      const double* r = &global[k * per_block + s * dim];
+      sides[name] = std::vector<double>(r, r + dim);
     }
     if (sides.is_null()) j.erase(body.name);
   }

@@ -161,7 +161,6 @@ TEST(DirectSolver, ReusesAnalysisAndFactors) {
 // bit (it had differed run to run in its factorisation count and at round-off). The friction
 // example keeps factors across Newton iterations and refactorises some of the time.
 TEST(DirectSolver, KeptFactorsRepeatExactly) {
-  if (Tpetra::getDefaultComm()->getSize() > 1) GTEST_SKIP() << "one rank: MUMPS' parallel scheduling adds round-off";
   const std::string yaml = read(IGACONTACT_SOURCE_DIR "/examples/cattaneo_mindlin.yaml");
   const Solved a = solve_text(yaml, Tpetra::getDefaultComm(), {}, {"solver.linear.method=direct"});
   const Solved b = solve_text(yaml, Tpetra::getDefaultComm(), {}, {"solver.linear.method=direct"});
@@ -170,7 +169,12 @@ TEST(DirectSolver, KeptFactorsRepeatExactly) {
   EXPECT_LT(a.res.direct.factorisations, a.res.direct.solves);   // factors were kept for some solves
   EXPECT_EQ(a.res.direct.factorisations, b.res.direct.factorisations);
   EXPECT_EQ(a.res.linear_iterations, b.res.linear_iterations);
-  EXPECT_EQ(a.disp, b.disp);
+  if (Tpetra::getDefaultComm()->getSize() == 1) {
+    EXPECT_EQ(a.disp, b.disp);
+  } else if (Tpetra::getDefaultComm()->getRank() == 0) {
+    // several ranks: the same path, and MUMPS' parallel scheduling adds round-off only
+    EXPECT_LT(relative_difference(a, b), 1e-12);
+  }
 }
 
 // A body held by nothing but a contact pair that is open (a gap of 0.1, a traction pulls it
