@@ -2,6 +2,7 @@
 // whether it fits the machine.
 #include "model/yaml_reader.hpp"
 #include "kernels/numbering.hpp"
+#include "model/rigid_modes.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -19,35 +20,36 @@ namespace iga {
 
 namespace detail {
 
-// Rank of the rigid-body modes restricted to the constrained dofs of a body: 3 means no
-// rigid motion is left free.
+// Rank of the rigid-body modes (model/rigid_modes.hpp) restricted to the constrained dofs of a
+// body: num_rigid_modes(dim) means no rigid motion is left free.
 int rigid_rank(const Body& b) {
-  double G[3][3] = {};
+  const int dim = b.patches.front().dim(), nm = num_rigid_modes(dim);
+  double G[kMaxRigidModes][kMaxRigidModes] = {};
   auto add = [&](const ControlPoint& cp, int c) {
-    const double x = cp.x[0], y = cp.x[1];
-    const double row[3] = {c == 0 ? 1.0 : 0.0, c == 1 ? 1.0 : 0.0, c == 0 ? -y : x};
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) G[i][j] += row[i] * row[j];
+    double row[kMaxRigidModes];
+    for (int m = 0; m < nm; ++m) row[m] = rigid_mode(m, c, cp.x.data(), dim);
+    for (int i = 0; i < nm; ++i)
+      for (int j = 0; j < nm; ++j) G[i][j] += row[i] * row[j];
   };
   for (size_t k = 0; k < b.patches.size(); ++k)
     for (int s = 0; s < 4; ++s) {
-      for (int c = 0; c < 2; ++c) {
+      for (int c = 0; c < dim; ++c) {
         if (b.sides[k][s].fixed[c])
           for (int a : b.patches[k].side_indices(static_cast<Side>(s))) add(b.patches[k].cp[a], c);
         if (b.corners[k][s].fixed[c]) add(b.patches[k].cp[corner_index(b.patches[k], static_cast<Corner>(s))], c);
       }
     }
-  // rank by Gaussian elimination with full pivoting on the 3x3 Gram matrix
+  // rank by Gaussian elimination with full pivoting on the nm x nm Gram matrix
   double scale = 0;
-  for (int i = 0; i < 3; ++i) scale = std::max(scale, G[i][i]);
+  for (int i = 0; i < nm; ++i) scale = std::max(scale, G[i][i]);
   if (scale == 0) return 0;
   int rank = 0;
-  bool used_r[3] = {}, used_c[3] = {};
-  for (int k = 0; k < 3; ++k) {
+  bool used_r[kMaxRigidModes] = {}, used_c[kMaxRigidModes] = {};
+  for (int k = 0; k < nm; ++k) {
     int pr = -1, pc = -1;
     double best = 0;
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < nm; ++i)
+      for (int j = 0; j < nm; ++j)
         if (!used_r[i] && !used_c[j] && std::abs(G[i][j]) > best) { best = std::abs(G[i][j]); pr = i; pc = j; }
     if (pr < 0 || best < 1e-10 * scale) break;
     used_r[pr] = used_c[pc] = true;
@@ -55,7 +57,7 @@ int rigid_rank(const Body& b) {
     for (int i = 0; i < 3; ++i)
       if (!used_r[i]) {
         const double f = G[i][pc] / G[pr][pc];
-        for (int j = 0; j < 3; ++j) G[i][j] -= f * G[pr][j];
+        for (int j = 0; j < nm; ++j) G[i][j] -= f * G[pr][j];
       }
   }
   return rank;
@@ -101,7 +103,7 @@ void check_problem(const Reader& R, const YAML::Node& root, Problem& P) {
   for (size_t b = 0; b < P.bodies.size(); ++b) {
     bool in_contact = false;
     for (const auto& c : P.contact) in_contact = in_contact || c.master.body == (int)b || c.slave.body == (int)b;
-    if (!in_contact && rigid_rank(P.bodies[b]) < 3)
+    if (!in_contact && rigid_rank(P.bodies[b]) < num_rigid_modes(P.dim()))
       R.fail("bodies[" + std::to_string(b) + "].boundary", bodies[b]["boundary"],
              "body '" + P.bodies[b].name +
                  "' is free to move as a rigid body (singular system): prescribe x and y displacements "

@@ -2,6 +2,7 @@
 #include "solver/system.hpp"
 #include "solver/system_internal.hpp"
 #include "kernels/numbering.hpp"
+#include "model/rigid_modes.hpp"
 
 #include <cmath>
 
@@ -10,15 +11,14 @@ namespace iga {
 using namespace system_detail;
 
 RCP<MultiVector> System::rigid_body_modes() const {
-  RCP<MultiVector> Z = rcp(new MultiVector(owned_, 3));
+  const int nm = num_rigid_modes(dim());
+  RCP<MultiVector> Z = rcp(new MultiVector(owned_, nm));
   auto h = Z->getLocalViewHost(Tpetra::Access::OverwriteAll);
   for (size_t l = 0; l < owned_->getNodeNumElements(); ++l) {
     const GO dof = owned_->getGlobalElement(l);
     const auto& cp = control_point(point_of_dof(dof, dim()));
     const int c = component_of_dof(dof, dim());
-    h(l, 0) = c == 0 ? 1.0 : 0.0;
-    h(l, 1) = c == 1 ? 1.0 : 0.0;
-    h(l, 2) = c == 0 ? -cp.x[1] : cp.x[0];
+    for (int m = 0; m < nm; ++m) h(l, m) = rigid_mode(m, c, cp.x.data(), dim());
   }
   return Z;
 }

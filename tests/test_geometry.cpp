@@ -12,6 +12,10 @@
 #include "model/nurbs.hpp"
 #include "tests/patches.hpp"
 #include "model/problem.hpp"
+#include "model/rigid_modes.hpp"
+
+#include <random>
+#include <vector>
 #include "support.hpp"
 
 using namespace iga;
@@ -276,4 +280,48 @@ TEST(GeometryCheck, DISABLED_TimeOnAMillionDofs) {
   EXPECT_EQ(check_jacobian(R), "");
   std::printf("  check_jacobian, equal weights (degree 2, 2): %.3f s\n",
               std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+}
+
+// The rigid-body modes the rigid-body check and the AMG null space share (model/rigid_modes.hpp):
+// 3 in 2-D ((1, 0), (0, 1), (-y, x)), 6 in 3-D; each has a vanishing symmetric gradient
+// (linear fields: the gradient is exact from two points) and they are independent (Gram
+// matrix of full rank at random points).
+TEST(RigidModes, AreStrainFreeAndIndependentIn2DAnd3D) {
+  const double x2[2] = {0.3, -1.7};
+  EXPECT_EQ(rigid_mode(0, 0, x2, 2), 1.0);
+  EXPECT_EQ(rigid_mode(1, 1, x2, 2), 1.0);
+  EXPECT_EQ(rigid_mode(2, 0, x2, 2), 1.7);
+  EXPECT_EQ(rigid_mode(2, 1, x2, 2), 0.3);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> U(-2, 2);
+  for (int dim = 2; dim <= 3; ++dim) {
+    const int nm = num_rigid_modes(dim);
+    ASSERT_EQ(nm, dim == 2 ? 3 : 6);
+    for (int m = 0; m < nm; ++m) {
+      double x[3] = {U(rng), U(rng), U(rng)}, G[3][3];
+      for (int c = 0; c < dim; ++c)
+        for (int d = 0; d < dim; ++d) {
+          double xp[3] = {x[0], x[1], x[2]};
+          xp[d] += 1.0;
+          G[c][d] = rigid_mode(m, c, xp, dim) - rigid_mode(m, c, x, dim);
+        }
+      for (int c = 0; c < dim; ++c)
+        for (int d = 0; d < dim; ++d) EXPECT_NEAR(G[c][d] + G[d][c], 0.0, 1e-14) << dim << " " << m;
+    }
+    // Gram matrix over 10 random points, all components: eigen-free rank check by elimination
+    std::vector<std::vector<double>> A(nm, std::vector<double>(nm, 0.0));
+    for (int q = 0; q < 10; ++q) {
+      double x[3] = {U(rng), U(rng), U(rng)};
+      for (int c = 0; c < dim; ++c)
+        for (int i = 0; i < nm; ++i)
+          for (int j = 0; j < nm; ++j) A[i][j] += rigid_mode(i, c, x, dim) * rigid_mode(j, c, x, dim);
+    }
+    for (int k = 0; k < nm; ++k) {
+      ASSERT_GT(std::abs(A[k][k]), 1e-8) << "dim " << dim << ": mode " << k << " depends on the others";
+      for (int i = k + 1; i < nm; ++i) {
+        const double f = A[i][k] / A[k][k];
+        for (int j = k; j < nm; ++j) A[i][j] -= f * A[k][j];
+      }
+    }
+  }
 }
