@@ -92,7 +92,7 @@ void check_problem(const Reader& R, const YAML::Node& root, Problem& P) {
         out_bytes += R.sample_bytes(static_cast<double>(q.element_spans(0).size()), static_cast<double>(q.element_spans(1).size()));
       }
     }
-    const bool output_dominates = out_bytes > 0.5 * dofs * 103.0 * (2 * degree + 1) * (2 * degree + 1);
+    const bool output_dominates = out_bytes > 0.5 * dofs * bytes_per_dof_estimate(degree, P.dim());
     if (output_dominates && root["output"] && root["output"]["samples_per_element"])
       R.fits("output.samples_per_element", root["output"]["samples_per_element"], dofs, degree, out_bytes);
     else
