@@ -242,7 +242,7 @@ TEST(VtkBezier, StressFitInterpolatesAndStaysWithinTheCellsSamples) {
     }
   }
   // neighbours' fits agree on their shared points (the stress is continuous there)
-  EXPECT_LT(disagree, 1e-9 * smax);
+  EXPECT_LT(disagree, 1e-12 * smax);
   for (size_t q = 0; q < np; ++q) {
     ASSERT_GT(users[q], 0);
     EXPECT_GE(m.von_mises[q], plo[2 * q] - 1e-12 * smax);
@@ -259,8 +259,8 @@ TEST(VtkBezier, StressFitInterpolatesAndStaysWithinTheCellsSamples) {
     bool clamped = false;
     for (int k = 0; k < n; ++k) {
       const int64_t q = m.connectivity[first + vtk_quad_point_index(k % n0, k / n0, p0, p1)];
-      clamped = clamped || std::abs(coefs[c][2 * k] - m.von_mises[q]) > 1e-9 * smax ||
-                std::abs(coefs[c][2 * k + 1] - m.stress[6 * q]) > 1e-9 * smax;
+      clamped = clamped || std::abs(coefs[c][2 * k] - m.von_mises[q]) > 1e-12 * smax ||
+                std::abs(coefs[c][2 * k + 1] - m.stress[6 * q]) > 1e-12 * smax;
     }
     clamped_cells += clamped;
     for (const auto& t : fit_points(p0, p1)) {
@@ -272,14 +272,14 @@ TEST(VtkBezier, StressFitInterpolatesAndStaysWithinTheCellsSamples) {
       const FieldPoint p = f.eval(r[0] + t[0] * (r[1] - r[0]), r[2] + t[1] * (r[3] - r[2]), m.knot_span[2 * c],
                                   m.knot_span[2 * c + 1]);
       if (corner) {
-        EXPECT_NEAR(S[0], p.sxx, 1e-9 * smax);
-        EXPECT_NEAR(S[1], p.syy, 1e-9 * smax);
-        EXPECT_NEAR(S[2], p.szz, 1e-9 * smax);
-        EXPECT_NEAR(S[3], p.sxy, 1e-9 * smax);
+        EXPECT_NEAR(S[0], p.sxx, 1e-12 * smax);
+        EXPECT_NEAR(S[1], p.syy, 1e-12 * smax);
+        EXPECT_NEAR(S[2], p.szz, 1e-12 * smax);
+        EXPECT_NEAR(S[3], p.sxy, 1e-12 * smax);
       }
       EXPECT_EQ(S[4], 0.0);
       EXPECT_EQ(S[5], 0.0);
-      EXPECT_NEAR(VM, p.von_mises(), 1e-9 * smax);
+      EXPECT_NEAR(VM, p.von_mises(), 1e-12 * smax);
       ++interpolated;
     }
   }
