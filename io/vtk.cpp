@@ -210,9 +210,13 @@ BezierMesh bezier_mesh(const Problem& P, const std::vector<std::vector<double>>&
       // the bounds of each cell's fit: the fit points and the output sample grid of the cell
       // (the points result.xdmf shows, s per element and direction, ends included)
       const int s = output_samples(P.output, pt);
+      // (a grid point that is also a fit point, j0 / s = k0 / p0 and j1 / s = k1 / p1 (the
+      // corners always), is the same double and was evaluated with the fit points already)
       std::vector<std::array<double, 2>> tb(t);
       for (int j1 = 0; j1 <= s; ++j1)
-        for (int j0 = 0; j0 <= s; ++j0) tb.push_back({static_cast<double>(j0) / s, static_cast<double>(j1) / s});
+        for (int j0 = 0; j0 <= s; ++j0)
+          if ((j0 * p0) % s != 0 || (j1 * p1) % s != 0)
+            tb.push_back({static_cast<double>(j0) / s, static_cast<double>(j1) / s});
       std::vector<ControlPoint> pts(n);
       std::vector<double> u(2 * n), w(n), vals(5 * n), coef(5 * n), elo(5), ehi(5);
       for (int e = 0; e < B.num_elements(); ++e) {
