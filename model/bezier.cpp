@@ -1,5 +1,6 @@
 #include "model/bezier.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace iga {
@@ -63,12 +64,17 @@ void bernstein(int p, double t, double* B) {
   }
 }
 
-BezierPatch::BezierPatch(const Patch& patch) : patch_(&patch), p_(patch.degree) {
-  for (int d = 0; d < 2; ++d) {
+BezierPatch::BezierPatch(const Patch& patch) : patch_(&patch), dim_(patch.dim()) {
+  for (int d = 0; d < dim_; ++d) {
+    p_[d] = patch.degree[d];
     spans_[d] = patch.element_spans(d);
     ne_[d] = static_cast<int>(spans_[d].size());
     C_[d] = bezier_extraction_1d(patch.knots[d], p_[d]);
     if (static_cast<int>(C_[d].size()) != ne_[d]) throw std::logic_error("bezier_extraction_1d: operator count");
+  }
+  for (int d = dim_; d < 3; ++d) {
+    spans_[d] = {0};
+    C_[d] = {{1.0}};
   }
 }
 
@@ -77,56 +83,73 @@ std::array<double, 2> BezierPatch::range(int e, int d) const {
   return {patch_->knots[d][s], patch_->knots[d][s + 1]};
 }
 
+int BezierPatch::local_cp(int e, int i, int j, int k) const {
+  return patch_->index(span(e, 0) - p_[0] + i, span(e, 1) - p_[1] + j, span(e, 2) - p_[2] + k);
+}
+
 void BezierPatch::extract(int e, int ncomp, const std::vector<double>& hom, double* out) const {
-  // hom: (p0 + 1)(p1 + 1) local control points (i fastest), nc = ncomp + 1 values each.
-  // out[(k0 + k1 (p0 + 1)) * nc + c] = sum_{i,j} C0[i][k0] C1[j][k1] hom[(i + j (p0 + 1)) * nc + c]
-  const int nc = ncomp + 1, n0 = p_[0] + 1, n1 = p_[1] + 1;
-  const auto& C0 = C_[0][element_index(e, 0)];
-  const auto& C1 = C_[1][element_index(e, 1)];
-  std::vector<double> tmp(static_cast<size_t>(n0) * n1 * nc, 0.0);   // contracted in xi
-  for (int j = 0; j < n1; ++j)
-    for (int k0 = 0; k0 < n0; ++k0)
-      for (int i = 0; i < n0; ++i) {
-        const double c = C0[i * n0 + k0];
-        if (c == 0.0) continue;
-        for (int q = 0; q < nc; ++q) tmp[(k0 + j * n0) * nc + q] += c * hom[(i + j * n0) * nc + q];
-      }
-  for (int k = 0; k < n0 * n1 * nc; ++k) out[k] = 0.0;
-  for (int k1 = 0; k1 < n1; ++k1)
-    for (int j = 0; j < n1; ++j) {
-      const double c = C1[j * n1 + k1];
-      if (c == 0.0) continue;
-      for (int k0 = 0; k0 < n0; ++k0)
-        for (int q = 0; q < nc; ++q) out[(k0 + k1 * n0) * nc + q] += c * tmp[(k0 + j * n0) * nc + q];
-    }
+  // hom: the element's local control points (i fastest), nc = ncomp + 1 values each. One 1-D
+  // contraction per direction d: out[.. k_d ..] = sum_i C_d[i][k_d] in[.. i ..], in increasing i.
+  const int nc = ncomp + 1;
+  const int n[3] = {p_[0] + 1, p_[1] + 1, p_[2] + 1};
+  const size_t len = static_cast<size_t>(n[0]) * n[1] * n[2] * nc;
+  std::vector<double> in(hom.begin(), hom.begin() + len), res(len);
+  for (int d = 0; d < dim_; ++d) {
+    const auto& C = C_[d][element_index(e, d)];
+    const int stride = d == 0 ? 1 : (d == 1 ? n[0] : n[0] * n[1]);
+    const int outer = static_cast<int>(len / nc) / (n[d] * stride);
+    std::fill(res.begin(), res.end(), 0.0);
+    for (int o = 0; o < outer; ++o)
+      for (int k = 0; k < n[d]; ++k)
+        for (int i = 0; i < n[d]; ++i) {
+          const double c = C[i * n[d] + k];
+          if (c == 0.0) continue;
+          for (int r = 0; r < stride; ++r) {
+            const size_t base = static_cast<size_t>(o) * n[d] * stride + r;
+            const double* src = &in[(base + static_cast<size_t>(i) * stride) * nc];
+            double* dst = &res[(base + static_cast<size_t>(k) * stride) * nc];
+            for (int q = 0; q < nc; ++q) dst[q] += c * src[q];
+          }
+        }
+    in.swap(res);
+  }
+  std::copy(in.begin(), in.end(), out);
 }
 
 void BezierPatch::element_points(int e, ControlPoint* out) const {
-  const int n0 = p_[0] + 1, n1 = p_[1] + 1, s0 = span(e, 0), s1 = span(e, 1);
-  std::vector<double> hom(n0 * n1 * 3), bez(n0 * n1 * 3);
-  for (int j = 0; j < n1; ++j)
-    for (int i = 0; i < n0; ++i) {
-      const ControlPoint& c = patch_->cp[patch_->index(s0 - p_[0] + i, s1 - p_[1] + j)];
-      double* h = &hom[(i + j * n0) * 3];
-      h[0] = c.w * c.x[0]; h[1] = c.w * c.x[1]; h[2] = c.w;
-    }
-  extract(e, 2, hom, bez.data());
-  for (int k = 0; k < n0 * n1; ++k) out[k] = ControlPoint{{bez[3 * k] / bez[3 * k + 2], bez[3 * k + 1] / bez[3 * k + 2]}, bez[3 * k + 2]};
+  const int n0 = p_[0] + 1, n1 = p_[1] + 1, n2 = p_[2] + 1, m = n0 * n1 * n2;
+  constexpr int nc = kMaxDim + 1;
+  std::vector<double> hom(m * nc), bez(m * nc);
+  for (int k = 0; k < n2; ++k)
+    for (int j = 0; j < n1; ++j)
+      for (int i = 0; i < n0; ++i) {
+        const ControlPoint& c = patch_->cp[local_cp(e, i, j, k)];
+        double* h = &hom[(i + n0 * (j + n1 * k)) * nc];
+        for (int q = 0; q < kMaxDim; ++q) h[q] = c.w * c.x[q];
+        h[kMaxDim] = c.w;
+      }
+  extract(e, kMaxDim, hom, bez.data());
+  for (int a = 0; a < m; ++a) {
+    const double* b = &bez[a * nc];
+    out[a].w = b[kMaxDim];
+    for (int q = 0; q < kMaxDim; ++q) out[a].x[q] = b[q] / b[kMaxDim];
+  }
 }
 
 void BezierPatch::element_field(int e, const double* f, int ncomp, double* out) const {
-  const int n0 = p_[0] + 1, n1 = p_[1] + 1, nc = ncomp + 1, s0 = span(e, 0), s1 = span(e, 1);
-  std::vector<double> hom(n0 * n1 * nc), bez(n0 * n1 * nc);
-  for (int j = 0; j < n1; ++j)
-    for (int i = 0; i < n0; ++i) {
-      const int a = patch_->index(s0 - p_[0] + i, s1 - p_[1] + j);
-      const double w = patch_->cp[a].w;
-      double* h = &hom[(i + j * n0) * nc];
-      for (int c = 0; c < ncomp; ++c) h[c] = w * f[a * ncomp + c];
-      h[ncomp] = w;
-    }
+  const int n0 = p_[0] + 1, n1 = p_[1] + 1, n2 = p_[2] + 1, m = n0 * n1 * n2, nc = ncomp + 1;
+  std::vector<double> hom(m * nc), bez(m * nc);
+  for (int k = 0; k < n2; ++k)
+    for (int j = 0; j < n1; ++j)
+      for (int i = 0; i < n0; ++i) {
+        const int a = local_cp(e, i, j, k);
+        const double w = patch_->cp[a].w;
+        double* h = &hom[(i + n0 * (j + n1 * k)) * nc];
+        for (int c = 0; c < ncomp; ++c) h[c] = w * f[a * ncomp + c];
+        h[ncomp] = w;
+      }
   extract(e, ncomp, hom, bez.data());
-  for (int k = 0; k < n0 * n1; ++k)
+  for (int k = 0; k < m; ++k)
     for (int c = 0; c < ncomp; ++c) out[k * ncomp + c] = bez[k * nc + c] / bez[k * nc + ncomp];
 }
 

@@ -18,13 +18,15 @@ const char* side_name(Side s) {
     case Side::East: return "east";
     case Side::South: return "south";
     case Side::North: return "north";
+    case Side::Front: return "front";
+    case Side::Back: return "back";
   }
   return "?";
 }
 
-bool parse_side(const std::string& name, Side& s) {
-  static const char* names[] = {"west", "east", "south", "north"};
-  for (int k = 0; k < 4; ++k)
+bool parse_side(const std::string& name, Side& s, int dim) {
+  static const char* names[] = {"west", "east", "south", "north", "front", "back"};
+  for (int k = 0; k < num_sides(dim); ++k)
     if (name == names[k]) { s = static_cast<Side>(k); return true; }
   return false;
 }
@@ -46,7 +48,7 @@ std::vector<int> nonempty_spans(const std::vector<double>& U, int p) {
 
 namespace {
 
-// A control point in homogeneous coordinates (w x, w y, w): the last entry is the weight.
+// A control point in homogeneous coordinates (w x, w y, w z, w): the last entry is the weight.
 using Homogeneous = std::array<double, kMaxDim + 1>;
 constexpr int kHom = kMaxDim + 1;
 
@@ -143,7 +145,8 @@ std::vector<int> Patch::element_spans(int d) const { return nonempty_spans(knots
 
 std::string Patch::validate() const {
   std::ostringstream os;
-  for (int d = 0; d < 2; ++d) {
+  if (pdim != 2 && pdim != 3) return "parametric dimension " + std::to_string(pdim) + " is not 2 or 3";
+  for (int d = 0; d < pdim; ++d) {
     const int p = degree[d];
     const auto& U = knots[d];
     if (p < 1 || p > kMaxDegree) {
@@ -182,10 +185,12 @@ std::string Patch::validate() const {
       k = m;
     }
   }
-  const long expected = static_cast<long>(ncp(0)) * ncp(1);
+  long expected = 1;
+  for (int d = 0; d < pdim; ++d) expected *= ncp(d);
   if (static_cast<long>(cp.size()) != expected) {
-    os << "control_points has " << cp.size() << " points, degrees and knots need " << ncp(0) << " x "
-       << ncp(1) << " = " << expected;
+    os << "control_points has " << cp.size() << " points, degrees and knots need " << ncp(0);
+    for (int d = 1; d < pdim; ++d) os << " x " << ncp(d);
+    os << " = " << expected;
     return os.str();
   }
   for (size_t a = 0; a < cp.size(); ++a)
@@ -213,7 +218,47 @@ std::array<double, 2> Patch::eval(double u, double v) const {
   return {x / w, y / w};
 }
 
+std::array<double, kMaxDim> Patch::point(const double* t) const {
+  double N[kMaxDim][3][kMaxBasis1D];
+  int s[kMaxDim] = {0, 0, 0}, m[kMaxDim] = {1, 1, 1};
+  for (int d = 0; d < pdim; ++d) {
+    s[d] = find_span(ncp(d), degree[d], t[d], knots[d].data());
+    bspline_ders(s[d], t[d], degree[d], knots[d].data(), 0, N[d]);
+    m[d] = degree[d] + 1;
+  }
+  for (int d = pdim; d < kMaxDim; ++d) N[d][0][0] = 1.0;
+  Homogeneous r{};
+  for (int k = 0; k < m[2]; ++k)
+    for (int j = 0; j < m[1]; ++j)
+      for (int i = 0; i < m[0]; ++i) {
+        const int a = index(s[0] - (m[0] - 1) + i, s[1] - (m[1] - 1) + j, s[2] - (m[2] - 1) + k);
+        const double b = N[0][0][i] * N[1][0][j] * N[2][0][k] * cp[a].w;
+        for (int c = 0; c < kMaxDim; ++c) r[c] += b * cp[a].x[c];
+        r[kMaxDim] += b;
+      }
+  std::array<double, kMaxDim> x{};
+  for (int c = 0; c < kMaxDim; ++c) x[c] = r[c] / r[kMaxDim];
+  return x;
+}
+
 int Patch::orientation() const {
+  if (pdim == 3) {
+    // det of the central-difference Jacobian at the parametric centre
+    double J[3][3];
+    for (int d = 0; d < 3; ++d) {
+      double tp[3], tm[3];
+      for (int e = 0; e < 3; ++e) tp[e] = tm[e] = 0.5 * (knots[e].front() + knots[e].back());
+      const double h = 1e-6 * (knots[d].back() - knots[d].front());
+      tp[d] += h;
+      tm[d] -= h;
+      const auto a = point(tp), b = point(tm);
+      for (int c = 0; c < 3; ++c) J[c][d] = a[c] - b[c];
+    }
+    const double det = J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
+                       J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+                       J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+    return det >= 0 ? 1 : -1;
+  }
   const double u = 0.5 * (knots[0].front() + knots[0].back());
   const double v = 0.5 * (knots[1].front() + knots[1].back());
   const double hu = 1e-6 * (knots[0].back() - knots[0].front());
@@ -224,16 +269,33 @@ int Patch::orientation() const {
 }
 
 namespace {
-// Applies a 1-D operation to every row (d = 0) or column (d = 1) of the homogeneous net.
+// The control point index of position k along direction d of line r (r numbers the lines
+// along d by the other directions' indices, the lowest direction fastest).
+int line_index(const Patch& P, const int* n, int d, int r, int k) {
+  int ij[kMaxDim] = {0, 0, 0};
+  for (int e = 0; e < kMaxDim; ++e) {
+    if (e == d) continue;
+    ij[e] = r % n[e];
+    r /= n[e];
+  }
+  ij[d] = k;
+  return P.index(ij[0], ij[1], ij[2]);
+}
+
+// Applies a 1-D operation to every line of the homogeneous net along direction d (rows for
+// d = 0, columns for d = 1, ...).
 template <class Op>
 void apply_rows(Patch& P, int d, Op op) {
-  const int n0 = P.ncp(0), n1 = P.ncp(1);
-  const int nrows = d == 0 ? n1 : n0, nline = d == 0 ? n0 : n1;
+  int n[kMaxDim];
+  for (int e = 0; e < kMaxDim; ++e) n[e] = P.ncp(e);
+  const int nline = n[d];
+  int nrows = 1;
+  for (int e = 0; e < kMaxDim; ++e)
+    if (e != d) nrows *= n[e];
   std::vector<std::vector<Homogeneous>> lines(nrows);
   for (int r = 0; r < nrows; ++r) {
     lines[r].resize(nline);
-    for (int k = 0; k < nline; ++k)
-      lines[r][k] = to_homogeneous(P.cp[d == 0 ? P.index(k, r) : P.index(r, k)]);
+    for (int k = 0; k < nline; ++k) lines[r][k] = to_homogeneous(P.cp[line_index(P, n, d, r, k)]);
   }
   std::vector<double> newU;
   int newp = P.degree[d];
@@ -247,9 +309,9 @@ void apply_rows(Patch& P, int d, Op op) {
   P.degree[d] = newp;
   const int m = static_cast<int>(lines[0].size());
   P.cp.assign(static_cast<size_t>(m) * nrows, ControlPoint{});
+  n[d] = m;
   for (int r = 0; r < nrows; ++r)
-    for (int k = 0; k < m; ++k)
-      P.cp[d == 0 ? P.index(k, r) : P.index(r, k)] = from_homogeneous(lines[r][k]);
+    for (int k = 0; k < m; ++k) P.cp[line_index(P, n, d, r, k)] = from_homogeneous(lines[r][k]);
 }
 }  // namespace
 
@@ -278,9 +340,34 @@ void Patch::elevate(int d, int t) {
 
 std::vector<int> Patch::side_indices(Side s) const {
   std::vector<int> idx;
-  const int n[2] = {ncp(0), ncp(1)};
-  for (int k = 0; k < n[side_tangent_direction(s)]; ++k) idx.push_back(side_tensor_index(static_cast<int>(s), &k, n, 2));
+  const int n[kMaxDim] = {ncp(0), ncp(1), ncp(2)};
+  if (pdim == 2) {
+    for (int k = 0; k < n[side_tangent_direction(s)]; ++k) idx.push_back(side_tensor_index(static_cast<int>(s), &k, n, 2));
+    return idx;
+  }
+  int f[2], fi = 0;
+  for (int e = 0; e < 3; ++e)
+    if (e != side_direction(s)) f[fi++] = e;
+  for (int k1 = 0; k1 < n[f[1]]; ++k1)
+    for (int k0 = 0; k0 < n[f[0]]; ++k0) {
+      const int k[2] = {k0, k1};
+      idx.push_back(side_tensor_index(static_cast<int>(s), k, n, 3));
+    }
   return idx;
+}
+
+Patch Patch::face(Side s) const {
+  Patch F;
+  F.pdim = 2;
+  for (int e = 0, fi = 0; e < 3; ++e) {
+    if (e == side_direction(s)) continue;
+    F.degree[fi] = degree[e];
+    F.knots[fi] = knots[e];
+    ++fi;
+  }
+  F.degree[2] = 0;
+  for (int a : side_indices(s)) F.cp.push_back(cp[a]);
+  return F;
 }
 
 Curve Patch::side_curve(Side s) const {

@@ -17,7 +17,8 @@ namespace Teuchos { class ParameterList; }
 namespace iga {
 
 
-enum class Analysis { PlaneStrain, PlaneStress };
+/// analysis.type: plane_strain | plane_stress (2-D), solid (3-D)
+enum class Analysis { PlaneStrain, PlaneStress, Solid };
 /// analysis.kinematics: small strain (linear), or finite (total Lagrangian, plane strain)
 enum class Kinematics { Small, Finite };
 /// material.model; with finite kinematics `linear` means Saint Venant-Kirchhoff
@@ -47,27 +48,25 @@ const char* preconditioner_name(Preconditioner p);   // muelu, ilut, relaxation,
 /// What a side prescribes. Every value is given per stage (analysis.stages): entry k is the
 /// value at the end of stage k + 1, reached linearly from the end of stage k (the first stage
 /// starts from zero). Without stages there is one stage.
+/// Components beyond the problem's dimension stay unset (2-D: z).
 struct SideCondition {
-  std::array<bool, 2> fixed{false, false};   // component prescribed?
-  std::vector<std::array<double, 2>> value;  // prescribed displacement per stage end
+  std::array<bool, kMaxDim> fixed{false, false, false};   // component prescribed?
+  std::vector<std::array<double, kMaxDim>> value;  // prescribed displacement per stage end
   LoadKind load = LoadKind::None;
   std::vector<double> p0, p1;                // pressure (p0) or linear pressure p0 -> p1, per stage end
-  std::vector<std::array<double, 2>> traction;   // per stage end
+  std::vector<std::array<double, kMaxDim>> traction;   // per stage end
 };
 
 /// A body: one or several NURBS patches of one material. Patches meet along conforming
 /// interfaces, where their control points are merged (one set of dofs), so the displacement
 /// is continuous. Single-patch bodies are the case of one patch and no interfaces.
-/// Space dimension of every problem today (dofs per control point): 2. Problem::dim() and
-/// System::dim() give it at run time; 3-D makes it a property of the problem.
-constexpr int kDim = 2;
 
 struct Body {
   std::string name;
   double E = 0, nu = 0;
   MaterialModel model = MaterialModel::Linear;
   std::vector<Patch> patches;                         // refined, in the file's order
-  std::vector<std::array<SideCondition, 4>> sides;    // per patch, indexed by Side
+  std::vector<std::array<SideCondition, 6>> sides;    // per patch, indexed by Side (2-D: the first 4)
   std::vector<std::array<SideCondition, 4>> corners;  // per patch, indexed by Corner (displacement only)
   std::vector<Interface> interfaces;                  // conforming (found or declared, checked)
   std::vector<std::pair<std::string, std::vector<PatchSide>>> named;   // named boundaries (geometry file)
@@ -81,8 +80,10 @@ struct Body {
   bool is_interface(const PatchSide& s) const;
   /// "south_west" on a single-patch body, "patch1.south_west" on a multi-patch one.
   std::string corner_label(int patch, Corner c) const;
-  /// A patch's control point displacements (2 per control point) from the body's merged ones.
+  /// A patch's control point displacements (dim per control point) from the body's merged ones.
   std::vector<double> patch_values(int patch, const std::vector<double>& u) const;
+  /// Space dimension of the body's patches (2 or 3).
+  int dim() const { return patches.empty() ? 2 : patches[0].dim(); }
 };
 
 /// A contact surface: one side, or a chain of patch sides of a multi-patch body.
@@ -136,7 +137,7 @@ struct LinearOptions {
 struct Probe {
   int body = -1;
   int patch = 0;
-  std::array<double, 2> at{0, 0};
+  std::array<double, kMaxDim> at{0, 0, 0};   // [xi, eta(, zeta)] in [0, 1]
 };
 
 struct OutputOptions {
@@ -167,8 +168,8 @@ struct Problem {
   int load_steps = 1;              // all stages together
   std::vector<int> stages{1};      // load steps per stage (analysis.stages; else {load_steps})
   int num_stages() const { return static_cast<int>(stages.size()); }
-  /// Space dimension of the problem: 2 (plane strain or plane stress).
-  int dim() const { return kDim; }
+  /// Space dimension of the problem: 2 (plane strain or plane stress) or 3 (solid).
+  int dim() const { return analysis == Analysis::Solid ? 3 : 2; }
   std::vector<Body> bodies;
   std::vector<ContactPair> contact;
   NewtonOptions newton;

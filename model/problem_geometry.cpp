@@ -35,9 +35,10 @@ std::string Body::corner_label(int patch, Corner c) const {
 
 std::vector<double> Body::patch_values(int patch, const std::vector<double>& u) const {
   const auto& idx = cp_index[patch];
-  std::vector<double> v(kDim * idx.size());
+  const int D = dim();
+  std::vector<double> v(D * idx.size());
   for (size_t a = 0; a < idx.size(); ++a)
-    for (int c = 0; c < kDim; ++c) v[dof_of(a, c, kDim)] = u[dof_of(static_cast<size_t>(idx[a]), c, kDim)];
+    for (int c = 0; c < D; ++c) v[dof_of(a, c, D)] = u[dof_of(static_cast<size_t>(idx[a]), c, D)];
   return v;
 }
 
@@ -54,7 +55,7 @@ MultiPatch body_geometry(const Body& b, const std::vector<double>* u) {
     if (u) {
       const std::vector<double> uk = b.patch_values(static_cast<int>(k), *u);
       for (size_t a = 0; a < b.patches[k].cp.size(); ++a)
-        for (int c = 0; c < kDim; ++c) mp.patches[k].cp[a].x[c] += uk[dof_of(a, c, kDim)];
+        for (int c = 0; c < b.dim(); ++c) mp.patches[k].cp[a].x[c] += uk[dof_of(a, c, b.dim())];
     }
   }
   return mp;
@@ -247,7 +248,7 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
       for (const Patch& q : b.patches) {
         const auto c = ncp(q);
         const auto e = el(q);
-        dofs += static_cast<double>(kDim) * static_cast<double>(c[0]) * static_cast<double>(c[1]);
+        dofs += static_cast<double>(b.dim()) * static_cast<double>(c[0]) * static_cast<double>(c[1]);
         sample += R.sample_bytes(e[0], e[1]);
       }
       return std::pair<double, double>(dofs, sample);
@@ -364,15 +365,17 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
       }
     }
   }
-  for (int k = 0; k < np; ++k)
-    for (auto* arr : {&b.sides[k], &b.corners[k]})
-      for (auto& sc : *arr)   // free sides: zero values at every stage end
-        if (sc.value.empty()) {
-          sc.value.assign(R.stages, {0.0, 0.0});
-          sc.p0.assign(R.stages, 0.0);
-          sc.p1.assign(R.stages, 0.0);
-          sc.traction.assign(R.stages, {0.0, 0.0});
-        }
+  auto zero_free = [&](SideCondition& sc) {   // free sides: zero values at every stage end
+    if (!sc.value.empty()) return;
+    sc.value.assign(R.stages, {0.0, 0.0, 0.0});
+    sc.p0.assign(R.stages, 0.0);
+    sc.p1.assign(R.stages, 0.0);
+    sc.traction.assign(R.stages, {0.0, 0.0, 0.0});
+  };
+  for (int k = 0; k < np; ++k) {
+    for (auto& sc : b.sides[k]) zero_free(sc);
+    for (auto& sc : b.corners[k]) zero_free(sc);
+  }
   return b;
 }
 

@@ -153,7 +153,7 @@ struct Reader {
   // Refuses a problem that will not fit the machine, before anything is built
   // (bytes_per_dof_estimate).
   void fits(const std::string& key, const YAML::Node& n, double dofs, int degree, double extra_bytes = 0,
-            int dim = kDim) const {
+            int dim = 2) const {
     const double bytes = dofs * bytes_per_dof_estimate(degree, dim) + extra_bytes;
     if (dofs > kMaxDofs || (memory_bytes > 0 && bytes > memory_bytes)) {
       std::ostringstream os;

@@ -22,7 +22,8 @@ namespace iga {
 /// One patch of one body: the unit of the element loops. A single-patch body is one block;
 /// a multi-patch body has one per patch, whose control points on interfaces share global ids.
 struct PatchBlock {
-  PatchData pd;           // device data; pd.lid is the elasticity overlap numbering
+  PatchData pd;           // device data of a 2-D patch; pd.lid is the elasticity overlap numbering
+  PatchData3 pd3;         // the same of a 3-D patch (the other one stays empty)
   int body = 0, patch = 0;
   std::vector<GO> gid;    // global control point id of each patch control point
   int e_begin = 0, e_end = 0;  // this rank's elements, in the patch's numbering
@@ -36,6 +37,7 @@ struct PatchBlock {
 /// A patch's data as the kernels see it, viewing the patch's host arrays (host evaluation:
 /// output fields, host-integrated loads, references in tests). No lid.
 HostPatchData host_patch_data(const Patch& P);
+HostPatchData3 host_patch_data3(const Patch& P);
 
 /// A constrained dof, the patch block and place it is reported under (0..3: a Side, 4..7: a
 /// Corner + 4), and its prescribed value at the end of each stage.

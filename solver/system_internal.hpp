@@ -18,6 +18,7 @@ Kokkos::View<T*, MemSpace> to_device(const std::string& name, const std::vector<
 }
 
 PatchData make_patch_data(const Patch& P);
+PatchData3 make_patch_data3(const Patch& P);
 // The element rule of the patch (solver.quadrature), in solver/patch_data.cpp.
 void set_quadrature(PatchBlock& bd, const Patch& pt, Quadrature q);
 

@@ -139,8 +139,8 @@ TEST(GeometryFile, SameTwoPatchGeometryInBothFormatsWithAReversedInterface) {
   const MultiPatch t = read_geopdes(kFiles + "/two_patches_reversed.txt");
   ASSERT_EQ(x.patches.size(), 2u);
   // id_index "10 7": patch 0 is Geometry 10 (the rational one), patch 1 Geometry 7.
-  EXPECT_EQ(x.patches[0].degree, (std::array<int, 2>{2, 1}));
-  EXPECT_EQ(x.patches[1].degree, (std::array<int, 2>{1, 1}));
+  EXPECT_EQ(x.patches[0].degree, (std::array<int, 3>{2, 1, 0}));
+  EXPECT_EQ(x.patches[1].degree, (std::array<int, 3>{1, 1, 0}));
   EXPECT_EQ(x.patches[0].knots[0], (std::vector<double>{0, 0, 0, 0.5, 1, 1, 1}));
   EXPECT_DOUBLE_EQ(x.patches[0].cp[1].w, 0.8);
   ASSERT_EQ(x.interfaces.size(), 1u);
@@ -188,7 +188,7 @@ TEST(GeometryFile, QuarterAnnuliReproduceExactRadii) {
     ASSERT_EQ(mp.patches.size(), 4u) << c.file;
     for (size_t k = 0; k < 4; ++k) {
       const Patch& P = mp.patches[k];
-      EXPECT_EQ(P.degree, (std::array<int, 2>{2, 1})) << c.file;
+      EXPECT_EQ(P.degree, (std::array<int, 3>{2, 1, 0})) << c.file;
       EXPECT_EQ(P.orientation(), -1) << c.file << ": xi counter-clockwise, eta outwards";
       for (int i = 0; i <= 40; ++i) {
         const double u = i / 40.0;
@@ -221,7 +221,7 @@ TEST(GeometryFile, PlateWithHole) {
   const MultiPatch mp = read_geometry_file(kExamples + "/plate_with_hole.xml");
   ASSERT_EQ(mp.patches.size(), 2u);
   for (const Patch& P : mp.patches) {
-    EXPECT_EQ(P.degree, (std::array<int, 2>{2, 2}));
+    EXPECT_EQ(P.degree, (std::array<int, 3>{2, 2, 0}));
     EXPECT_EQ(P.orientation(), 1);
     for (int i = 0; i <= 40; ++i) {
       const double v = i / 40.0;

@@ -218,3 +218,151 @@ TEST(Bezier, RefinedQuarterAnnulusCellsLieOnTheCirclesAndCarryTheField) {
       }
   }
 }
+
+// ---- trivariate patches ----------------------------------------------------------------
+
+namespace {
+// A quarter of a thick cylinder shell (radii 1..2, angle rational quadratic) extruded along z
+// to height 0.8, degree (2, 1, 1): exact circles in every z-plane.
+Patch shell3() {
+  Patch a;
+  a.pdim = 3;
+  a.degree = {2, 1, 1};
+  a.knots[0] = {0, 0, 0, 1, 1, 1};
+  a.knots[1] = {0, 0, 1, 1};
+  a.knots[2] = {0, 0, 1, 1};
+  const double w = std::sqrt(0.5);
+  for (double z : {0.0, 0.8})
+    for (double r : {1.0, 2.0}) {
+      a.cp.push_back(ControlPoint({r, 0, z}, 1));
+      a.cp.push_back(ControlPoint({r, r, z}, w));
+      a.cp.push_back(ControlPoint({0, r, z}, 1));
+    }
+  return a;
+}
+}  // namespace
+
+TEST(Refinement3D, ShellIsExactAfterElevationInsertionAndSubdivisionInEveryDirection) {
+  Patch a = shell3();
+  ASSERT_EQ(a.validate(), "");
+  EXPECT_EQ(a.orientation(), -1);   // xi turns counter-clockwise, eta runs outward: left-handed with z
+  a.elevate(0, 1);
+  a.elevate(2, 2);
+  a.insert_knot(1, 0.3);
+  a.subdivide(0, 3);
+  a.subdivide(2, 2);
+  ASSERT_EQ(a.validate(), "");
+  EXPECT_EQ(a.degree, (std::array<int, 3>{3, 1, 3}));
+  EXPECT_EQ(a.num_elements(), 3 * 2 * 2);
+  EXPECT_EQ(static_cast<int>(a.cp.size()), a.ncp(0) * a.ncp(1) * a.ncp(2));
+  std::mt19937 gen(7);
+  std::uniform_real_distribution<double> U(0, 1);
+  for (int k = 0; k < 50; ++k) {
+    const double t[3] = {U(gen), U(gen), U(gen)};
+    const auto x = a.point(t);
+    const double r = std::hypot(x[0], x[1]);
+    EXPECT_NEAR(r, 1.0 + t[1], 1e-13);   // linear in eta
+    EXPECT_NEAR(x[2], 0.8 * t[2], 1e-13);
+    EXPECT_GE(x[0], -1e-14);
+    EXPECT_GE(x[1], -1e-14);
+  }
+}
+
+TEST(Refinement3D, FacesAreThePatchBoundaryWithOutwardNormalsBySideNormalSign) {
+  Patch a = shell3();
+  a.elevate(1, 1);
+  a.subdivide(2, 2);
+  std::mt19937 gen(3);
+  std::uniform_real_distribution<double> U(0, 1);
+  for (int s = 0; s < 6; ++s) {
+    const Patch F = a.face(static_cast<Side>(s));
+    ASSERT_EQ(F.validate(), "") << s;
+    EXPECT_EQ(F.cp.size(), a.side_indices(static_cast<Side>(s)).size());
+    const int d = side_direction(s);
+    for (int k = 0; k < 5; ++k) {
+      const double f[2] = {U(gen), U(gen)};
+      double t[3];
+      for (int e = 0, fi = 0; e < 3; ++e) t[e] = e == d ? (side_end(s) ? 1.0 : 0.0) : f[fi++];
+      const auto x = a.point(t), y = F.point(f);
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(x[c], y[c], 1e-13) << "face " << s;
+      // outward: the face's tangent cross product times side_normal_sign points away from the
+      // interior point one step inward
+      const double h = 1e-6;
+      double fa[2] = {f[0] + h, f[1]}, fb[2] = {f[0], f[1] + h};
+      const auto xa = F.point(fa), xb = F.point(fb);
+      double ta[3], tb[3];
+      for (int c = 0; c < 3; ++c) { ta[c] = xa[c] - y[c]; tb[c] = xb[c] - y[c]; }
+      const double n[3] = {ta[1] * tb[2] - ta[2] * tb[1], ta[2] * tb[0] - ta[0] * tb[2], ta[0] * tb[1] - ta[1] * tb[0]};
+      double ti[3] = {t[0], t[1], t[2]};
+      ti[d] = side_end(s) ? 0.9 : 0.1;
+      const auto xi = a.point(ti);
+      double dot = 0;
+      for (int c = 0; c < 3; ++c) dot += n[c] * (y[c] - xi[c]);
+      EXPECT_GT(side_normal_sign(s) * a.orientation() * dot, 0) << "face " << s;
+    }
+  }
+}
+
+TEST(Bezier3D, CellsOfARefinedShellInterpolateThePatch) {
+  Patch a = shell3();
+  a.elevate(2, 1);
+  a.subdivide(0, 2);
+  a.subdivide(1, 2);
+  a.insert_knot(2, 0.4);
+  const BezierPatch bz(a);
+  ASSERT_EQ(bz.num_elements(), a.num_elements());
+  const auto p = bz.degree();
+  std::vector<ControlPoint> pts(bz.points_per_element());
+  std::vector<double> f(a.cp.size());
+  for (size_t q = 0; q < a.cp.size(); ++q) f[q] = std::sin(1.0 + q);   // any field of the space
+  std::vector<double> fb(bz.points_per_element());
+  for (int e = 0; e < bz.num_elements(); ++e) {
+    bz.element_points(e, pts.data());
+    bz.element_field(e, f.data(), 1, fb.data());
+    for (const double t0 : {0.0, 0.3, 1.0})
+      for (const double t1 : {0.0, 0.6})
+        for (const double t2 : {0.2, 1.0}) {
+          double B0[8], B1[8], B2[8];
+          bernstein(p[0], t0, B0);
+          bernstein(p[1], t1, B1);
+          bernstein(p[2], t2, B2);
+          double x[3] = {0, 0, 0}, w = 0, fv = 0;
+          for (int k = 0; k <= p[2]; ++k)
+            for (int j = 0; j <= p[1]; ++j)
+              for (int i = 0; i <= p[0]; ++i) {
+                const int m = i + (p[0] + 1) * (j + (p[1] + 1) * k);
+                const double b = B0[i] * B1[j] * B2[k] * pts[m].w;
+                for (int c = 0; c < 3; ++c) x[c] += b * pts[m].x[c];
+                fv += b * fb[m];
+                w += b;
+              }
+          double t[3];
+          const double tt[3] = {t0, t1, t2};
+          for (int d = 0; d < 3; ++d) {
+            const auto r = bz.range(e, d);
+            t[d] = r[0] + tt[d] * (r[1] - r[0]);
+          }
+          const auto y = a.point(t);
+          for (int c = 0; c < 3; ++c) EXPECT_NEAR(x[c] / w, y[c], 1e-13);
+          // the field through the patch's own basis at t
+          double fr = 0, wr = 0;
+          const int nb[3] = {a.ncp(0), a.ncp(1), a.ncp(2)};
+          for (int k = 0; k < nb[2]; ++k)
+            for (int j = 0; j < nb[1]; ++j)
+              for (int i = 0; i < nb[0]; ++i) {
+                const int idx[3] = {i, j, k};
+                double b = a.cp[a.index(i, j, k)].w;
+                for (int d = 0; d < 3; ++d) {
+                  const int sp = find_span(nb[d], a.degree[d], t[d], a.knots[d].data());
+                  if (idx[d] < sp - a.degree[d] || idx[d] > sp) { b = 0; break; }
+                  double N[3][kMaxBasis1D];
+                  bspline_ders(sp, t[d], a.degree[d], a.knots[d].data(), 0, N);
+                  b *= N[0][idx[d] - (sp - a.degree[d])];
+                }
+                fr += b * f[a.index(i, j, k)];
+                wr += b;
+              }
+          EXPECT_NEAR(fv / w, fr / wr, 1e-12);
+        }
+  }
+}
