@@ -47,10 +47,11 @@ nlohmann::json linear_solver_json(const Problem& P, const DirectSolverStats& ds,
 }
 
 nlohmann::json reactions_json(const System& sys, const Vector& residual) {
-  // per patch block: 4 sides and 4 corners, [Rx, Ry] each (dim components per place)
+  // per patch block: kCornerSlot side slots (4 used in 2-D, 6 in 3-D) and 4 corners, dim
+  // components per place ([Rx, Ry(, Rz)])
   const Problem& P = sys.problem();
   const size_t nb = sys.blocks().size();
-  const int dim = sys.dim(), per_block = 8 * dim;
+  const int dim = sys.dim(), per_block = (kCornerSlot + 4) * dim;
   std::vector<double> local(nb * per_block, 0.0), global(nb * per_block, 0.0);
   auto h = residual.getLocalViewHost(Tpetra::Access::ReadOnly);
   for (const DirichletDof& d : sys.dirichlet()) {
@@ -63,10 +64,12 @@ nlohmann::json reactions_json(const System& sys, const Vector& residual) {
     const PatchBlock& bd = sys.blocks()[k];
     const Body& body = P.bodies[bd.body];
     nlohmann::json& sides = j[body.name];
-    for (int s = 0; s < 8; ++s) {
-      const auto& sc = s < 4 ? body.sides[bd.patch][s] : body.corners[bd.patch][s - 4];
-      if (!(sc.fixed[0] || sc.fixed[1])) continue;
-      const std::string name = s < 4 ? body.side_label(bd.patch, static_cast<Side>(s)) : body.corner_label(bd.patch, static_cast<Corner>(s - 4));
+    for (int s = 0; s < kCornerSlot + 4; ++s) {
+      if (s < kCornerSlot && s >= num_sides(dim)) continue;
+      const auto& sc = s < kCornerSlot ? body.sides[bd.patch][s] : body.corners[bd.patch][s - kCornerSlot];
+      if (!(sc.fixed[0] || sc.fixed[1] || sc.fixed[2])) continue;
+      const std::string name = s < kCornerSlot ? body.side_label(bd.patch, static_cast<Side>(s))
+                                               : body.corner_label(bd.patch, static_cast<Corner>(s - kCornerSlot));
       const double* r = &global[k * per_block + s * dim];
       sides[name] = std::vector<double>(r, r + dim);
     }
@@ -81,15 +84,14 @@ nlohmann::json reactions_json(const System& sys, const Vector& residual) {
     nlohmann::json& sides = j[body.name];
     for (const auto& [name, list] : body.named) {
       if (sides.contains(name)) continue;
-      std::array<double, 2> sum{0.0, 0.0};
+      std::vector<double> sum(dim, 0.0);
       bool all = !list.empty();
       for (const PatchSide& ps : list) {
         const std::string label = body.side_label(ps.patch, ps.side);
         if (!sides.contains(label)) { all = false; break; }
-        sum[0] += sides[label][0].get<double>();
-        sum[1] += sides[label][1].get<double>();
+        for (int c = 0; c < dim; ++c) sum[c] += sides[label][c].get<double>();
       }
-      if (all) sides[name] = {sum[0], sum[1]};
+      if (all) sides[name] = sum;
     }
   }
   return j;

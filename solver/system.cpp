@@ -122,7 +122,7 @@ System::System(const Problem& problem, RCP<const Comm> comm) : P_(problem), comm
     const Body& body = P_.bodies[blocks_[k].body];
     const Patch& pt = body.patches[blocks_[k].patch];
     for (int c = 0; c < 4; ++c)
-      constrain(static_cast<int>(k), 4 + c, body.corners[blocks_[k].patch][c], {corner_index(pt, static_cast<Corner>(c))});
+      constrain(static_cast<int>(k), kCornerSlot + c, body.corners[blocks_[k].patch][c], {corner_index(pt, static_cast<Corner>(c))});
   }
   for (const auto& kv : dd) {
     dirichlet_.push_back(kv.second);

@@ -39,8 +39,11 @@ struct PatchBlock {
 HostPatchData host_patch_data(const Patch& P);
 HostPatchData3 host_patch_data3(const Patch& P);
 
-/// A constrained dof, the patch block and place it is reported under (0..3: a Side, 4..7: a
-/// Corner + 4), and its prescribed value at the end of each stage.
+/// Slots of DirichletDof::side: 0 .. kCornerSlot - 1 a Side (4 in 2-D, 6 in 3-D), then a 2-D
+/// Corner + kCornerSlot.
+constexpr int kCornerSlot = 6;
+/// A constrained dof, the patch block and place it is reported under (a Side, or a Corner +
+/// kCornerSlot), and its prescribed value at the end of each stage.
 struct DirichletDof {
   GO dof;
   int block, side;
