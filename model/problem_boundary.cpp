@@ -45,6 +45,7 @@ void read_side(const Reader& R, const YAML::Node& n, const std::string& path, Si
   if (n["pressure"]) {
     const YAML::Node p = n["pressure"];
     if (p.IsMap()) {
+      if (D == 3) R.fail(path + ".pressure", p, "a solid's face takes a constant pressure (pressure.linear is 2-D)");
       R.keys(p, path + ".pressure", {"linear"});
       if (!p["linear"]) R.missing(path + ".pressure.linear");
       const YAML::Node l = p["linear"];
