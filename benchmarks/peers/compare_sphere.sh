@@ -1,0 +1,149 @@
+#!/usr/bin/env bash
+# compare_sphere.sh: time to accuracy on the thick sphere octant in 3-D (issue 35, item 7):
+# igacontact against deal.II 9.4, each at its fewest refinements that reach a relative L2
+# displacement error of 1e-5 (--target), degree by degree, whole processes timed in turn
+# (igacontact, deal.II, igacontact, ...: --pairs pairs), the ratio taken pair by pair and its
+# median printed. Goal of the issue: igacontact at most a fifth of deal.II's time.
+#
+#   igacontact: build-peers/iga_sphere examples/thick_sphere.yaml
+#               --set 'bodies.0.refine.degree_elevate=[P-2,P-2,P-1]' --set 'bodies.0.refine.subdivide=[N,N,N]'
+#               (benchmarks/peers/iga_sphere.cpp: the app's load_problem / System / solve, the
+#               solver `auto` picks (MUMPS LDLT up to 3e4 dofs in 3-D), then the L2 error as
+#               tests/test_solid.cpp integrates it; `igacontact run` of a 3-D problem does not
+#               write its output yet)
+#   deal.II:    build-peers/dealii_sphere P K SOLVER (benchmarks/peers/dealii_sphere.cpp:
+#               quarter_hyper_shell refined K times, FE_Q(P) x 3, MappingQ(P), one thread;
+#               SOLVER umfpack, mumps (PETSc's) or amg (CG + Trilinos ML))
+# Both print one JSON line with dofs and the error. The search (each code once per refinement,
+# outside the timings) takes the fewest N = 2, 3, ... (igacontact) and K = 0, 1, ... (deal.II)
+# whose error is at most the target; --iga-n P:N and --dealii-k P:K skip it for degree P.
+# Both codes run with OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 (one thread each). Before the
+# timings the script waits (up to --max-wait seconds) for the 1-minute load average to fall
+# below --max-load and prints the load before and after each degree's pairs.
+#
+# Usage: benchmarks/peers/compare_sphere.sh [--degrees "2 3 4"] [--pairs 3] [--target 1e-5]
+#            [--dealii-solver P:SOLVER ...] [--iga-n P:N ...] [--dealii-k P:K ...]
+#            [--max-load 1.5] [--max-wait 600] [--no-timing]
+# Defaults: deal.II's solver mumps at P = 4, amg at P = 2 and 3 (the fastest of the three
+# measured there, docs/performance.md "3-D: thick sphere against deal.II").
+# Needs the main build (build/libigacontact_core.a; iga_sphere links it) and deal.II 9.4
+# (Debian libdeal.ii-dev); builds build-peers/ when a program is missing.
+set -euo pipefail
+set -f   # the --set values carry brackets: no globbing of the commands built below
+
+DEGREES="2 3 4"
+PAIRS=3
+TARGET=1e-5
+MAX_LOAD=1.5
+MAX_WAIT=600
+TIMING=1
+declare -A DSOLVER=([2]=amg [3]=amg [4]=mumps [5]=mumps) IGA_N=() DEAL_K=()
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --degrees) DEGREES=$2; shift 2 ;;
+    --pairs) PAIRS=$2; shift 2 ;;
+    --target) TARGET=$2; shift 2 ;;
+    --dealii-solver) DSOLVER[${2%%:*}]=${2#*:}; shift 2 ;;
+    --iga-n) IGA_N[${2%%:*}]=${2#*:}; shift 2 ;;
+    --dealii-k) DEAL_K[${2%%:*}]=${2#*:}; shift 2 ;;
+    --max-load) MAX_LOAD=$2; shift 2 ;;
+    --max-wait) MAX_WAIT=$2; shift 2 ;;
+    --no-timing) TIMING=0; shift ;;
+    -h|--help) sed -n '2,/^set -euo/p' "$0" | sed 's/^# \{0,1\}//' | head -n -1; exit 0 ;;
+    *) echo "compare_sphere.sh: unknown argument $1 (--help)" >&2; exit 2 ;;
+  esac
+done
+
+ROOT=$(cd "$(dirname "$0")/../.." && pwd)
+DEAL=$("$ROOT/benchmarks/peers/build_peers.sh" dealii_sphere)
+IGA=$("$ROOT/benchmarks/peers/build_peers.sh" iga_sphere)
+[ -x "$IGA" ] || { echo "compare_sphere.sh: $IGA not built (build the main project first: build/libigacontact_core.a)" >&2; exit 1; }
+YAML=$ROOT/examples/thick_sphere.yaml
+export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1
+
+iga_cmd() {   # P N
+  echo "$IGA $YAML --set bodies.0.refine.degree_elevate=[$(($1 - 2)),$(($1 - 2)),$(($1 - 1))] --set bodies.0.refine.subdivide=[$2,$2,$2]"
+}
+deal_cmd() {   # P K
+  echo "$DEAL $1 $2 ${DSOLVER[$1]}"
+}
+error_of() { /usr/bin/python3 -c 'import json, sys; print(json.loads(sys.argv[1])["l2_error"])' "$1"; }
+below() { /usr/bin/python3 -c 'import sys; sys.exit(0 if float(sys.argv[1]) <= float(sys.argv[2]) else 1)' "$1" "$TARGET"; }
+
+wait_for_load() {
+  local waited=0
+  while :; do
+    local load
+    load=$(cut -d' ' -f1 /proc/loadavg)
+    if /usr/bin/python3 -c 'import sys; sys.exit(0 if float(sys.argv[1]) < float(sys.argv[2]) else 1)' "$load" "$MAX_LOAD"; then
+      return 0
+    fi
+    if [ "$waited" -ge "$MAX_WAIT" ]; then
+      echo "  load $load still at or above $MAX_LOAD after ${MAX_WAIT} s: timing anyway (quote the load with the figures)"
+      return 0
+    fi
+    sleep 10
+    waited=$((waited + 10))
+  done
+}
+
+for P in $DEGREES; do
+  echo "== degree $P (target relative L2 error $TARGET)"
+  # igacontact: the fewest elements per direction N
+  N=${IGA_N[$P]:-}
+  if [ -z "$N" ]; then
+    for n in $(seq 2 40); do
+      line=$($(iga_cmd "$P" "$n"))
+      echo "  igacontact N = $n: $line"
+      if below "$(error_of "$line")"; then N=$n; break; fi
+    done
+  fi
+  [ -n "$N" ] || { echo "  igacontact: no N <= 40 reaches $TARGET" >&2; continue; }
+  IGA_LINE=$($(iga_cmd "$P" "$N"))
+  # deal.II: the fewest global refinements K
+  K=${DEAL_K[$P]:-}
+  if [ -z "$K" ]; then
+    for k in 0 1 2 3 4; do
+      line=$($(deal_cmd "$P" "$k"))
+      echo "  deal.II K = $k: $line"
+      if below "$(error_of "$line")"; then K=$k; break; fi
+    done
+  fi
+  [ -n "$K" ] || { echo "  deal.II: no K <= 4 reaches $TARGET" >&2; continue; }
+  DEAL_LINE=$($(deal_cmd "$P" "$K"))
+  echo "  igacontact: $IGA_LINE"
+  echo "  deal.II:    $DEAL_LINE"
+  for l in "$IGA_LINE" "$DEAL_LINE"; do
+    below "$(error_of "$l")" || { echo "  above the target: $l" >&2; exit 1; }
+  done
+  [ "$TIMING" = 1 ] || continue
+
+  wait_for_load
+  echo "  load before: $(cut -d' ' -f1-3 /proc/loadavg)"
+  # the whole processes in turn, A = igacontact, B = deal.II, wall (monotonic clock from the
+  # start to the reaping) and CPU (user + system of the finished child)
+  /usr/bin/python3 - "$PAIRS" "$(iga_cmd "$P" "$N")" "$(deal_cmd "$P" "$K")" <<'PY'
+import os, resource, statistics, subprocess, sys, time
+pairs, a, b = int(sys.argv[1]), sys.argv[2].split(), sys.argv[3].split()
+def run(cmd):
+    r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    t0 = time.monotonic()
+    p = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    t = time.monotonic() - t0
+    r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if p.returncode != 0:
+        sys.exit("exit %d: %s" % (p.returncode, " ".join(cmd)))
+    return t, (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
+run(a); run(b)   # one warm-up each (page cache), not counted
+wa, wb, ca, cb = [], [], [], []
+for i in range(pairs):
+    t, c = run(a); wa.append(t); ca.append(c)
+    t, c = run(b); wb.append(t); cb.append(c)
+    print("  pair %d: igacontact %.2f s (cpu %.2f), deal.II %.2f s (cpu %.2f), ratio %.3f" % (i + 1, wa[-1], ca[-1], wb[-1], cb[-1], wa[-1] / wb[-1]))
+med = statistics.median
+print("  median wall: igacontact %.2f s, deal.II %.2f s; median ratio (pair by pair) wall %.3f, cpu %.3f (1/%.1f)" %
+      (med(wa), med(wb), med([x / y for x, y in zip(wa, wb)]), med([x / y for x, y in zip(ca, cb)]),
+       1 / med([x / y for x, y in zip(wa, wb)])))
+PY
+  echo "  load after:  $(cut -d' ' -f1-3 /proc/loadavg)"
+done
