@@ -21,17 +21,23 @@
 # timings the script waits (up to --max-wait seconds) for the 1-minute load average to fall
 # below --max-load and prints the load before and after each degree's pairs.
 #
-# Usage: benchmarks/peers/compare_sphere.sh [--degrees "2 3 4"] [--pairs 3] [--target 1e-5]
+# Usage: benchmarks/peers/compare_sphere.sh [--degrees "2 3 4 5"] [--pairs 3] [--target 1e-5]
 #            [--dealii-solver P:SOLVER ...] [--iga-n P:N ...] [--dealii-k P:K ...]
 #            [--max-load 1.5] [--max-wait 600] [--no-timing]
-# Defaults: deal.II's solver mumps at P = 4, amg at P = 2 and 3 (the fastest of the three
-# measured there, docs/performance.md "3-D: thick sphere against deal.II").
+# Defaults: deal.II's solver mumps at P = 4 and 5, amg at P = 2 and 3 (the fastest of the three
+# measured there, docs/performance.md "3-D: thick sphere against deal.II"). P = 5 is beyond the
+# issue's 2..4: it is deal.II's fastest degree to 1e-5 here (and igacontact's too).
+# The figures of docs/performance.md skip the search (each code's N and K found by it before):
+#   compare_sphere.sh --pairs 5 --iga-n 2:19 --iga-n 3:8 --iga-n 4:5 --iga-n 5:3 \
+#     --dealii-k 2:4 --dealii-k 3:3 --dealii-k 4:2 --dealii-k 5:1
+# (deal.II at P = 2 stays above 1e-5 at K = 4, 313,731 dofs; K = 5 is 2.5 million dofs: no
+# timing at P = 2.)
 # Needs the main build (build/libigacontact_core.a; iga_sphere links it) and deal.II 9.4
 # (Debian libdeal.ii-dev); builds build-peers/ when a program is missing.
 set -euo pipefail
 set -f   # the --set values carry brackets: no globbing of the commands built below
 
-DEGREES="2 3 4"
+DEGREES="2 3 4 5"
 PAIRS=3
 TARGET=1e-5
 MAX_LOAD=1.5
@@ -113,9 +119,11 @@ for P in $DEGREES; do
   DEAL_LINE=$($(deal_cmd "$P" "$K"))
   echo "  igacontact: $IGA_LINE"
   echo "  deal.II:    $DEAL_LINE"
+  ok=1
   for l in "$IGA_LINE" "$DEAL_LINE"; do
-    below "$(error_of "$l")" || { echo "  above the target: $l" >&2; exit 1; }
+    below "$(error_of "$l")" || { echo "  above the target, no timing at degree $P: $l"; ok=0; }
   done
+  [ "$ok" = 1 ] || continue
   [ "$TIMING" = 1 ] || continue
 
   wait_for_load
@@ -125,15 +133,19 @@ for P in $DEGREES; do
   /usr/bin/python3 - "$PAIRS" "$(iga_cmd "$P" "$N")" "$(deal_cmd "$P" "$K")" <<'PY'
 import os, resource, statistics, subprocess, sys, time
 pairs, a, b = int(sys.argv[1]), sys.argv[2].split(), sys.argv[3].split()
-def run(cmd):
-    r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
-    t0 = time.monotonic()
-    p = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    t = time.monotonic() - t0
-    r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
-    if p.returncode != 0:
-        sys.exit("exit %d: %s" % (p.returncode, " ".join(cmd)))
-    return t, (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
+def run(cmd, tries=3):
+    # a failed run (Open MPI's singleton start-up of the deal.II program failed now and then
+    # under load: "Unable to start a daemon on the local node") is said and run again
+    for k in range(tries):
+        r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+        t0 = time.monotonic()
+        p = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        t = time.monotonic() - t0
+        r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+        if p.returncode == 0:
+            return t, (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
+        print("  (exit %d after %.2f s, run again: %s)" % (p.returncode, t, cmd[0]))
+    sys.exit("%d failures in a row: %s" % (tries, " ".join(cmd)))
 run(a); run(b)   # one warm-up each (page cache), not counted
 wa, wb, ca, cb = [], [], [], []
 for i in range(pairs):
