@@ -61,9 +61,10 @@ while [ $# -gt 0 ]; do
 done
 
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
+[ -f "$ROOT/build/libigacontact_core.a" ] || {
+  echo "compare_sphere.sh: no $ROOT/build/libigacontact_core.a: build igacontact first (iga_sphere links it)" >&2; exit 1; }
 DEAL=$("$ROOT/benchmarks/peers/build_peers.sh" dealii_sphere)
 IGA=$("$ROOT/benchmarks/peers/build_peers.sh" iga_sphere)
-[ -x "$IGA" ] || { echo "compare_sphere.sh: $IGA not built (build the main project first: build/libigacontact_core.a)" >&2; exit 1; }
 YAML=$ROOT/examples/thick_sphere.yaml
 export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1
 
