@@ -59,7 +59,7 @@ class TopologyCheck {
   }
 
  private:
-  static int key(const PatchSide& s) { return s.patch * 4 + static_cast<int>(s.side); }
+  static int key(const PatchSide& s) { return s.patch * 6 + static_cast<int>(s.side); }   // 6 sides in 3-D
   std::map<int, std::string> used_;
 };
 
