@@ -285,6 +285,8 @@ MultiPatch read_geopdes(const std::string& path) {
 std::string geopdes_text(const MultiPatch& mp) {
   auto error = [&](const std::string& what) { throw std::runtime_error("GeoPDEs text: " + what); };
   if (mp.patches.empty()) error("the multipatch has no patches");
+  for (const Patch& P : mp.patches)
+    if (P.dim() != 2) error("trivariate patches are not written in the GeoPDEs format (write G+Smo XML)");
   const int np = static_cast<int>(mp.patches.size());
   auto check = [&](const PatchSide& s, const std::string& what) {
     const std::string bad = side_out_of_range(s, np);
