@@ -741,7 +741,11 @@ struct Element3 {
   std::vector<double> x[3], w;   // Bezier points (Euclidean) and weights / max
   bool rational = false;
   double tolJ = 0, tolD = 0;
-  Poly3 D;   // standard coefficients of D = W^4 det J (W^0 det J with equal weights)
+  double wmin = 1, wmean = 1;   // of the weights / max
+  Poly3 F[4];   // standard coefficients of W, A1, A2, A3
+  Poly3 D;      // standard coefficients of D = W^4 det J (W^0 det J with equal weights)
+  Poly3 M0;     // rational: standard coefficients of det [A_t; A_s; A_r] (the quick bound)
+  bool has_D = false;
 };
 
 class Checker3 {
@@ -750,7 +754,9 @@ class Checker3 {
     for (int d = 0; d < 3; ++d) ne_[d] = bez_.num_elements(d);
   }
 
-  void build(int e, Element3& el) const {
+  // Bezier points, tolerances, the coefficients of W and A; with full, D too (else, for a
+  // rational element, only M0: see classify).
+  void build(int e, Element3& el, bool full) const {
     const auto& p = bez_.degree();
     for (int d = 0; d < 3; ++d) {
       el.e[d] = bez_.element_index(e, d);
@@ -781,8 +787,12 @@ class Checker3 {
     const double wr = el.rational ? wmin / wmax : 1.0;
     el.tolD = el.tolJ * wr * wr * wr * wr;
     // standard coefficients of W and A_d = W (x_d - c_d), and the scaled ones of their derivatives
-    Poly3 F[4];
-    for (auto& f : F) f = Poly3::zero(p[0], p[1], p[2]);
+    Poly3* F = el.F;
+    for (int a = 0; a < 4; ++a) F[a] = Poly3::zero(p[0], p[1], p[2]);
+    el.wmin = wmin / wmax;
+    el.wmean = 0;
+    for (int k = 0; k < nb; ++k) el.wmean += pts[k].w / wmax;
+    el.wmean = el.rational ? el.wmean / nb : 1.0;
     for (int k = 0; k < nb; ++k) {
       el.w[k] = pts[k].w / wmax;
       const double wk = el.rational ? el.w[k] : 1.0;
@@ -795,7 +805,7 @@ class Checker3 {
     // D = det of rows (f, f_t, f_s, f_r), columns f = W, A1, A2, A3 (rational), or of rows
     // (f_t, f_s, f_r), columns A1, A2, A3 (equal weights). The 2 x 2 minors of rows (f_s, f_r)
     // are shared by the 3 x 3 cofactors.
-    const int c0 = el.rational ? 0 : 1;
+    const int c0 = el.rational && full ? 0 : 1;
     Poly3 dt[4], ds[4], dr[4];
     for (int a = c0; a < 4; ++a) {
       dt[a] = derivative(F[a], 0);
@@ -813,8 +823,13 @@ class Checker3 {
       mul_add3(dt[cc], minor[a][b], 1.0, out);
       return out;
     };
+    el.has_D = !el.rational || full;
     if (!el.rational) {
       el.D = det3(1, 2, 3);
+    } else if (!full) {
+      el.M0 = det3(1, 2, 3);
+      scale3(el.M0, false);
+      return;
     } else {
       Poly3 Fs[4];
       for (int a = 0; a < 4; ++a) {
@@ -828,18 +843,63 @@ class Checker3 {
     scale3(el.D, false);
   }
 
-  // +1 if D > tolD is proven by the coefficients, -1 if D < -tolD, else 0; the element's
-  // volume (approximately: the integral of D over the unit cube, the mean coefficient, over
-  // the mean weight to the 4th) for the patch's orientation.
-  static int classify(const Element3& el, double& volume) {
-    double lo = 1e300, hi = -1e300, mean = 0;
-    for (double v : el.D.c) lo = std::min(lo, v), hi = std::max(hi, v), mean += v;
-    mean /= static_cast<double>(el.D.size());
-    double wmean = 0;
-    for (double v : el.w) wmean += v;
-    wmean = el.rational ? wmean / static_cast<double>(el.w.size()) : 1.0;
-    volume = mean / (wmean * wmean * wmean * wmean);
+  // Step 1 on an element built without full: +1 if D > tolD is proven, -1 if D < -tolD, else
+  // 0; the element's volume (approximately: the integral of D over the unit cube, the mean
+  // coefficient, over the mean weight to the 4th; rational: of M0 over its 3rd) for the
+  // patch's orientation. Rational elements first by a quick bound: D = W M0 - A1 M1 + A2 M2 -
+  // A3 M3 (the cofactor expansion along the first row), M0 = det [A_t; A_s; A_r] formed
+  // exactly, |A_a M_a| bounded by the largest coefficients (|M_a| <= the permanent of the
+  // largest derivatives' coefficients of its columns), so min W min M0 - R > tol proves D >
+  // tol; where it fails, all coefficients of D.
+  int classify(Element3& el, double& volume) const {
+    auto range = [](const Poly3& a, double& lo, double& hi, double& mean) {
+      lo = 1e300, hi = -1e300, mean = 0;
+      for (double v : a.c) lo = std::min(lo, v), hi = std::max(hi, v), mean += v;
+      mean /= static_cast<double>(a.size());
+    };
+    double lo, hi, mean;
+    if (!el.rational) {
+      range(el.D, lo, hi, mean);
+      volume = mean;
+      return lo > el.tolD ? 1 : (hi < -el.tolD ? -1 : 0);
+    }
+    range(el.M0, lo, hi, mean);
+    volume = mean / (el.wmean * el.wmean * el.wmean);
+    // the largest |coefficient| of each F[a] (h) and of its derivatives (g[a][d])
+    double h[4], g[4][3];
+    for (int a = 0; a < 4; ++a) {
+      const Poly3& f = el.F[a];
+      h[a] = 0;
+      for (double v : f.c) h[a] = std::max(h[a], std::abs(v));
+      for (int d = 0; d < 3; ++d) {
+        const size_t st = f.stride(d);
+        double m = 0;
+        for (int k = 0; k <= f.m[2]; ++k)
+          for (int j = 0; j <= f.m[1]; ++j)
+            for (int i = 0; i <= f.m[0]; ++i) {
+              const int ijk[3] = {i, j, k};
+              if (ijk[d] == f.m[d]) continue;
+              const size_t q = f.idx(i, j, k);
+              m = std::max(m, std::abs(f.c[q + st] - f.c[q]));
+            }
+        g[a][d] = f.m[d] * m;
+      }
+    }
+    auto permanent = [&](int a, int b, int c) {
+      return g[a][0] * (g[b][1] * g[c][2] + g[b][2] * g[c][1]) + g[a][1] * (g[b][0] * g[c][2] + g[b][2] * g[c][0]) +
+             g[a][2] * (g[b][0] * g[c][1] + g[b][1] * g[c][0]);
+    };
+    const double R = h[1] * permanent(0, 2, 3) + h[2] * permanent(0, 1, 3) + h[3] * permanent(0, 1, 2);
+    if (lo > 0 && el.wmin * lo - R > el.tolD) return 1;
+    if (hi < 0 && el.wmin * hi + R < -el.tolD) return -1;
+    full_D(el);
+    range(el.D, lo, hi, mean);
     return lo > el.tolD ? 1 : (hi < -el.tolD ? -1 : 0);
+  }
+
+  void full_D(Element3& el) const {
+    if (el.has_D) return;
+    build(current_, el, true);
   }
 
   // det J with respect to the element's local (t, s, r), and the physical point there
@@ -1008,7 +1068,8 @@ class Checker3 {
     Element3 el;
     double vol = 0, vol_abs = 0;
     for (int e = 0; e < n; ++e) {
-      build(e, el);
+      current_ = e;
+      build(e, el, false);
       double v = 0;
       cls[e] = static_cast<std::int8_t>(classify(el, v));
       vol += v;
@@ -1019,7 +1080,7 @@ class Checker3 {
     for (const int pass : {-sigma, 0})
       for (int e = 0; e < n; ++e) {
         if (cls[e] != pass) continue;
-        build(e, el);
+        build(e, el, true);
         const Finding f = examine(el, sigma);
         if (f.kind != Fine) return message(el, f, sigma);
       }
@@ -1032,6 +1093,7 @@ class Checker3 {
   const int sign_;
   std::array<int, 3> ne_{1, 1, 1};
   bool by_volume_ = true;
+  mutable int current_ = 0;   // the element classify works on
 };
 
 }  // namespace three_d
