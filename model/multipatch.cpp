@@ -136,15 +136,16 @@ bool counts_fit(const Interface& f, const std::array<int, 2>& na, const std::arr
   return nb[f.face_map[0]] == na[0] && nb[f.face_map[1]] == na[1] && f.face_map[0] != f.face_map[1];
 }
 
-// largest distance between face a's control points and their images on face b (counts fit)
-double face_gap(const std::vector<Patch>& patches, const Interface& f) {
+// largest distance between face a's control points and their images on face b (counts fit);
+// returns early once it exceeds stop
+double face_gap(const std::vector<Patch>& patches, const Interface& f, double stop = 1e300) {
   const Patch &P = patches[f.a.patch], &Q = patches[f.b.patch];
   const auto ia = P.side_indices(f.a.side), ib = Q.side_indices(f.b.side);
   const auto na = face_counts(P, f.a.side), nb = face_counts(Q, f.b.side);
   double g = 0;
   for (int i1 = 0; i1 < na[1]; ++i1)
     for (int i0 = 0; i0 < na[0]; ++i0)
-      g = std::max(g, dist(P.cp[ia[i0 + na[0] * i1]], Q.cp[ib[face_mapped_index(f, nb, i0, i1)]]));
+      if ((g = std::max(g, dist(P.cp[ia[i0 + na[0] * i1]], Q.cp[ib[face_mapped_index(f, nb, i0, i1)]]))) > stop) return g;
   return g;
 }
 
@@ -153,7 +154,7 @@ double face_gap(const std::vector<Patch>& patches, const Interface& f) {
 bool match_faces(const std::vector<Patch>& patches, const PatchSide& a, const PatchSide& b, double tol, Interface& out) {
   const auto na = face_counts(patches[a.patch], a.side), nb = face_counts(patches[b.patch], b.side);
   for (const Interface& f : orientations(a, b))
-    if (counts_fit(f, na, nb) && face_gap(patches, f) <= tol) {
+    if (counts_fit(f, na, nb) && face_gap(patches, f, tol) <= tol) {
       out = f;
       return true;
     }
