@@ -491,7 +491,7 @@ TEST(GeometryFile, BadInputsGiveOneLineMessages) {
       {"geopdes_version.txt", "{dir}/geopdes_version.txt:1: GeoPDEs format version 0.7 is not supported: igacontact reads v.2.1 (nrbexport's default)"},
       {"geopdes_no_header.txt", "{dir}/geopdes_no_header.txt:1: no version header before the first data line; a GeoPDEs v2.1 file starts with '# nurbs mesh v.2.1'"},
       {"geopdes_truncated.txt", "{dir}/geopdes_truncated.txt:17: the file ends before the patch 2 knots in v (truncated?)"},
-      {"geopdes_3d.txt", "{dir}/geopdes_3d.txt:5: ndim = 3: igacontact reads 2-D parametric patches (ndim = 2), not volumes"},
+      {"geopdes_3d.txt", "{dir}/geopdes_3d.txt:7: patch 1 degrees: 2 values, expected 3"},
       {"geopdes_degree.txt", "{dir}/geopdes_degree.txt:15: patch 2: degree 0 in u: the degree must be at least 1"},
       {"geopdes_count.txt", "{dir}/geopdes_count.txt:11: patch 1 x coordinates (w x): 3 values, expected 4"},
       {"geopdes_knots.txt", "{dir}/geopdes_knots.txt:9: patch 1 knots in u: the knots decrease at knot 4 (1 then 0.5)"},
@@ -638,8 +638,6 @@ TEST(GeometryFile3D, SphereOctantInTwoPatches) {
   EXPECT_TRUE((mp.named[0].second == std::vector<PatchSide>{{0, Side::Front}, {1, Side::West}}));
   EXPECT_EQ(mp.named[4].first, "z0");
   EXPECT_TRUE((mp.named[4].second == std::vector<PatchSide>{{0, Side::South}, {1, Side::Front}}));
-  // GeoPDEs is not written in 3-D (said, not garbled)
-  EXPECT_THROW(geopdes_text(mp), std::runtime_error);
 }
 
 TEST(GeometryFile3D, WriteThenReadGivesIdenticalPatchesAndTopology) {
@@ -695,7 +693,59 @@ TEST(GeometryFile3D, InterfacesInEveryOrientationSurviveTheRoundTrip) {
       int n = 0;
       merge_control_points(b.patches, b.interfaces, n);
       EXPECT_EQ(n, 12 + 12 - 6);
+      // the same through GeoPDEs text
+      const MultiPatch g = read_geopdes((write_file_atomic((dir / "o.txt").string(), geopdes_text(mp)), (dir / "o.txt").string()));
+      expect_same_topology_3d(mp, g, "geopdes");
       ++cases;
     }
   EXPECT_EQ(cases, 48);
+}
+
+TEST(GeometryFile3D, GeoPdesWriteThenReadAndItsInterfaceFlags) {
+  const Scratch dir("geopdes3d");
+  // the example through GeoPDEs text: homogeneous rows (w x may move the last bit)
+  const MultiPatch a = read_geometry_file(kExamples + "/sphere_octant2.xml");
+  const std::string out = (dir / "octant.txt").string();
+  write_file_atomic(out, geopdes_text(a));
+  const MultiPatch b = read_geopdes(out);
+  ASSERT_EQ(b.patches.size(), 2u);
+  for (size_t k = 0; k < 2; ++k) {
+    EXPECT_EQ(b.patches[k].dim(), 3);
+    EXPECT_EQ(b.patches[k].degree, a.patches[k].degree);
+    EXPECT_EQ(b.patches[k].knots, a.patches[k].knots);
+    ASSERT_EQ(b.patches[k].cp.size(), a.patches[k].cp.size());
+    for (size_t i = 0; i < a.patches[k].cp.size(); ++i) {
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(b.patches[k].cp[i].x[c], a.patches[k].cp[i].x[c], 1e-15 * 2);
+      EXPECT_EQ(b.patches[k].cp[i].w, a.patches[k].cp[i].w);
+    }
+  }
+  expect_same_topology_3d(a, b, "octant.txt");
+  EXPECT_NE(read_text(out).find("\n3 3 2 1 0\n"), std::string::npos);
+  EXPECT_NE(read_text(out).find("INTERFACE 1\n1 2\n2 3\n-1 1 1\n"), std::string::npos);   // swapped face directions
+
+  // GeoPDEs' flag ornt1 ornt2 (mp_interface_3d: flag -1 swaps the face directions, ornt k -1
+  // reverses side1's direction k) against the geometry: box 1 = [0, 1]^3 (x = u, y = v,
+  // z = w); box 2 = [1, 2] x [0, 1]^2 with x = 1 + w, y = 1 - v, z = u. Box 1's east face
+  // (y, z) meets box 2's front face (w = 0; its u = z, v = 1 - y): y runs along v reversed,
+  // z along u: flag -1, ornt1 -1, ornt2 1.
+  std::ofstream(dir / "boxes.txt") << "# nurbs mesh v.2.1\n3 3 2 1 0\nPATCH 1\n1 1 1\n2 2 2\n0 0 1 1\n0 0 1 1\n0 0 1 1\n"
+                                    << "0 1 0 1 0 1 0 1\n0 0 1 1 0 0 1 1\n0 0 0 0 1 1 1 1\n1 1 1 1 1 1 1 1\n"
+                                    << "PATCH 2\n1 1 1\n2 2 2\n0 0 1 1\n0 0 1 1\n0 0 1 1\n"
+                                    // (u, v, w) in the order u fastest: x = 1 + w, y = 1 - v, z = u
+                                    << "1 1 1 1 2 2 2 2\n1 1 0 0 1 1 0 0\n0 1 0 1 0 1 0 1\n1 1 1 1 1 1 1 1\n"
+                                    << "INTERFACE 1\n1 2\n2 5\n-1 -1 1\nBOUNDARY 1\n2\n1 1\n2 6\n";
+  const MultiPatch c = read_geopdes((dir / "boxes.txt").string());
+  ASSERT_EQ(c.interfaces.size(), 1u);
+  const auto found = find_interfaces(c.patches, 1e-12);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_EQ(found[0].a, (PatchSide{0, Side::East}));
+  EXPECT_EQ(found[0].b, (PatchSide{1, Side::Front}));
+  EXPECT_EQ(c.interfaces[0].face_map, found[0].face_map);
+  EXPECT_EQ(c.interfaces[0].face_flip, found[0].face_flip);
+  EXPECT_EQ(found[0].face_map, (std::array<int, 2>{1, 0}));
+  EXPECT_EQ(found[0].face_flip, (std::array<bool, 2>{true, false}));
+  EXPECT_EQ(c.boundary, (std::vector<PatchSide>{{0, Side::West}, {1, Side::Back}}));
+  // and G+Smo's 10 numbers for the same interface, read back the same
+  const MultiPatch d = read_gismo_xml((write_gismo_xml((dir / "boxes.xml").string(), {&c}), (dir / "boxes.xml").string()));
+  expect_same_topology_3d(c, d, "boxes.xml");
 }
