@@ -448,6 +448,27 @@ TEST(GeometryCheck3D, WedgeWithAFaceCollapsedOntoAnEdgeIsAccepted) {
   EXPECT_TRUE(contains(m, "vanishes inside the patch")) << m;
 }
 
+TEST(GeometryCheck3D, StraightDihedralAngleAlongAnEdgeIsAccepted) {
+  // a prism: the trilinear block whose corner (xi, eta) = (1, 1) goes to (2, 0), so that the
+  // faces eta = 0 and xi = 1 are coplanar at the edge (xi, eta) = (1, 0): det J = 0 along that
+  // patch edge only (not a whole face: no factor to divide out; subdivision ends on it)
+  Patch P = patch_of_block(iga::test3d::box({1, 1, 1}, {1, 1, 1}, {1.0, 1.0, 1.0}));
+  for (int k = 0; k < 2; ++k) {
+    P.cp[P.index(1, 1, k)].x[0] = 2.0;
+    P.cp[P.index(1, 1, k)].x[1] = 0.0;
+  }
+  EXPECT_EQ(check_jacobian(P), "");
+  // degree 2 (elevated) and 2 x 2 x 2 elements: the same geometry, the same answer
+  Patch Q = P;
+  for (int d = 0; d < 3; ++d) Q.elevate(d, 1), Q.subdivide(d, 2);
+  EXPECT_EQ(check_jacobian(Q), "");
+  // past the straight angle (a reflex corner): det J < 0 near that edge
+  Patch R = P;
+  for (int k = 0; k < 2; ++k) R.cp[R.index(1, 1, k)].x[1] = -0.3;
+  const std::string m = check_jacobian(R);
+  EXPECT_TRUE(contains(m, "det J changes sign")) << m;
+}
+
 TEST(GeometryCheck3D, FoldedBoxesAreRefused) {
   // trilinear 2 x 2 x 2 elements: the middle control point moved through the east face
   Patch P = patch_of_block(iga::test3d::box({1, 1, 1}, {2, 2, 2}, {1.0, 1.0, 1.0}));
@@ -462,6 +483,15 @@ TEST(GeometryCheck3D, FoldedBoxesAreRefused) {
   Q.cp[Q.index(1, 1, 1)].x[0] = 4.0;
   m = check_jacobian(Q);
   EXPECT_TRUE(contains(m, "det J changes sign in element [0, 1] x [0, 1] x [0, 1]")) << m;
+  // barely through: x_xi < 0 only for xi > 0.988 near the middle of the east face (at s = r =
+  // 1/2, x_xi = 2 (1 - xi) a - 2 xi (a - 1), a = 0.375 + X / 4 = 1.0125), where no sample point
+  // of step 2 lies (the last: xi = 0.917): found by the Bernstein coefficients and subdivision
+  Q.cp[Q.index(1, 1, 1)].x[0] = 2.55;
+  m = check_jacobian(Q);
+  EXPECT_TRUE(contains(m, "det J changes sign in element [0, 1] x [0, 1] x [0, 1]")) << m;
+  // the same at X = 2.45 (a < 1): x_xi > 0 everywhere, accepted
+  Q.cp[Q.index(1, 1, 1)].x[0] = 2.45;
+  EXPECT_EQ(check_jacobian(Q), "");
   // a flat element: zero volume
   Patch F = patch_of_block(iga::test3d::box({1, 1, 1}, {1, 1, 1}, {1.0, 1.0, 1.0}));
   for (auto& c : F.cp) c.x[2] = 0.0;
