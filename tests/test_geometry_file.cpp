@@ -749,3 +749,23 @@ TEST(GeometryFile3D, GeoPdesWriteThenReadAndItsInterfaceFlags) {
   const MultiPatch d = read_gismo_xml((write_gismo_xml((dir / "boxes.xml").string(), {&c}), (dir / "boxes.xml").string()));
   expect_same_topology_3d(c, d, "boxes.xml");
 }
+
+TEST(GeometryFile3D, ExampleReadsTheSameFromGismoAndGeoPDEs) {
+  // examples/geometry/make_geometry_3d.py writes both files on its own (not through our writers)
+  const MultiPatch x = read_geometry_file(kExamples + "/sphere_octant2.xml");
+  const MultiPatch t = read_geometry_file(kExamples + "/sphere_octant2.txt");
+  ASSERT_EQ(x.patches.size(), t.patches.size());
+  for (size_t k = 0; k < x.patches.size(); ++k) {
+    const Patch &P = x.patches[k], &Q = t.patches[k];
+    EXPECT_EQ(Q.dim(), 3);
+    EXPECT_EQ(P.degree, Q.degree);
+    EXPECT_EQ(P.knots, Q.knots);
+    ASSERT_EQ(P.cp.size(), Q.cp.size());
+    for (size_t a = 0; a < P.cp.size(); ++a) {
+      EXPECT_EQ(P.cp[a].w, Q.cp[a].w);
+      // GeoPDEs stores w x: dividing by w may move the last bit
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(P.cp[a].x[c], Q.cp[a].x[c], 1e-15 * (1 + std::abs(P.cp[a].x[c])));
+    }
+  }
+  expect_same_topology_3d(x, t, "sphere_octant2");
+}

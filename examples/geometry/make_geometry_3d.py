@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""Writes the 3-D example geometry files of this folder (G+Smo XML; see docs/geometry-files.md).
+"""Writes the 3-D example geometry files of this folder, in G+Smo XML and GeoPDEs v2.1 text
+(see docs/geometry-files.md).
 
     /usr/bin/python3 examples/geometry/make_geometry_3d.py [output folder]
 
@@ -18,7 +19,10 @@
 Exact arcs: an arc of half-angle h has its middle control point at R / cos h (where the end
 tangents meet) with weight cos h; the octant is the tensor product of the revolution arc, the
 meridian quarter circle and the radius, weights multiplied. Control points: the first
-parametric index fastest. G+Smo's <coefs> are Euclidean, the weights in the basis.
+parametric index fastest. G+Smo's <coefs> are Euclidean, the weights in the basis; GeoPDEs'
+coordinate rows are homogeneous (w x, w y, w z), then a row of weights. GeoPDEs' interface
+line "flag ornt1 ornt2" = "-1 1 1": the two face directions swap (patch 0's eta along patch
+1's zeta), both in the same sense.
 """
 import math
 import os
@@ -76,15 +80,35 @@ def geometry(gid, degree, cps):
     return out
 
 
+NAMED = [("inner", [(0, 5), (1, 1)]), ("outer", [(0, 6), (1, 2)]), ("y0", [(0, 1)]), ("x0", [(1, 4)]), ("z0", [(0, 3), (1, 5)])]
+
+
+def write_geopdes(path):
+    out = ["# nurbs mesh v.2.1", "# igacontact example: thick sphere octant r 1..2 in two trivariate patches (make_geometry_3d.py)",
+           "3 3 2 1 0"]
+    for k, (degree, cps) in enumerate([patch0(), patch1()]):
+        out += ["PATCH %d" % (k + 1), " ".join(str(p) for p in degree), " ".join(str(p + 1) for p in degree)]
+        out += [" ".join(["0"] * (p + 1) + ["1"] * (p + 1)) for p in degree]
+        for c in range(3):
+            out.append(" ".join(num(cp[c] * cp[3]) for cp in cps))
+        out.append(" ".join(num(cp[3]) for cp in cps))
+    out += ["INTERFACE 1", "1 2", "2 3", "-1 1 1"]
+    for name, sides in NAMED:
+        out += [name, str(len(sides))] + ["%d %d" % (p + 1, s) for p, s in sides]
+    with open(path, "w") as f:
+        f.write("\n".join(out) + "\n")
+
+
 def main():
     folder = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
+    write_geopdes(os.path.join(folder, "sphere_octant2.txt"))
     out = ['<?xml version="1.0" encoding="UTF-8"?>', "<!--igacontact example: thick sphere octant r 1..2 in two trivariate patches (make_geometry_3d.py)-->", "<xml>"]
     for gid, (degree, cps) in enumerate([patch0(), patch1()]):
         out += geometry(gid, degree, cps)
     out += [' <MultiPatch parDim="3" id="2">', '  <patches type="id_range">0 1</patches>', "  <interfaces>0 2 1 3 1 2 0 0 1 1", "</interfaces>"]
-    named = [("inner", ["0 5", "1 1"]), ("outer", ["0 6", "1 2"]), ("y0", ["0 1"]), ("x0", ["1 4"]), ("z0", ["0 3", "1 5"])]
-    for name, sides in named:
-        out += ['  <boundary name="%s">%s' % (name, sides[0])] + sides[1:] + ["</boundary>"]
+    for name, sides in NAMED:
+        rows = ["%d %d" % ps for ps in sides]
+        out += ['  <boundary name="%s">%s' % (name, rows[0])] + rows[1:] + ["</boundary>"]
     out += [" </MultiPatch>", "</xml>"]
     with open(os.path.join(folder, "sphere_octant2.xml"), "w") as f:
         f.write("\n".join(out) + "\n")
