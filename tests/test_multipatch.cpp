@@ -554,3 +554,29 @@ TEST(MultiPatch3D, SphereOctantsShareAMeridianFaceNotTheirPoleFaces) {
   merge_control_points(patches, found, n);
   EXPECT_EQ(n, 2 * 18 - 6);   // the shared face: 3 (meridian) x 2 (radius)
 }
+
+TEST(MultiPatch3D, EightBoxesAroundAPointMergeToOneGrid) {
+  // 2 x 2 x 2 trilinear unit boxes, each in its own parametrisation (directions permuted and
+  // reversed, chosen by a fixed pseudo-random sequence): 12 interfaces; points shared by 2, 4
+  // or 8 boxes (on faces, edges, the middle) get one id: the 3 x 3 x 3 vertices
+  const std::array<std::array<int, 3>, 6> perms{{{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}}};
+  const auto U1 = uniform_open_knots(1, 1);
+  std::mt19937 rng(12345);
+  for (int trial = 0; trial < 20; ++trial) {
+    std::vector<Patch> patches;
+    for (int k = 0; k < 2; ++k)
+      for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < 2; ++i) {
+          const Patch B = box3({double(i), double(j), double(k)}, {1, 1, 1}, {1, 1, 1}, {U1, U1, U1});
+          const int r = static_cast<int>(rng() % 48);
+          patches.push_back(relabel(B, perms[r / 8], {(r & 1) != 0, (r & 2) != 0, (r & 4) != 0}));
+        }
+    const auto found = find_interfaces(patches, 1e-12);
+    EXPECT_EQ(found.size(), 12u);
+    EXPECT_EQ(find_nonconforming(patches, found, 1e-12), "");
+    int n = 0;
+    const auto id = merge_control_points(patches, found, n);
+    EXPECT_EQ(n, 27);   // the 3 x 3 x 3 vertices
+    expect_merged_by_position(patches, id, n);
+  }
+}
