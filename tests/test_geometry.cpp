@@ -423,6 +423,16 @@ TEST(GeometryCheck3D, SphereOctantWithDegeneratePoleFace) {
   Q.subdivide(1, 3);
   Q.subdivide(2, 2);
   EXPECT_EQ(check_jacobian(Q), "");
+  // degree 5 in every direction (the largest), 3 x 3 x 2 elements: D of degree 19, the pole
+  // elements divided and subdivided
+  Patch H = P;
+  H.elevate(0, 3);
+  H.elevate(1, 3);
+  H.elevate(2, 4);
+  H.subdivide(0, 3);
+  H.subdivide(1, 3);
+  H.subdivide(2, 2);
+  EXPECT_EQ(check_jacobian(H), "");   // (36 ms here)
   // left-handed (zeta reversed): accepted with its own orientation
   Patch R = P;
   for (int j = 0; j < 3; ++j)
