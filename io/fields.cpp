@@ -1,6 +1,7 @@
 #include "io/fields.hpp"
 
 #include <cmath>
+#include <stdexcept>
 
 #include "kernels/material.hpp"
 #include "solver/system.hpp"
@@ -8,19 +9,46 @@
 namespace iga {
 
 double FieldPoint::von_mises() const {
+  // (the 3-D shear terms are exactly 0 in 2-D: adding them leaves the 2-D value's bits)
   return std::sqrt(0.5 * ((sxx - syy) * (sxx - syy) + (syy - szz) * (syy - szz) + (szz - sxx) * (szz - sxx)) +
-                   3.0 * sxy * sxy);
+                   3.0 * sxy * sxy + 3.0 * (syz * syz + sxz * sxz));
 }
+
+namespace {
+
+// The 3-D material of a body: the kernels' laws on full 3 x 3 tensors (small strain: linear
+// isotropic; finite: Saint Venant-Kirchhoff or neo-Hookean).
+Material solid_material(const Problem& P, int b) {
+  const Body& body = P.bodies[b];
+  if (P.kinematics == Kinematics::Small) return Material::solid(Material::kLinear, body.E, body.nu);
+  return Material::solid(body.model == MaterialModel::NeoHookean ? Material::kNeoHookean : Material::kSaintVenantKirchhoff,
+                         body.E, body.nu);
+}
+
+}  // namespace
 
 BodyField::BodyField(const Problem& P, int body, const std::vector<double>& u, int patch)
     : patch_(&P.bodies[body].patches[patch]),
-      pd_(host_patch_data(P.bodies[body].patches[patch])),
-      mat_(body_material(P, body, 1.0)),
+      dim_(P.bodies[body].patches[patch].dim()),
       plane_strain_(P.analysis == Analysis::PlaneStrain),
       nu_(P.bodies[body].nu),
-      u_(P.bodies[body].patch_values(patch, u)) {}
+      u_(P.bodies[body].patch_values(patch, u)) {
+  if (dim_ == 3) {
+    pd3_ = host_patch_data3(*patch_);
+    mat_ = solid_material(P, body);
+  } else {
+    pd_ = host_patch_data(*patch_);
+    mat_ = body_material(P, body, 1.0);
+  }
+}
+
+FieldPoint BodyField::eval(const double* t, const int* s) const {
+  if (dim_ == 3) return eval3(t, s);
+  return eval(t[0], t[1], s ? s[0] : -1, s ? s[1] : -1);
+}
 
 FieldPoint BodyField::eval(double u, double v, int s0, int s1) const {
+  if (dim_ != 2) throw std::logic_error("BodyField::eval(u, v): a 3-D patch needs three parameters");
   if (s0 < 0) s0 = find_span(pd_.n[0], pd_.p[0], u, pd_.U[0].data());
   if (s1 < 0) s1 = find_span(pd_.n[1], pd_.p[1], v, pd_.U[1].data());
   FieldPoint f;
@@ -49,6 +77,48 @@ FieldPoint BodyField::eval(double u, double v, int s0, int s1) const {
   f.syy = s[1][1];
   f.sxy = 0.5 * (s[0][1] + s[1][0]);
   f.szz = mat_.model != Material::kLinear ? s33 : plane_strain_ ? nu_ * (f.sxx + f.syy) : 0.0;
+  return f;
+}
+
+// 3-D: x, u and H = Grad u from the trivariate NURBS basis (nurbs_grad on the kernels' patch
+// data), then the kernels' law on the full tensors and sigma = P F^T / J (small strain: P).
+FieldPoint BodyField::eval3(const double* t, const int* sp) const {
+  int s[3];
+  for (int d = 0; d < 3; ++d)
+    s[d] = sp && sp[d] >= 0 ? sp[d] : find_span(pd3_.n[d], pd3_.p[d], t[d], pd3_.U[d].data());
+  FieldPoint f;
+  double g[3][3] = {};
+  dispatch_degree(std::max({pd3_.p[0], pd3_.p[1], pd3_.p[2]}), [&](auto PP) {
+    constexpr int P = decltype(PP)::value;
+    constexpr int nen = kNen<3, P>;
+    double R[nen], dR[nen][3], x[3];
+    f.detJ = nurbs_grad<P>(pd3_, s, t, R, dR, x);
+    f.x = x[0];
+    f.y = x[1];
+    f.z = x[2];
+    int cps[nen];
+    pd3_.local_cps(s, cps);
+    double uu[3] = {0, 0, 0};
+    for (int a = 0; a < pd3_.nen(); ++a) {
+      const double* ua = &u_[3 * static_cast<size_t>(cps[a])];
+      for (int c = 0; c < 3; ++c) {
+        uu[c] += R[a] * ua[c];
+        for (int d = 0; d < 3; ++d) g[c][d] += dR[a][d] * ua[c];
+      }
+    }
+    f.ux = uu[0];
+    f.uy = uu[1];
+    f.uz = uu[2];
+  });
+  double Pk[3][3], P33, sg[3][3], s33;
+  material_response<false>(mat_, g, Pk, P33, nullptr);
+  cauchy_stress(mat_, g, Pk, P33, sg, s33);
+  f.sxx = sg[0][0];
+  f.syy = sg[1][1];
+  f.szz = sg[2][2];
+  f.syz = 0.5 * (sg[1][2] + sg[2][1]);
+  f.sxz = 0.5 * (sg[0][2] + sg[2][0]);
+  f.sxy = 0.5 * (sg[0][1] + sg[1][0]);
   return f;
 }
 

@@ -136,6 +136,20 @@ std::vector<int> grid_quads(int n0, int n1) {
   return q;
 }
 
+// Hexahedra of an n0 x n1 x n2 grid of points (i fastest): bottom face counter-clockwise,
+// then the top (VTK_HEXAHEDRON / XDMF Hexahedron order).
+std::vector<int> grid_hexes(int n0, int n1, int n2) {
+  std::vector<int> h;
+  h.reserve(static_cast<size_t>(n0 - 1) * (n1 - 1) * (n2 - 1) * 8);
+  auto at = [&](int i, int j, int k) { return i + n0 * (j + n1 * k); };
+  for (int k = 0; k + 1 < n2; ++k)
+    for (int j = 0; j + 1 < n1; ++j)
+      for (int i = 0; i + 1 < n0; ++i)
+        h.insert(h.end(), {at(i, j, k), at(i + 1, j, k), at(i + 1, j + 1, k), at(i, j + 1, k), at(i, j, k + 1),
+                           at(i + 1, j, k + 1), at(i + 1, j + 1, k + 1), at(i, j + 1, k + 1)});
+  return h;
+}
+
 std::string step_name(int step) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "result_%04d", step);
@@ -151,6 +165,39 @@ ResultWriter::ResultWriter(const System& sys, std::string dir, std::string probl
   history_ = nlohmann::json::array();
   files_ = nlohmann::json::object();
 }
+
+namespace {
+
+// 3-D: the control net of a trivariate patch in the state's HDF5 image (control_shape
+// {m2, m1, m0}, control_xyz, control_hexes, control_displacement; Float64: the exact data) and
+// its grid in result_control_nets.xdmf (Hexahedron topology: Wireframe shows the net).
+void write_control_net3(H5Memory& f, const std::string& h5name, const std::string& g, const std::string& bn,
+                        const Patch& pt, const std::vector<double>& ucp, std::ostringstream& nets) {
+  const int m0 = pt.ncp(0), m1 = pt.ncp(1), m2 = pt.ncp(2);
+  const hsize_t m = static_cast<hsize_t>(m0) * m1 * m2;
+  std::vector<double> cxyz, cd3;
+  cxyz.reserve(3 * m);
+  cd3.reserve(3 * m);
+  for (hsize_t a = 0; a < m; ++a) {
+    cxyz.insert(cxyz.end(), {pt.cp[a].x[0], pt.cp[a].x[1], pt.cp[a].x[2]});
+    cd3.insert(cd3.end(), {ucp[3 * a], ucp[3 * a + 1], ucp[3 * a + 2]});
+  }
+  const std::vector<int> hexes = grid_hexes(m0, m1, m2);
+  const hsize_t mh = hexes.size() / 8;
+  f.write_int(g + "/control_shape", {m2, m1, m0}, {3});
+  f.write(g + "/control_xyz", cxyz, {m, 3});
+  f.write_int(g + "/control_hexes", hexes, {mh, 8});
+  f.write(g + "/control_displacement", cd3, {m, 3});
+  nets << "   <Grid Name=\"" << bn << "_control_net\" GridType=\"Uniform\">\n"
+       << "    <Topology TopologyType=\"Hexahedron\" NumberOfElements=\"" << mh << "\" NodesPerElement=\"8\">"
+       << data_item(h5name, g + "/control_hexes", {mh, 8}, Item::Int) << "</Topology>\n"
+       << "    <Geometry GeometryType=\"XYZ\">" << data_item(h5name, g + "/control_xyz", {m, 3}) << "</Geometry>\n"
+       << "    <Attribute Name=\"control_displacement\" AttributeType=\"Vector\" Center=\"Node\">"
+       << data_item(h5name, g + "/control_displacement", {m, 3}) << "</Attribute>\n"
+       << "   </Grid>\n";
+}
+
+}  // namespace
 
 nlohmann::json ResultWriter::contact_json(const std::vector<ContactPairData>& contact) const {
   const Problem& P = sys_.problem();
@@ -229,9 +276,19 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
       *o << "  <Grid Name=\"step_" << name.substr(7) << "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
          << "   <Time Value=\"" << tv << "\"/>\n";
     double umax = 0;
+    const int dim = P.dim();
     for (const PatchBlock& blk : sys_.blocks()) {
       const size_t b = static_cast<size_t>(blk.body);
       const Patch& pt = P.bodies[b].patches[blk.patch];
+      // a multi-patch body: one grid per patch, <body>.patch<k>
+      const std::string bn = P.bodies[b].name + (P.bodies[b].multipatch() ? ".patch" + std::to_string(blk.patch) : std::string());
+      const std::string g = "/bodies/" + bn;
+      f.group(g);
+      if (dim == 3) {
+        // 3-D: no sampled grid (docs/paraview.md); the control net as hexahedra
+        write_control_net3(f, h5name, g, bn, pt, P.bodies[b].patch_values(blk.patch, disp[b]), nets);
+        continue;
+      }
       const BodyField field(P, blk.body, disp[b], blk.patch);
       const int s = output_samples(P.output, pt);
       const auto su = samples(pt.knots[0], pt.element_spans(0), s);
@@ -270,10 +327,6 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
       const std::vector<int> cquads = grid_quads(m0, m1);
       const hsize_t mq = cquads.size() / 4;
 
-      // a multi-patch body: one grid per patch, <body>.patch<k>
-      const std::string bn = P.bodies[b].name + (P.bodies[b].multipatch() ? ".patch" + std::to_string(blk.patch) : std::string());
-      const std::string g = "/bodies/" + bn;
-      f.group(g);
       f.write_int(g + "/shape", {n1, n0}, {2});
       f.write_float(g + "/xyz", xyz, {n, 3});
       f.write_int(g + "/quads", quads, {nq, 4});
@@ -310,8 +363,9 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
             << data_item(h5name, g + "/control_displacement", {m, 3}) << "</Attribute>\n"
             << "   </Grid>\n";
     }
-    if (!cstate.empty()) f.group("/contact");
-    for (size_t k = 0; k < cstate.size(); ++k) {
+    // (3-D contact output comes with 3-D contact)
+    if (!cstate.empty() && dim == 2) f.group("/contact");
+    for (size_t k = 0; k < (dim == 2 ? cstate.size() : 0); ++k) {
       // slave points in the reference configuration with their displacement, so that they
       // move with the bodies under any Warp By Vector scale
       const auto& cs = cstate[k];
@@ -365,12 +419,16 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
       xml.insert(xml.find('\n') + 1, "<!-- igacontact run_id " + run_id_ + " -->\n");
       return xml;
     };
-    write(name + ".vtu", bezier_vtu(P, disp, lambda, run_id_));   // its run id comment is vtu_text's
+    {
+      const BezierMesh mesh = bezier_mesh(P, disp);
+      write(name + ".vtu", vtu_text(mesh, lambda, run_id_));   // its run id comment is vtu_text's
+      if (dim == 3) umax = mesh.max_displacement;   // 3-D: at the cells' evaluation points
+    }
 
     // the collections over every state written so far, rewritten whole each time
     xdmf_grids_.push_back({grids.str(), nets.str(), points.str()});
     const char* xdmf_names[3] = {"result.xdmf", "result_control_nets.xdmf", "result_contact.xdmf"};
-    for (int fi = 0; fi < 3; ++fi) {
+    for (int fi = dim == 3 ? 1 : 0; fi < 3; ++fi) {   // 3-D: no sampled grid, no result.xdmf
       std::ostringstream x;
       x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n  <Information Name=\"run_id\" Value=\"" << run_id_
         << "\"/>\n  <Grid Name=\"load_steps\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
@@ -441,6 +499,15 @@ nlohmann::json ResultWriter::finish(const SolveResult& res) {
     for (const Probe& pr : P.output.probes) {
       const Patch& pt = P.bodies[pr.body].patches[pr.patch];
       const BodyField field(P, pr.body, disp[pr.body], pr.patch);
+      if (pt.dim() == 3) {
+        double t[3];
+        for (int d = 0; d < 3; ++d) t[d] = pt.knots[d].front() + pr.at[d] * (pt.knots[d].back() - pt.knots[d].front());
+        const FieldPoint fp = field.eval(t);
+        probes.push_back({{"body", P.bodies[pr.body].name}, {"patch", pr.patch}, {"at", {pr.at[0], pr.at[1], pr.at[2]}},
+                          {"x", fp.x}, {"y", fp.y}, {"z", fp.z}, {"displacement", {fp.ux, fp.uy, fp.uz}},
+                          {"stress", {fp.sxx, fp.syy, fp.szz, fp.syz, fp.sxz, fp.sxy}}});
+        continue;
+      }
       const double u = pt.knots[0].front() + pr.at[0] * (pt.knots[0].back() - pt.knots[0].front());
       const double v = pt.knots[1].front() + pr.at[1] * (pt.knots[1].back() - pt.knots[1].front());
       const FieldPoint fp = field.eval(u, v);
