@@ -524,7 +524,9 @@ std::string vtu_text(const BezierMesh& m, double load_factor, const std::string&
   std::ostringstream x;
   x << "<?xml version=\"1.0\"?>\n"
     << "<!-- igacontact run_id " << run_id << " -->\n"   // VTK writes string arrays as character codes
-    << "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"" << (little_endian() ? "LittleEndian" : "BigEndian")
+    // version 2.2 where hexahedra may be written: VTK >= 9.1 reads the higher-order hexahedra
+    // of an older file in the legacy point order (two edges' points swapped) and converts them
+    << "<VTKFile type=\"UnstructuredGrid\" version=\"" << (m.dim == 3 ? "2.2" : "1.0") << "\" byte_order=\"" << (little_endian() ? "LittleEndian" : "BigEndian")
     << "\" header_type=\"UInt64\">\n"
     << " <UnstructuredGrid>\n"
     << "  <FieldData>\n"
