@@ -6,6 +6,7 @@
 // with a Tpetra Import.
 #include <array>
 #include <functional>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,22 @@ namespace iga {
 
 /// Reactions per body and side ([Rx, Ry]), summed over ranks.
 nlohmann::json reactions_json(const System& sys, const Vector& residual);
+
+/// The bodies' part of one written state (docs/problem-file.md, "Outputs"): per patch the group
+/// /bodies/<body>[.patch<k>] of the state's HDF5 image f (its file name h5name, as the XDMF
+/// refers to it), in 2-D the sampled grid and the control net, in 3-D the control net only
+/// (control_shape {m2, m1, m0}, control_xyz, control_hexes, control_displacement); appends
+/// their grids to `grids` (result.xdmf; nothing in 3-D) and `nets`
+/// (result_control_nets.xdmf; 3-D: Hexahedron topology). disp: per body, dim values per
+/// control point. Returns the largest |u| at the 2-D samples (0 in 3-D).
+double write_bodies(H5Memory& f, const std::string& h5name, const Problem& P,
+                    const std::vector<std::vector<double>>& disp, std::ostream& grids, std::ostream& nets);
+/// An XDMF file: one temporal collection of the given states' spatial collections.
+std::string xdmf_file(const std::string& run_id, const std::vector<std::string>& states);
+/// A probe's entry of summary.json: 2-D at [xi, eta], x, y, displacement [ux, uy], stress
+/// [sxx, syy, sxy]; 3-D at [xi, eta, zeta], x, y, z, displacement [ux, uy, uz], stress
+/// [sxx, syy, szz, syz, sxz, sxy]. body_disp: the probed body's dim values per control point.
+nlohmann::json probe_json(const Problem& P, const Probe& pr, const std::vector<double>& body_disp);
 
 /// The files of one run (docs/problem-file.md, "Outputs"): per converged load step
 /// result_<n>.h5 (sampled fields, control net, contact points) and result_<n>.vtu (rational
