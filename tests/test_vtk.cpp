@@ -13,6 +13,7 @@
 #include <set>
 
 #include "io/fields.hpp"
+#include "io/output.hpp"
 #include "io/vtk.hpp"
 #include "kernels/nurbs_basis.hpp"
 #include "model/bezier.hpp"
@@ -844,5 +845,74 @@ TEST(VtkBezier3D, WritesShellFiles) {
     const std::string stem = volume ? "shell_volume" : "shell_faces";
     std::ofstream(dir / (stem + ".vtu"), std::ios::binary) << bin;
     std::ofstream(dir / (stem + "_ascii.vtu"), std::ios::binary) << asc;
+  }
+}
+
+// A 3-D state's files without a System (ResultWriter's pieces): the control net in the HDF5
+// image (Float64, hexahedra), no sampled grid, and a probe with three coordinates, three
+// displacements and six stresses. With IGACONTACT_VTU_OUT set, writes an output directory
+// as a 3-D run writes it (result_0001.h5, result_control_nets.xdmf, result_contact.xdmf,
+// result_0001.vtu, result.pvd, summary.json) for tests/paraview/check_results.py
+// (tests/paraview_output3d.sh).
+TEST(Output3D, ControlNetAndProbe) {
+  const Patch pt = shell_patch(false);
+  const Problem P = solid_problem({pt});
+  const double A[3][3] = {{0.02, -0.01, 0.03}, {0.015, -0.025, 0.01}, {-0.02, 0.005, 0.04}}, c[3] = {0.01, 0.02, -0.03};
+  const std::vector<double> u = affine_u(pt, A, c);
+  H5Memory f("result_0001.h5");
+  f.group("/bodies");
+  std::ostringstream grids, nets;
+  EXPECT_EQ(write_bodies(f, "result_0001.h5", P, {u}, grids, nets), 0.0);
+  EXPECT_TRUE(grids.str().empty());   // no sampled grid in 3-D
+  const int m0 = pt.ncp(0), m1 = pt.ncp(1), m2 = pt.ncp(2);
+  const std::string net = nets.str();
+  EXPECT_NE(net.find("TopologyType=\"Hexahedron\" NumberOfElements=\"" + std::to_string((m0 - 1) * (m1 - 1) * (m2 - 1)) +
+                     "\" NodesPerElement=\"8\""),
+            std::string::npos);
+  EXPECT_NE(net.find("result_0001.h5:/bodies/solid/control_xyz"), std::string::npos);
+  EXPECT_NE(net.find("result_0001.h5:/bodies/solid/control_displacement"), std::string::npos);
+  const std::string h5 = f.image();
+
+  Probe pr;
+  pr.body = 0;
+  pr.at = {0.25, 0.5, 0.75};
+  const nlohmann::json j = probe_json(P, pr, u);
+  const double t[3] = {0.25, 0.5, 0.75};
+  const FieldPoint fp = BodyField(P, 0, u).eval(t);
+  const auto x = pt.point(t);
+  EXPECT_EQ(j["body"], "solid");
+  EXPECT_EQ(j["at"].size(), 3u);
+  EXPECT_EQ(j["at"][2].get<double>(), 0.75);
+  EXPECT_NEAR(j["x"].get<double>(), x[0], 1e-14);
+  EXPECT_NEAR(j["y"].get<double>(), x[1], 1e-14);
+  EXPECT_NEAR(j["z"].get<double>(), x[2], 1e-14);
+  ASSERT_EQ(j["displacement"].size(), 3u);
+  for (int i = 0; i < 3; ++i)
+    EXPECT_NEAR(j["displacement"][i].get<double>(), c[i] + A[i][0] * x[0] + A[i][1] * x[1] + A[i][2] * x[2], 1e-14);
+  ASSERT_EQ(j["stress"].size(), 6u);   // sxx, syy, szz, syz, sxz, sxy
+  const double s[6] = {fp.sxx, fp.syy, fp.szz, fp.syz, fp.sxz, fp.sxy};
+  for (int k = 0; k < 6; ++k) EXPECT_EQ(j["stress"][k].get<double>(), s[k]);
+  const double mu = 1000.0 / 2.6;   // sxy of the affine field: mu (A01 + A10)
+  EXPECT_NEAR(j["stress"][5].get<double>(), mu * (A[0][1] + A[1][0]), 1e-10);
+
+  if (const char* env = std::getenv("IGACONTACT_VTU_OUT")) {
+    const std::filesystem::path dir(env);
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir / "result_0001.h5", std::ios::binary) << h5;
+    const std::string state = "  <Grid Name=\"step_0001\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
+                              "   <Time Value=\"1\"/>\n" + net + "  </Grid>\n";
+    std::ofstream(dir / "result_control_nets.xdmf") << xdmf_file("test-3d", {state});
+    const BezierMesh mesh = bezier_mesh(P, {u});
+    std::ofstream(dir / "result_0001.vtu", std::ios::binary) << vtu_text(mesh, 1.0, "test-3d");
+    std::ofstream(dir / "result.pvd") << pvd_collection({{1.0, "result_0001.vtu"}});
+    // no contact: an empty spatial collection per state, as ResultWriter writes it
+    std::ofstream(dir / "result_contact.xdmf")
+        << xdmf_file("test-3d", {"  <Grid Name=\"step_0001\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
+                                 "   <Time Value=\"1\"/>\n  </Grid>\n"});
+    // what tests/paraview/check_results.py reads of summary.json
+    nlohmann::json s = {{"load_factor", 1.0}, {"max_displacement", mesh.max_displacement}, {"contact", nlohmann::json::array()}};
+    for (const char* name : {"result_0001.h5", "result_0001.vtu", "result_control_nets.xdmf", "result_contact.xdmf", "result.pvd"})
+      s["files"][name] = nlohmann::json::object();
+    std::ofstream(dir / "summary.json") << s.dump(1);
   }
 }
