@@ -98,9 +98,23 @@ bool usable_output_directory(const iga::Comm& comm, const std::string& file, con
   return true;
 }
 
+// "[p0, p1]" or "[p0, p1, p2]" and "ne0 x ne1 (x ne2)" of a patch.
+std::string degrees(const iga::Patch& pt) {
+  std::string s = "[";
+  for (int d = 0; d < pt.dim(); ++d) s += (d ? ", " : "") + std::to_string(pt.degree[d]);
+  return s + "]";
+}
+std::string element_counts(const iga::Patch& pt) {
+  std::string s;
+  for (int d = 0; d < pt.dim(); ++d) s += (d ? " x " : "") + std::to_string(pt.num_elements(d));
+  return s;
+}
+
 void describe(const iga::Problem& P, int ranks, std::ostream& os) {
   long long dofs = 0;
-  os << "problem " << P.file << ": " << (P.analysis == iga::Analysis::PlaneStrain ? "plane strain" : "plane stress")
+  const int dim = P.dim();
+  os << "problem " << P.file << ": "
+     << (P.analysis == iga::Analysis::Solid ? "solid (3-D)" : P.analysis == iga::Analysis::PlaneStrain ? "plane strain" : "plane stress")
      << ", " << P.load_steps << " load step(s)";
   if (P.num_stages() > 1) {
     os << " in " << P.num_stages() << " stages [";
@@ -109,20 +123,18 @@ void describe(const iga::Problem& P, int ranks, std::ostream& os) {
   }
   os << "\n";
   for (const auto& b : P.bodies) {
-    dofs += 2LL * b.num_cps;
+    dofs += static_cast<long long>(dim) * b.num_cps;
     if (!b.multipatch()) {
       const auto& pt = b.patches[0];
-      os << "  body " << b.name << ": degree [" << pt.degree[0] << ", " << pt.degree[1] << "], "
-         << pt.element_spans(0).size() << " x " << pt.element_spans(1).size() << " elements, " << 2 * pt.cp.size()
-         << " dofs, E = " << b.E << ", nu = " << b.nu << "\n";
+      os << "  body " << b.name << ": degree " << degrees(pt) << ", " << element_counts(pt) << " elements, "
+         << dim * pt.cp.size() << " dofs, E = " << b.E << ", nu = " << b.nu << "\n";
       continue;
     }
     os << "  body " << b.name << ": " << b.patches.size() << " patches, " << b.interfaces.size() << " interfaces, " << num_elements(b)
-       << " elements, " << 2 * b.num_cps << " dofs, E = " << b.E << ", nu = " << b.nu << "\n";
+       << " elements, " << dim * b.num_cps << " dofs, E = " << b.E << ", nu = " << b.nu << "\n";
     for (size_t k = 0; k < b.patches.size(); ++k) {
       const auto& pt = b.patches[k];
-      os << "    patch " << k << ": degree [" << pt.degree[0] << ", " << pt.degree[1] << "], " << pt.element_spans(0).size()
-         << " x " << pt.element_spans(1).size() << " elements\n";
+      os << "    patch " << k << ": degree " << degrees(pt) << ", " << element_counts(pt) << " elements\n";
     }
   }
   for (size_t k = 0; k < P.contact.size(); ++k) {
@@ -234,7 +246,9 @@ int run(int argc, char** argv, Teuchos::RCP<const iga::Comm> comm) {
   long long qp = 0, qp_gauss = 0;
   const bool spline = P.quadrature == iga::Quadrature::Spline;
   for (const iga::PatchBlock& bd : sys->blocks()) {
-    const long long g = 1LL * bd.pd.ne[0] * (bd.pd.p[0] + 1) * bd.pd.ne[1] * (bd.pd.p[1] + 1);
+    long long g = 1;
+    const iga::Patch& pt = P.bodies[bd.body].patches[bd.patch];
+    for (int d = 0; d < pt.dim(); ++d) g *= 1LL * pt.num_elements(d) * (pt.degree[d] + 1);
     qp += bd.quadrature_points;
     qp_gauss += g;
     if (root && !args.quiet && spline && bd.quadrature != "spline")   // a direction kept Gauss: say why
@@ -243,7 +257,11 @@ int run(int argc, char** argv, Teuchos::RCP<const iga::Comm> comm) {
   }
   if (root && !args.quiet)
     std::cout << "  quadrature: " << (spline ? "spline" : "gauss") << ", " << qp << " points" << (spline ? " (Gauss: " + std::to_string(qp_gauss) + ")" : "")
-              << "; tangent formed " << (P.formation == iga::Formation::SumFactorized ? "row by row (sum_factorized)" : "element by element") << "\n";
+              << "; tangent formed "
+              << (P.formation != iga::Formation::SumFactorized ? "element by element"
+                  : P.dim() == 2                               ? "row by row (sum_factorized)"
+                                                               : "element by element, sum-factorised from p = 3 (sum_factorized)")
+              << "\n";
   // Fault injection for the test of what one failing rank does to the others
   // (tests/cli_reliability.sh): IGACONTACT_TEST_FAULT=<rank> throws there after set-up.
   if (const char* f = std::getenv("IGACONTACT_TEST_FAULT"))

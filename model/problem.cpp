@@ -80,8 +80,12 @@ Problem build(Reader& R, const YAML::Node& root) {
       const std::string t = R.string(a["type"], "analysis.type");
       if (t == "plane_strain") P.analysis = Analysis::PlaneStrain;
       else if (t == "plane_stress") P.analysis = Analysis::PlaneStress;
-      else R.fail("analysis.type", a["type"], "expected plane_strain or plane_stress");
+      else if (t == "solid") P.analysis = Analysis::Solid;
+      else R.fail("analysis.type", a["type"], "expected plane_strain, plane_stress or solid (3-D)");
     }
+    R.dim = P.dim();
+    if (P.analysis == Analysis::Solid && a["thickness"])
+      R.fail("analysis.thickness", a["thickness"], "a solid (3-D) has no thickness; remove the key");
     if (P.kinematics == Kinematics::Finite && P.analysis == Analysis::PlaneStress)
       R.fail("analysis.type", a["type"], "finite kinematics is plane strain only (plane_stress is not supported with analysis.kinematics: finite)");
     if (a["thickness"]) P.thickness = R.positive(a["thickness"], "analysis.thickness");
@@ -168,10 +172,11 @@ Problem build(Reader& R, const YAML::Node& root) {
           if (p.patch < 0 || p.patch >= np)
             R.fail(path + ".patch", pr[k]["patch"], "body '" + P.bodies[p.body].name + "' has patches 0.." + std::to_string(np - 1));
         }
-        const auto at = R.numbers(pr[k]["at"], path + ".at", 2);
-        for (int d = 0; d < 2; ++d)
+        const auto at = R.numbers(pr[k]["at"], path + ".at", P.dim());
+        for (int d = 0; d < P.dim(); ++d) {
           if (at[d] < 0 || at[d] > 1) R.fail(path + ".at", pr[k]["at"], "parametric coordinates must lie in [0, 1]");
-        p.at = {at[0], at[1]};
+          p.at[d] = at[d];
+        }
         P.output.probes.push_back(p);
       }
     }

@@ -198,6 +198,8 @@ constexpr double kMaxDofs = 1e9;                      // besides the machine's m
 /// Krylov solves keep the fixed tolerance there, no inexact Newton, and MUMPS was still 2x
 /// faster at 55,272 dofs); without, Problem::auto_direct_max_dofs' table per degree.
 constexpr long long kAutoDirectMaxDofsFriction = 200000;
+/// solver.linear.method: auto in 3-D takes the direct solver up to this many dofs.
+constexpr long long kAutoDirectMaxDofs3D = 30000;
 constexpr size_t kMaxInsertedKnots = 1000;            // per direction; subdivide refines uniformly
 constexpr int kMaxLoadSteps = 10000;
 constexpr int kMaxContactQuadrature = 12;             // contact quadrature points per slave span

@@ -19,17 +19,20 @@ namespace detail {
 
 void read_side(const Reader& R, const YAML::Node& n, const std::string& path, SideCondition& sc) {
   R.keys(n, path, {"displacement", "pressure", "traction"});
-  const int K = R.stages;
-  sc.value.assign(K, {0.0, 0.0});
+  const int K = R.stages, D = R.dim;
+  sc.value.assign(K, {0.0, 0.0, 0.0});
   sc.p0.assign(K, 0.0);
   sc.p1.assign(K, 0.0);
-  sc.traction.assign(K, {0.0, 0.0});
+  sc.traction.assign(K, {0.0, 0.0, 0.0});
   if (n["displacement"]) {
     const YAML::Node d = n["displacement"];
-    R.keys(d, path + ".displacement", {"x", "y"});
-    if (d.size() == 0) R.fail(path + ".displacement", d, "prescribe x, y or both");
-    for (int c = 0; c < 2; ++c) {
-      const char* k = c == 0 ? "x" : "y";
+    if (D == 3)
+      R.keys(d, path + ".displacement", {"x", "y", "z"});
+    else
+      R.keys(d, path + ".displacement", {"x", "y"});
+    if (d.size() == 0) R.fail(path + ".displacement", d, D == 3 ? "prescribe any of x, y, z" : "prescribe x, y or both");
+    for (int c = 0; c < D; ++c) {
+      const char* k = c == 0 ? "x" : c == 1 ? "y" : "z";
       if (d[k]) {
         sc.fixed[c] = true;
         const auto v = R.staged(d[k], path + ".displacement." + k);
@@ -42,6 +45,7 @@ void read_side(const Reader& R, const YAML::Node& n, const std::string& path, Si
   if (n["pressure"]) {
     const YAML::Node p = n["pressure"];
     if (p.IsMap()) {
+      if (D == 3) R.fail(path + ".pressure", p, "a solid's face takes a constant pressure (pressure.linear is 2-D)");
       R.keys(p, path + ".pressure", {"linear"});
       if (!p["linear"]) R.missing(path + ".pressure.linear");
       const YAML::Node l = p["linear"];
@@ -56,9 +60,10 @@ void read_side(const Reader& R, const YAML::Node& n, const std::string& path, Si
   }
   if (n["traction"]) {
     const YAML::Node t = n["traction"];
-    if (!t.IsSequence() || t.size() != 2) R.fail(path + ".traction", t, "expected a list of 2 numbers");
+    if (!t.IsSequence() || static_cast<int>(t.size()) != D)
+      R.fail(path + ".traction", t, "expected a list of " + std::to_string(D) + " numbers");
     sc.load = LoadKind::Traction;
-    for (int c = 0; c < 2; ++c) {
+    for (int c = 0; c < D; ++c) {
       const auto v = R.staged(t[c], path + ".traction[" + std::to_string(c) + "]");
       for (int s = 0; s < K; ++s) sc.traction[s][c] = v[s];
     }
@@ -87,7 +92,9 @@ std::vector<std::pair<PatchSide, int>> boundary_places(const Reader& R, const Bo
   }
   Side s;
   Corner c;
-  const bool is_side = parse_side(part, s), is_corner = corners && parse_corner(part, c);
+  const bool solid = b.dim() == 3;
+  corners = corners && !solid;   // corner conditions are 2-D (a solid's face holds it)
+  const bool is_side = parse_side(part, s, b.dim()), is_corner = corners && parse_corner(part, c);
   if ((is_side || is_corner) && !prefixed && np > 1)
     R.fail(key, at, "body '" + b.name + "' has " + std::to_string(np) + " patches: name the side as patch<k>." + part);
   if (is_side) return {{PatchSide{patch, s}, -1}};
@@ -108,7 +115,8 @@ std::vector<std::pair<PatchSide, int>> boundary_places(const Reader& R, const Bo
   }
   std::string names;
   for (const auto& [nm, list] : b.named) names += (names.empty() ? "" : ", ") + nm;
-  std::string allowed = np > 1 ? "patch<k>.west|east|south|north" : "west, east, south, north";
+  std::string allowed = solid ? (np > 1 ? "patch<k>.west|east|south|north|front|back" : "faces west, east, south, north, front, back")
+                              : np > 1 ? "patch<k>.west|east|south|north" : "west, east, south, north";
   if (corners) allowed += np > 1 ? ", a corner patch<k>.south_west|south_east|north_west|north_east" : ", or a corner south_west, south_east, north_west, north_east";
   if (!names.empty()) allowed += ", or a named boundary of the geometry file: " + names;
   R.fail(key, at, "unknown side (" + allowed + ")");

@@ -31,14 +31,16 @@ int rigid_rank(const Body& b) {
     for (int i = 0; i < nm; ++i)
       for (int j = 0; j < nm; ++j) G[i][j] += row[i] * row[j];
   };
-  for (size_t k = 0; k < b.patches.size(); ++k)
-    for (int s = 0; s < 4; ++s) {
-      for (int c = 0; c < dim; ++c) {
+  for (size_t k = 0; k < b.patches.size(); ++k) {
+    for (int s = 0; s < num_sides(dim); ++s)
+      for (int c = 0; c < dim; ++c)
         if (b.sides[k][s].fixed[c])
           for (int a : b.patches[k].side_indices(static_cast<Side>(s))) add(b.patches[k].cp[a], c);
-        if (b.corners[k][s].fixed[c]) add(b.patches[k].cp[corner_index(b.patches[k], static_cast<Corner>(s))], c);
-      }
-    }
+    if (dim == 2)
+      for (int s = 0; s < 4; ++s)
+        for (int c = 0; c < dim; ++c)
+          if (b.corners[k][s].fixed[c]) add(b.patches[k].cp[corner_index(b.patches[k], static_cast<Corner>(s))], c);
+  }
   // rank by Gaussian elimination with full pivoting on the nm x nm Gram matrix
   double scale = 0;
   for (int i = 0; i < nm; ++i) scale = std::max(scale, G[i][i]);
@@ -54,7 +56,7 @@ int rigid_rank(const Body& b) {
     if (pr < 0 || best < 1e-10 * scale) break;
     used_r[pr] = used_c[pc] = true;
     ++rank;
-    for (int i = 0; i < 3; ++i)
+    for (int i = 0; i < nm; ++i)
       if (!used_r[i]) {
         const double f = G[i][pc] / G[pr][pc];
         for (int j = 0; j < nm; ++j) G[i][j] -= f * G[pr][j];
@@ -88,15 +90,15 @@ void check_problem(const Reader& R, const YAML::Node& root, Problem& P) {
     for (const auto& b : P.bodies) {
       dofs += static_cast<double>(P.dim()) * b.num_cps;
       for (const Patch& q : b.patches) {
-        degree = std::max({degree, q.degree[0], q.degree[1]});
+        for (int d = 0; d < q.dim(); ++d) degree = std::max(degree, q.degree[d]);
         out_bytes += R.sample_bytes(static_cast<double>(q.element_spans(0).size()), static_cast<double>(q.element_spans(1).size()));
       }
     }
     const bool output_dominates = out_bytes > 0.5 * dofs * bytes_per_dof_estimate(degree, P.dim());
     if (output_dominates && root["output"] && root["output"]["samples_per_element"])
-      R.fits("output.samples_per_element", root["output"]["samples_per_element"], dofs, degree, out_bytes);
+      R.fits("output.samples_per_element", root["output"]["samples_per_element"], dofs, degree, out_bytes, P.dim());
     else
-      R.fits("bodies", bodies, dofs, degree, out_bytes);
+      R.fits("bodies", bodies, dofs, degree, out_bytes, P.dim());
   }
 
   // Rigid-body motion: a body that no contact pair touches must be held by its supports.
@@ -106,8 +108,8 @@ void check_problem(const Reader& R, const YAML::Node& root, Problem& P) {
     if (!in_contact && rigid_rank(P.bodies[b]) < num_rigid_modes(P.dim()))
       R.fail("bodies[" + std::to_string(b) + "].boundary", bodies[b]["boundary"],
              "body '" + P.bodies[b].name +
-                 "' is free to move as a rigid body (singular system): prescribe x and y displacements "
-                 "that fix translation and rotation");
+                 "' is free to move as a rigid body (singular system): prescribe " +
+                 std::string(P.dim() == 3 ? "x, y and z" : "x and y") + " displacements that fix translation and rotation");
   }
 }
 

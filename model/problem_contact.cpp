@@ -67,6 +67,8 @@ ContactSurface read_surface(const Reader& R, const Problem& P, const YAML::Node&
 }
 
 void read_contact_pairs(const Reader& R, const YAML::Node& root, Problem& P) {
+  if (root["contact"] && R.dim == 3)
+    R.fail("contact", root["contact"], "contact between solids (analysis.type: solid) is not supported yet; 3-D runs take bodies without contact");
   if (root["contact"]) {
     const YAML::Node c = root["contact"];
     if (!c.IsSequence()) R.fail("contact", c, "expected a list of contact pairs");

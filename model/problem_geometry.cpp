@@ -73,26 +73,34 @@ int distinct_knots(const std::vector<double>& U) {
 
 Patch read_nurbs(const Reader& R, const YAML::Node& n, const std::string& path) {
   R.keys(n, path, {"degree", "knots", "control_points"});
+  const int D = R.dim;
   Patch P;
+  P.pdim = D;
   if (!n["degree"]) R.missing(path + ".degree");
   if (!n["knots"]) R.missing(path + ".knots");
   if (!n["control_points"]) R.missing(path + ".control_points");
   const YAML::Node deg = n["degree"];
-  if (!deg.IsSequence() || deg.size() != 2) R.fail(path + ".degree", deg, "expected [p_xi, p_eta]");
-  for (int d = 0; d < 2; ++d) P.degree[d] = R.integer(deg[d], path + ".degree[" + std::to_string(d) + "]");
+  if (!deg.IsSequence() || static_cast<int>(deg.size()) != D)
+    R.fail(path + ".degree", deg, D == 3 ? "expected [p_xi, p_eta, p_zeta]" : "expected [p_xi, p_eta]");
+  for (int d = 0; d < D; ++d) P.degree[d] = R.integer(deg[d], path + ".degree[" + std::to_string(d) + "]");
   const YAML::Node kn = n["knots"];
-  if (!kn.IsSequence() || kn.size() != 2) R.fail(path + ".knots", kn, "expected two knot vectors [[...], [...]]");
-  for (int d = 0; d < 2; ++d) P.knots[d] = R.numbers(kn[d], path + ".knots[" + std::to_string(d) + "]");
+  if (!kn.IsSequence() || static_cast<int>(kn.size()) != D)
+    R.fail(path + ".knots", kn, D == 3 ? "expected three knot vectors [[...], [...], [...]]" : "expected two knot vectors [[...], [...]]");
+  for (int d = 0; d < D; ++d) P.knots[d] = R.numbers(kn[d], path + ".knots[" + std::to_string(d) + "]");
   const YAML::Node cps = n["control_points"];
-  if (!cps.IsSequence()) R.fail(path + ".control_points", cps, "expected a list of [x, y, w]");
+  const char* form = D == 3 ? "[x, y, z, w]" : "[x, y, w]";
+  if (!cps.IsSequence()) R.fail(path + ".control_points", cps, std::string("expected a list of ") + form);
   for (size_t a = 0; a < cps.size(); ++a) {
     const std::string key = path + ".control_points[" + std::to_string(a) + "]";
-    if (!cps[a].IsSequence() || (cps[a].size() != 3 && cps[a].size() != 2))
-      R.fail(key, cps[a], "expected [x, y, w]");
+    if (!cps[a].IsSequence() || (static_cast<int>(cps[a].size()) != D + 1 && static_cast<int>(cps[a].size()) != D))
+      R.fail(key, cps[a], std::string("expected ") + form);
     const auto v = R.numbers(cps[a], key);
-    P.cp.push_back(ControlPoint{{v[0], v[1]}, v.size() == 3 ? v[2] : 1.0});
+    ControlPoint c;
+    for (int d = 0; d < D; ++d) c.x[d] = v[d];
+    c.w = static_cast<int>(v.size()) == D + 1 ? v[D] : 1.0;
+    P.cp.push_back(c);
   }
-  for (int d = 0; d < 2; ++d)
+  for (int d = 0; d < D; ++d)
     if (P.degree[d] < 1 || P.degree[d] > 5)
       R.fail(path + ".degree[" + std::to_string(d) + "]", deg[d], "degree must be 1..5");
   const std::string err = P.validate();
@@ -100,8 +108,10 @@ Patch read_nurbs(const Reader& R, const YAML::Node& n, const std::string& path) 
     // name the most specific key the message is about
     std::string key = path;
     YAML::Node at = n;
-    if (err.rfind("knots[0]", 0) == 0) { key += ".knots[0]"; at = kn[0]; }
-    else if (err.rfind("knots[1]", 0) == 0) { key += ".knots[1]"; at = kn[1]; }
+    if (err.rfind("knots[", 0) == 0 && err.size() > 7 && err[6] >= '0' && err[6] < '0' + D) {
+      const int d = err[6] - '0';
+      key += ".knots[" + std::to_string(d) + "]"; at = kn[d];
+    }
     else if (err.rfind("control_points[", 0) == 0) {
       const size_t a = std::stoul(err.substr(15));
       key += ".control_points[" + std::to_string(a) + "]"; at = cps[a];
@@ -127,6 +137,25 @@ Patch make_rectangle(const Reader& R, const YAML::Node& n, const std::string& pa
   P.knots = {uniform_open_knots(1, 1), uniform_open_knots(1, 1)};
   P.cp = {ControlPoint{{o[0], o[1]}, 1}, ControlPoint{{o[0] + s[0], o[1]}, 1}, ControlPoint{{o[0], o[1] + s[1]}, 1},
           ControlPoint{{o[0] + s[0], o[1] + s[1]}, 1}};
+  return P;
+}
+
+// A box [origin, origin + size] as one trilinear patch (3-D).
+Patch make_box(const Reader& R, const YAML::Node& n, const std::string& path) {
+  R.keys(n, path, {"origin", "size"});
+  if (!n["origin"]) R.missing(path + ".origin");
+  if (!n["size"]) R.missing(path + ".size");
+  const auto o = R.numbers(n["origin"], path + ".origin", 3);
+  const auto s = R.numbers(n["size"], path + ".size", 3);
+  for (int d = 0; d < 3; ++d)
+    if (!(s[d] > 0)) R.fail(path + ".size", n["size"], "all three sizes must be > 0");
+  Patch P;
+  P.pdim = 3;
+  P.degree = {1, 1, 1};
+  P.knots = {uniform_open_knots(1, 1), uniform_open_knots(1, 1), uniform_open_knots(1, 1)};
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i) P.cp.push_back(ControlPoint{{o[0] + i * s[0], o[1] + j * s[1], o[2] + k * s[2]}, 1});
   return P;
 }
 
@@ -185,8 +214,15 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
 
   if (!n["geometry"]) R.missing(path + ".geometry");
   const YAML::Node g = n["geometry"];
-  R.keys(g, path + ".geometry", {"nurbs", "rectangle", "quarter_annulus", "file", "patches"});
-  if (g.size() != 1) R.fail(path + ".geometry", g, "give exactly one of nurbs, patches, rectangle, quarter_annulus, file");
+  R.keys(g, path + ".geometry", {"nurbs", "rectangle", "quarter_annulus", "box", "file", "patches"});
+  if (g.size() != 1)
+    R.fail(path + ".geometry", g, R.dim == 3 ? "give exactly one of nurbs, patches, box, file"
+                                             : "give exactly one of nurbs, patches, rectangle, quarter_annulus, file");
+  for (const char* two : {"rectangle", "quarter_annulus"})
+    if (g[two] && R.dim == 3)
+      R.fail(path + ".geometry." + two, g[two], std::string(two) + " is a 2-D geometry; a solid (analysis.type: solid) takes box, nurbs, patches or file");
+  if (g["box"] && R.dim != 3)
+    R.fail(path + ".geometry.box", g["box"], "box is a 3-D geometry (analysis.type: solid); in 2-D use rectangle");
   std::vector<Interface> declared;
   if (g["nurbs"]) b.patches = {read_nurbs(R, g["nurbs"], path + ".geometry.nurbs")};
   else if (g["patches"]) {
@@ -197,6 +233,7 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
   }
   else if (g["rectangle"]) b.patches = {make_rectangle(R, g["rectangle"], path + ".geometry.rectangle")};
   else if (g["quarter_annulus"]) b.patches = {make_quarter_annulus(R, g["quarter_annulus"], path + ".geometry.quarter_annulus")};
+  else if (g["box"]) b.patches = {make_box(R, g["box"], path + ".geometry.box")};
   else {
     // a geometry file, relative to the problem file; its own errors name it and its line
     const std::string name = R.string(g["file"], path + ".geometry.file");
@@ -207,11 +244,15 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
     if (!fs::is_regular_file(gp, ec)) R.fail(path + ".geometry.file", g["file"], "cannot open the geometry file " + gp.string());
     MultiPatch mp = read_geometry_file(gp.string());
     if (mp.patches.empty()) R.fail(path + ".geometry.file", g["file"], "the geometry file holds no patch");
-    for (size_t k = 0; k < mp.patches.size(); ++k)
-      for (int d = 0; d < 2; ++d)
+    for (size_t k = 0; k < mp.patches.size(); ++k) {
+      if (mp.patches[k].dim() != R.dim)
+        R.fail(path + ".geometry.file", g["file"], "patch " + std::to_string(k) + " is " + std::to_string(mp.patches[k].dim()) +
+               "-D, the problem " + std::to_string(R.dim) + "-D (analysis.type: " + (R.dim == 3 ? "solid" : "plane_strain or plane_stress") + ")");
+      for (int d = 0; d < R.dim; ++d)
         if (mp.patches[k].degree[d] > 5)
           R.fail(path + ".geometry.file", g["file"], "patch " + std::to_string(k) + " has degree " +
                  std::to_string(mp.patches[k].degree[d]) + " (1..5 are supported)");
+    }
     b.patches = std::move(mp.patches);
     declared = std::move(mp.interfaces);
     b.named = std::move(mp.named);
@@ -220,7 +261,9 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
   // interfaces: declared ones and those found on the unrefined patches (refinement keeps
   // conforming sides conforming only when both are refined alike: checked after it)
   b.tolerance = 1e-8 * std::max(patches_diameter(b.patches), 1e-300);
-  {
+  if (R.dim == 3 && np > 1)
+    R.fail(path + ".geometry", g, "body '" + b.name + "': multi-patch solids are not supported yet (one trivariate patch per body)");
+  if (R.dim == 2) {
     for (const Interface& f : declared) {
       const std::string err = check_interface(b.patches, f, b.tolerance);
       if (!err.empty()) R.fail(path + ".geometry.file", g["file"], "body '" + b.name + "': " + err);
@@ -241,62 +284,76 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
     // sizes after each refinement, checked before it is done (a refinement too large for
     // the machine is refused at once, not after minutes of knot insertion); every patch of
     // the body is refined alike
-    using NcpFn = std::function<std::array<long long, 2>(const Patch&)>;
-    using ElFn = std::function<std::array<double, 2>(const Patch&)>;
-    auto totals = [&](const NcpFn& ncp, const ElFn& el) {
+    const int D = R.dim;
+    using Counts = std::array<double, 3>;
+    using CountFn = std::function<Counts(const Patch&)>;
+    auto totals = [&](const CountFn& ncp, const CountFn& el) {
       double dofs = 0, sample = 0;
       for (const Patch& q : b.patches) {
         const auto c = ncp(q);
         const auto e = el(q);
-        dofs += static_cast<double>(b.dim()) * static_cast<double>(c[0]) * static_cast<double>(c[1]);
+        double n = D;
+        for (int d = 0; d < D; ++d) n *= c[d];
+        dofs += n;
         sample += R.sample_bytes(e[0], e[1]);
       }
       return std::pair<double, double>(dofs, sample);
     };
-    auto elements = [](const Patch& q) {
-      return std::array<double, 2>{static_cast<double>(q.element_spans(0).size()), static_cast<double>(q.element_spans(1).size())};
+    auto elements = [&](const Patch& q) {
+      Counts e{1, 1, 1};
+      for (int d = 0; d < D; ++d) e[d] = static_cast<double>(q.element_spans(d).size());
+      return e;
     };
     auto max_degree = [&] {
       int m = 1;
-      for (const Patch& q : b.patches) m = std::max({m, q.degree[0], q.degree[1]});
+      for (const Patch& q : b.patches)
+        for (int d = 0; d < D; ++d) m = std::max(m, q.degree[d]);
       return m;
     };
     if (r["degree_elevate"]) {
-      const auto e = R.int_pair(r["degree_elevate"], path + ".refine.degree_elevate");
+      const auto e = D == 2 ? [&] { const auto v = R.int_pair(r["degree_elevate"], path + ".refine.degree_elevate"); return std::array<int, 3>{v[0], v[1], 0}; }()
+                            : R.int_per_direction(r["degree_elevate"], path + ".refine.degree_elevate");
       for (const Patch& q : b.patches)
-        for (int d = 0; d < 2; ++d) {
+        for (int d = 0; d < D; ++d) {
           if (e[d] < 0) R.fail(path + ".refine.degree_elevate", r["degree_elevate"], "must be >= 0");
           if (q.degree[d] + e[d] > 5)
             R.fail(path + ".refine.degree_elevate", r["degree_elevate"],
                    "would raise degree " + std::to_string(q.degree[d]) + " above the supported 5");
         }
       const auto t = totals([&](const Patch& q) {
-        std::array<long long, 2> c{};
-        for (int d = 0; d < 2; ++d) c[d] = q.ncp(d) + static_cast<long long>(e[d]) * (distinct_knots(q.knots[d]) - 1);
+        Counts c{1, 1, 1};
+        for (int d = 0; d < D; ++d) c[d] = static_cast<double>(q.ncp(d) + static_cast<long long>(e[d]) * (distinct_knots(q.knots[d]) - 1));
         return c;
       }, elements);
-      R.fits(path + ".refine.degree_elevate", r["degree_elevate"], t.first, max_degree() + std::max(e[0], e[1]), t.second);
+      R.fits(path + ".refine.degree_elevate", r["degree_elevate"], t.first, max_degree() + std::max({e[0], e[1], e[2]}), t.second, D);
       for (Patch& q : b.patches)
-        for (int d = 0; d < 2; ++d) q.elevate(d, e[d]);
+        for (int d = 0; d < D; ++d) q.elevate(d, e[d]);
     }
     if (r["insert_knots"]) {
       const YAML::Node ik = r["insert_knots"];
       const std::string key = path + ".refine.insert_knots";
-      if (!ik.IsSequence() || ik.size() != 2) R.fail(key, ik, "expected two lists [[xi knots], [eta knots]] in [0, 1]");
-      std::array<long long, 2> added{};
-      for (int d = 0; d < 2; ++d) {
+      if (!ik.IsSequence() || static_cast<int>(ik.size()) != D)
+        R.fail(key, ik, D == 3 ? "expected three lists [[xi knots], [eta knots], [zeta knots]] in [0, 1]"
+                               : "expected two lists [[xi knots], [eta knots]] in [0, 1]");
+      std::array<long long, 3> added{0, 0, 0};
+      for (int d = 0; d < D; ++d) {
         if (ik[d].IsSequence() && ik[d].size() > kMaxInsertedKnots)
           R.fail(key + "[" + std::to_string(d) + "]", ik[d],
                  "at most " + std::to_string(kMaxInsertedKnots) + " knots per direction; use subdivide for uniform refinement");
         added[d] = ik[d].IsSequence() ? static_cast<long long>(ik[d].size()) : 0;
       }
-      const auto t = totals([&](const Patch& q) { return std::array<long long, 2>{q.ncp(0) + added[0], q.ncp(1) + added[1]}; },
+      const auto t = totals([&](const Patch& q) {
+                              Counts c{1, 1, 1};
+                              for (int d = 0; d < D; ++d) c[d] = static_cast<double>(q.ncp(d) + added[d]);
+                              return c;
+                            },
                             [&](const Patch& q) {
                               auto e = elements(q);
-                              return std::array<double, 2>{e[0] + added[0], e[1] + added[1]};
+                              for (int d = 0; d < D; ++d) e[d] += static_cast<double>(added[d]);
+                              return e;
                             });
-      R.fits(key, ik, t.first, max_degree(), t.second);
-      for (int d = 0; d < 2; ++d) {
+      R.fits(key, ik, t.first, max_degree(), t.second, D);
+      for (int d = 0; d < D; ++d) {
         const auto ks = R.numbers(ik[d], key + "[" + std::to_string(d) + "]");
         for (Patch& q : b.patches) {
           const auto U = q.knots[d];
@@ -310,20 +367,22 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
       }
     }
     if (r["subdivide"]) {
-      const auto s = R.int_pair(r["subdivide"], path + ".refine.subdivide");
-      for (int d = 0; d < 2; ++d)
+      const auto s = D == 2 ? [&] { const auto v = R.int_pair(r["subdivide"], path + ".refine.subdivide"); return std::array<int, 3>{v[0], v[1], 1}; }()
+                            : R.int_per_direction(r["subdivide"], path + ".refine.subdivide");
+      for (int d = 0; d < D; ++d)
         if (s[d] < 1 || s[d] > 100000) R.fail(path + ".refine.subdivide", r["subdivide"], "must be 1..100000");
       const auto t = totals([&](const Patch& q) {
-        std::array<long long, 2> c{};
-        for (int d = 0; d < 2; ++d) c[d] = q.ncp(d) + static_cast<long long>(s[d] - 1) * static_cast<long long>(q.element_spans(d).size());
+        Counts c{1, 1, 1};
+        for (int d = 0; d < D; ++d) c[d] = static_cast<double>(q.ncp(d) + static_cast<long long>(s[d] - 1) * static_cast<long long>(q.element_spans(d).size()));
         return c;
       }, [&](const Patch& q) {
         auto e = elements(q);
-        return std::array<double, 2>{e[0] * s[0], e[1] * s[1]};
+        for (int d = 0; d < D; ++d) e[d] *= s[d];
+        return e;
       });
-      R.fits(path + ".refine.subdivide", r["subdivide"], t.first, max_degree(), t.second);
+      R.fits(path + ".refine.subdivide", r["subdivide"], t.first, max_degree(), t.second, D);
       for (Patch& q : b.patches)
-        for (int d = 0; d < 2; ++d) q.subdivide(d, s[d]);
+        for (int d = 0; d < D; ++d) q.subdivide(d, s[d]);
     }
     for (const Interface& f : b.interfaces) {
       const std::string err = check_interface(b.patches, f, b.tolerance);
@@ -333,7 +392,7 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
   b.cp_index = merge_control_points(b.patches, b.interfaces, b.num_cps);
   // a folded or flat patch (det J changing sign or vanishing inside) is bad input, blamed on
   // the control points where they were given
-  for (int k = 0; k < np; ++k) {
+  for (int k = 0; k < np && b.patches[k].dim() == 2; ++k) {   // TODO(3-D): the trivariate det J check
     const std::string bad = check_jacobian(b.patches[k]);
     if (bad.empty()) continue;
     const std::string who = "body '" + b.name + "'" + (np > 1 ? ", patch " + std::to_string(k) : std::string()) + ": ";

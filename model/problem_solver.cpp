@@ -49,8 +49,12 @@ long long Problem::auto_direct_max_dofs() const {
   if (has_friction()) return kAutoDirectMaxDofsFriction;
   int p = 1;
   for (const Body& b : bodies)
-    for (const Patch& pt : b.patches) p = std::max(p, std::max(pt.degree[0], pt.degree[1]));
+    for (const Patch& pt : b.patches)
+      for (int d = 0; d < pt.dim(); ++d) p = std::max(p, pt.degree[d]);
   const bool linear = contact.empty() && kinematics == Kinematics::Small;
+  // 3-D: a sparse factorisation fills far more (separators of n^(2/3) against n^(1/2)
+  // unknowns); provisional bound until benchmarks/auto_crossover.py is run in 3-D
+  if (dim() == 3) return kAutoDirectMaxDofs3D;
   //                                                 p = 1      2       3       4       5
   static constexpr long long kMaxDofs[2][5] = {/* nonlinear */ {10000, 10000, 20000, 20000, 30000},
                                                /* linear */ {60000, 60000, 150000, 150000, 240000}};

@@ -48,6 +48,7 @@ struct Reader {
   double memory_bytes = 0;   // what the machine has available (0: unknown, no size check)
   int samples_per_element = 4;   // output.samples_per_element, read before the bodies
   int stages = 1;                // analysis.stages, read before the bodies
+  int dim = 2;                   // analysis.type (solid: 3), read before the bodies
 
   // output.samples_per_element: 1..64, or auto (0)
   int samples(const YAML::Node& n) const {
@@ -60,6 +61,7 @@ struct Reader {
   // Memory of the output sampling of ne0 x ne1 elements: a sampled point costs ~30 doubles
   // on rank 0 (fields, the HDF5 image, the VTK cells).
   double sample_bytes(double ne0, double ne1) const {
+    if (dim == 3) return 0;   // 3-D writes no sampled grid (docs/paraview.md, the output layout)
     return (samples_per_element * ne0 + 1) * (samples_per_element * ne1 + 1) * 240.0;
   }
 
@@ -142,6 +144,16 @@ struct Reader {
     if (!n.IsSequence() || n.size() != 2) fail(key, n, "expected an integer or a list of 2 integers");
     return {integer(n[0], key + "[0]"), integer(n[1], key + "[1]")};
   }
+  // An int (the same in every direction) or a list of `dim` integers, one per parametric
+  // direction; entries beyond dim are 0.
+  std::array<int, 3> int_per_direction(const YAML::Node& n, const std::string& key) const {
+    if (n.IsScalar()) { const int a = integer(n, key); return {a, a, dim == 3 ? a : 0}; }
+    if (!n.IsSequence() || static_cast<int>(n.size()) != dim)
+      fail(key, n, "expected an integer or a list of " + std::to_string(dim) + " integers");
+    std::array<int, 3> v{0, 0, 0};
+    for (int d = 0; d < dim; ++d) v[d] = integer(n[d], key + "[" + std::to_string(d) + "]");
+    return v;
+  }
   double positive(const YAML::Node& n, const std::string& key) const {
     const double v = number(n, key);
     if (!(v > 0)) fail(key, n, "must be > 0");
@@ -178,6 +190,7 @@ double available_memory_bytes();
 Patch read_nurbs(const Reader& R, const YAML::Node& n, const std::string& path);
 Patch make_rectangle(const Reader& R, const YAML::Node& n, const std::string& path);
 Patch make_quarter_annulus(const Reader& R, const YAML::Node& n, const std::string& path);
+Patch make_box(const Reader& R, const YAML::Node& n, const std::string& path);
 Body read_body(const Reader& R, const YAML::Node& n, const std::string& path);
 
 // model/problem_boundary.cpp: boundary conditions and the names of sides and corners

@@ -17,6 +17,7 @@ using namespace system_detail;
 // 1-D coupling range of every control point index along direction d of a patch: the union of
 // the supports [s - p, s] of the non-empty spans s in [i, i + p].
 System::CouplingRange System::coupling_range(const Patch& pt, int d) {
+  if (d >= pt.dim()) return CouplingRange{{0}, {0}};   // an unused direction: one index
   const auto spans = pt.element_spans(d);
   const int p = pt.degree[d], n = static_cast<int>(pt.knots[d].size()) - p - 1;
   CouplingRange r{std::vector<int>(n), std::vector<int>(n)};
@@ -31,22 +32,24 @@ System::CouplingRange System::coupling_range(const Patch& pt, int d) {
 }
 
 // Calls f(b, row, a') for every control point a' of patch block b coupled with a control point
-// a that is a row here (row = row_of(b, a) >= 0), rows in patch order, a' with j' outer, i'
-// inner (so in increasing global id within a patch). A control point shared by patches gets
+// a that is a row here (row = row_of(b, a) >= 0), rows in patch order, a' with k' outer, then
+// j', i' inner (so in increasing global id within a patch). A control point shared by patches gets
 // its couplings from each of them (coupling_csr merges the repeats).
 template <class RowOf, class F>
 void System::for_each_coupling(RowOf row_of, F f) const {
   for (size_t b = 0; b < blocks_.size(); ++b) {
     const Patch& pt = P_.bodies[blocks_[b].body].patches[blocks_[b].patch];
-    const CouplingRange r0 = coupling_range(pt, 0), r1 = coupling_range(pt, 1);
-    const int n0 = static_cast<int>(r0.lo.size()), n1 = static_cast<int>(r1.lo.size());
-    for (int j = 0; j < n1; ++j)
-      for (int i = 0; i < n0; ++i) {
-        const LO row = row_of(b, pt.index(i, j));
-        if (row < 0) continue;
-        for (int jj = r1.lo[j]; jj <= r1.hi[j]; ++jj)
-          for (int ii = r0.lo[i]; ii <= r0.hi[i]; ++ii) f(b, row, pt.index(ii, jj));
-      }
+    const CouplingRange r0 = coupling_range(pt, 0), r1 = coupling_range(pt, 1), r2 = coupling_range(pt, 2);
+    const int n0 = static_cast<int>(r0.lo.size()), n1 = static_cast<int>(r1.lo.size()), n2 = static_cast<int>(r2.lo.size());
+    for (int k = 0; k < n2; ++k)
+      for (int j = 0; j < n1; ++j)
+        for (int i = 0; i < n0; ++i) {
+          const LO row = row_of(b, pt.index(i, j, k));
+          if (row < 0) continue;
+          for (int kk = r2.lo[k]; kk <= r2.hi[k]; ++kk)
+            for (int jj = r1.lo[j]; jj <= r1.hi[j]; ++jj)
+              for (int ii = r0.lo[i]; ii <= r0.hi[i]; ++ii) f(b, row, pt.index(ii, jj, kk));
+        }
   }
 }
 

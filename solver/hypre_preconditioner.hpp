@@ -11,7 +11,8 @@
 
 namespace iga {
 
-/// BoomerAMG of A. Throws where a rank's rows are not one contiguous range of global ids.
-RCP<Tpetra::Operator<SC, LO, GO, Node>> make_boomeramg(const RCP<Matrix>& A);
+/// BoomerAMG of A with `functions` interleaved dofs per node (the dimension). Throws where a
+/// rank's rows are not one contiguous range of global ids.
+RCP<Tpetra::Operator<SC, LO, GO, Node>> make_boomeramg(const RCP<Matrix>& A, int functions = 2);
 
 }  // namespace iga

@@ -20,9 +20,13 @@ using Operator = Tpetra::Operator<SC, LO, GO, Node>;
 RCP<Operator> make_preconditioner(const LinearOptions& opt, const RCP<Matrix>& A,
                                   const RCP<MultiVector>& nullspace, const RCP<MultiVector>& coords) {
   const int ranks = A->getComm()->getSize();
+  // dofs per node: the columns of the aggregation coordinates (System: one per dimension),
+  // else from the rigid modes (3 in 2-D, 6 in 3-D)
+  const int dim = !coords.is_null() ? static_cast<int>(coords->getNumVectors())
+                  : (!nullspace.is_null() && nullspace->getNumVectors() == 6) ? 3 : 2;
   switch (opt.preconditioner) {
     case Preconditioner::None: return Teuchos::null;
-    case Preconditioner::BoomerAMG: return make_boomeramg(A);
+    case Preconditioner::BoomerAMG: return make_boomeramg(A, dim);
     case Preconditioner::Relaxation: {
       auto prec = Ifpack2::Factory::create<Tpetra::RowMatrix<SC, LO, GO, Node>>("RELAXATION", A);
       Teuchos::ParameterList p;
@@ -51,7 +55,7 @@ RCP<Operator> make_preconditioner(const LinearOptions& opt, const RCP<Matrix>& A
       Teuchos::ParameterList p;
       p.set("verbosity", "none");
       p.set("multigrid algorithm", "sa");
-      p.set("number of equations", 2);
+      p.set("number of equations", dim);
       p.set("coarse: max size", 1000);
       // W-cycle: the coarse levels are small (operator complexity ~1.1 with the 5 x 5
       // aggregates of a p = 2 control net), so visiting them twice costs little and keeps the

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "kernels/boundary_load.hpp"
+#include "kernels/face_load.hpp"
 #include "kernels/numbering.hpp"
 
 namespace iga {
@@ -30,6 +31,23 @@ RCP<Vector> System::assemble_loads(double lambda, int stage) const {
         if (sc.load == LoadKind::None) continue;
         // finite kinematics: pressures are follower loads, in assemble_internal
         if (sc.load != LoadKind::Traction && P_.kinematics == Kinematics::Finite) continue;
+        if (dim() == 3) {
+          AssembleFaceLoad<decltype(f)> k;
+          k.pd = bd.pd3;
+          k.load.face = s;
+          k.load.kind = sc.load == LoadKind::Traction ? 3 : 1;
+          k.load.p = sc.p0[stage];
+          for (int c = 0; c < 3; ++c) k.load.t[c] = sc.traction[stage][c];
+          k.load.scale = lambda;
+          k.load.orientation = bd.orientation;
+          int fd[2];
+          face_directions(s, fd);
+          for (int i = 0; i < 2; ++i) k.g[i] = gauss_rule(bd.pd3.p[fd[i]] + 1);
+          k.f = f;
+          k.e_begin = bd.e_begin; k.e_end = bd.e_end;
+          Kokkos::parallel_for("iga::AssembleFaceLoad", Kokkos::RangePolicy<ExecSpace>(0, k.num_face_elements()), k);
+          continue;
+        }
         AssembleSideLoad<decltype(f)> k;
         k.pd = bd.pd;
         k.load.side = s;

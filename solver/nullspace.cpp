@@ -29,7 +29,8 @@ RCP<MultiVector> System::aggregation_coordinates() const {
   std::vector<GO> gids(n);
   for (size_t l = 0; l < n; ++l) gids[l] = point_of_dof(owned_->getGlobalElement(static_cast<LO>(dof_of(l, 0, dim()))), dim());
   RCP<const Map> nodes = rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(), gids.data(), n, 0, comm_));
-  RCP<MultiVector> X = rcp(new MultiVector(nodes, 2));
+  const int dm = dim();
+  RCP<MultiVector> X = rcp(new MultiVector(nodes, dm));
 
   // D: the diameter of all control nets together. Body b is moved by 1e3 D b along x, so
   // that the distance-Laplacian weight between two bodies, <= 1e-6 / D^2, is far below the
@@ -37,20 +38,24 @@ RCP<MultiVector> System::aggregation_coordinates() const {
   // nudged by 1e-6 D times its place (i / n_xi, j / n_eta) in the net: coincident control
   // points (a collapsed edge) then have distinct coordinates, strongly coupled to each other;
   // elsewhere the nudge is far below the element size.
-  double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
   for (const auto& c : cp_pos_)
-    for (int d = 0; d < 2; ++d) lo[d] = std::min(lo[d], c.x[d]), hi[d] = std::max(hi[d], c.x[d]);
-  const double D = std::max(std::hypot(hi[0] - lo[0], hi[1] - lo[1]), 1e-300);
+    for (int d = 0; d < dm; ++d) lo[d] = std::min(lo[d], c.x[d]), hi[d] = std::max(hi[d], c.x[d]);
+  const double D = std::max(dm == 2 ? std::hypot(hi[0] - lo[0], hi[1] - lo[1])
+                                    : std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                                                (hi[2] - lo[2]) * (hi[2] - lo[2])),
+                            1e-300);
   // the nudge: each control point's place in the net of the first patch it belongs to
-  std::vector<std::array<double, 2>> place(num_cps_, {-1.0, -1.0});
+  std::vector<std::array<double, 3>> place(num_cps_, {-1.0, -1.0, -1.0});
   for (const PatchBlock& bd : blocks_) {
     const Patch& q = P_.bodies[bd.body].patches[bd.patch];
     for (size_t a = 0; a < bd.gid.size(); ++a)
       if (place[bd.gid[a]][0] < 0) {
-        const int n[2] = {q.ncp(0), q.ncp(1)};
-        int ij[2];
-        tensor_ij(static_cast<int>(a), n, 2, ij);
-        place[bd.gid[a]] = {static_cast<double>(ij[0]) / q.ncp(0) + bd.patch, static_cast<double>(ij[1]) / q.ncp(1)};
+        const int n[3] = {q.ncp(0), q.ncp(1), q.ncp(2)};
+        int ij[3];
+        tensor_ij(static_cast<int>(a), n, dm, ij);
+        place[bd.gid[a]][0] = static_cast<double>(ij[0]) / q.ncp(0) + bd.patch;
+        for (int d = 1; d < dm; ++d) place[bd.gid[a]][d] = static_cast<double>(ij[d]) / q.ncp(d);
       }
   }
   auto h = X->getLocalViewHost(Tpetra::Access::OverwriteAll);
@@ -58,7 +63,7 @@ RCP<MultiVector> System::aggregation_coordinates() const {
     const size_t b = body_of(gids[l]);
     const ControlPoint& c = cp_pos_[gids[l]];
     h(l, 0) = c.x[0] + 1e-6 * D * place[gids[l]][0] + 1e3 * D * static_cast<double>(b);
-    h(l, 1) = c.x[1] + 1e-6 * D * place[gids[l]][1];
+    for (int d = 1; d < dm; ++d) h(l, d) = c.x[d] + 1e-6 * D * place[gids[l]][d];
   }
   return X;
 }

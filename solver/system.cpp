@@ -20,6 +20,12 @@ using namespace system_detail;
 
 Material body_material(const Problem& P, int b, double thickness) {
   const Body& body = P.bodies[b];
+  if (P.analysis == Analysis::Solid) {
+    const int model = P.kinematics == Kinematics::Small ? Material::kLinear
+                      : body.model == MaterialModel::NeoHookean ? Material::kNeoHookean
+                                                                : Material::kSaintVenantKirchhoff;
+    return Material::solid(model, body.E, body.nu);
+  }
   if (P.kinematics == Kinematics::Small)
     return Material::plane(body.E, body.nu, P.analysis == Analysis::PlaneStrain, thickness);
   return Material::finite(body.model == MaterialModel::NeoHookean ? Material::kNeoHookean : Material::kSaintVenantKirchhoff,
@@ -37,7 +43,10 @@ System::System(const Problem& problem, RCP<const Comm> comm) : P_(problem), comm
     for (size_t k = 0; k < body.patches.size(); ++k) {
       const Patch& pt = body.patches[k];
       PatchBlock bd;
-      bd.pd = make_patch_data(pt);
+      if (pt.dim() == 3)
+        bd.pd3 = make_patch_data3(pt);
+      else
+        bd.pd = make_patch_data(pt);
       set_quadrature(bd, pt, P_.quadrature);
       bd.body = static_cast<int>(b);
       bd.patch = static_cast<int>(k);
@@ -74,14 +83,21 @@ System::System(const Problem& problem, RCP<const Comm> comm) : P_(problem), comm
     bd.e_begin = static_cast<int>(std::clamp(er.first - e0, 0LL, ne));
     bd.e_end = static_cast<int>(std::clamp(er.second - e0, 0LL, ne));
     e0 += ne;
-    const auto sp0 = pt.element_spans(0), sp1 = pt.element_spans(1);
-    const int nspan[2] = {static_cast<int>(sp0.size()), static_cast<int>(sp1.size())};
+    std::vector<int> sp[3];
+    int nspan[3] = {1, 1, 1}, deg[3] = {0, 0, 0};
+    for (int d = 0; d < pt.dim(); ++d) {
+      sp[d] = pt.element_spans(d);
+      nspan[d] = static_cast<int>(sp[d].size());
+      deg[d] = pt.degree[d];
+    }
+    for (int d = pt.dim(); d < 3; ++d) sp[d] = {0};
     for (int e = bd.e_begin; e < bd.e_end; ++e) {
-      int ij[2];
-      tensor_ij(e, nspan, 2, ij);
-      const int s0 = sp0[ij[0]], s1 = sp1[ij[1]];
-      for (int j = s1 - pt.degree[1]; j <= s1; ++j)
-        for (int i = s0 - pt.degree[0]; i <= s0; ++i) touched.push_back(bd.gid[pt.index(i, j)]);
+      int ij[3];
+      tensor_ij(e, nspan, 3, ij);
+      const int s0 = sp[0][ij[0]], s1 = sp[1][ij[1]], s2 = sp[2][ij[2]];
+      for (int k = s2 - deg[2]; k <= s2; ++k)
+        for (int j = s1 - deg[1]; j <= s1; ++j)
+          for (int i = s0 - deg[0]; i <= s0; ++i) touched.push_back(bd.gid[pt.index(i, j, k)]);
     }
   }
   std::sort(touched.begin(), touched.end());
@@ -94,7 +110,7 @@ System::System(const Problem& problem, RCP<const Comm> comm) : P_(problem), comm
       const LO l = overlap_->getLocalElement(dof_of(bd.gid[a], 0, dim()));
       if (l != Teuchos::OrdinalTraits<LO>::invalid()) lid[a] = point_of_dof(l, dim());
     }
-    bd.pd.lid = to_device("lid", lid);
+    (P_.bodies[bd.body].patches[bd.patch].dim() == 3 ? bd.pd3.lid : bd.pd.lid) = to_device("lid", lid);
     bd.lid = std::move(lid);
   }
 

@@ -71,7 +71,7 @@ class System {
   RCP<const Map> owned_map() const { return owned_; }
   /// The patch blocks, body after body, patch after patch.
   const std::vector<PatchBlock>& blocks() const { return blocks_; }
-  GO num_dofs() const { return 2 * num_cps_; }
+  GO num_dofs() const { return static_cast<GO>(dim()) * num_cps_; }
   /// Global id of control point a of a body's patch.
   GO cp_gid(int body, int patch, int a) const { return body_offset_[body] + P_.bodies[body].cp_index[patch][a]; }
   /// Global id of a body's first control point; its control points are the next num_cps.

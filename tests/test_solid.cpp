@@ -1,0 +1,353 @@
+// 3-D solids (analysis.type: solid) through the whole solver: problem file, System, Newton,
+// against closed-form answers (../shared/reference-solutions.md, "3-D").
+//   PatchTest3D     uniaxial stress on a box and on a distorted rational block: the affine
+//                   displacement is in every NURBS space, so it comes out to the solver's
+//                   tolerance, and the reactions balance the applied traction
+//   ThickSphere     the thick-walled sphere under internal pressure on an octant with a
+//                   degenerate pole face, L2 error of u_r against the closed form, converging
+//   FiniteStretch3D homogeneous uniaxial stretch of a neo-Hookean and an SVK block against the
+//                   exact lateral stretch and first Piola stress
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <sstream>
+
+#include "tests/support.hpp"
+
+using namespace iga;
+using namespace iga::test;
+
+namespace {
+
+constexpr double kE = 1000.0, kNu = 0.3;
+
+std::string box_yaml(const std::string& refine, const std::string& boundary, const std::string& extra = "",
+                     const std::string& material = "") {
+  std::ostringstream os;
+  os.precision(17);
+  os << "analysis: {type: solid" << extra << "}\n"
+     << "bodies:\n  - name: block\n    material: {" << material << "youngs_modulus: " << kE << ", poisson_ratio: " << kNu << "}\n"
+     << "    geometry: {box: {origin: [0, 0, 0], size: [2.0, 1.0, 0.5]}}\n"
+     << "    refine: {" << refine << "}\n"
+     << "    boundary:\n" << boundary;
+  return os.str();
+}
+
+// The control point values of body 0 against u(x) = A x (affine fields are reproduced by any
+// NURBS space through their control point values): the largest difference.
+double affine_error(const Solved& s, const double A[3][3]) {
+  const Body& b = s.P.bodies[0];
+  double worst = 0;
+  for (size_t k = 0; k < b.patches.size(); ++k) {
+    const auto uk = b.patch_values(static_cast<int>(k), s.disp[0]);
+    for (size_t a = 0; a < b.patches[k].cp.size(); ++a)
+      for (int i = 0; i < 3; ++i) {
+        double e = 0;
+        for (int j = 0; j < 3; ++j) e += A[i][j] * b.patches[k].cp[a].x[j];
+        worst = std::max(worst, std::abs(uk[3 * a + i] - e));
+      }
+  }
+  return worst;
+}
+
+}  // namespace
+
+// Uniaxial stress sxx = s on a box: west u_x = 0, south u_y = 0, front u_z = 0 (rollers), east
+// traction (s, 0, 0): u = (s x / E, -nu s y / E, -nu s z / E), at p = 1..3 with knots inside.
+TEST(PatchTest3D, UniaxialStressOnABoxIsExactAtEveryDegree) {
+  const double s = 10.0;
+  const std::string bc = "      west: {displacement: {x: 0}}\n      south: {displacement: {y: 0}}\n"
+                         "      front: {displacement: {z: 0}}\n      east: {traction: [10.0, 0, 0]}\n";
+  for (int p = 1; p <= 3; ++p) {
+    const Solved r = solve_text(box_yaml("degree_elevate: " + std::to_string(p - 1) + ", subdivide: [3, 2, 2]", bc));
+    ASSERT_TRUE(r.res.converged) << r.res.message;
+    EXPECT_EQ(r.sys->num_dofs(), 3LL * (p + 3) * (p + 2) * (p + 2));
+    if (Tpetra::getDefaultComm()->getRank() != 0) continue;
+    const double A[3][3] = {{s / kE, 0, 0}, {0, -kNu * s / kE, 0}, {0, 0, -kNu * s / kE}};
+    EXPECT_LT(affine_error(r, A), 1e-10 * s / kE * 2.0) << "p = " << p;
+  }
+}
+
+// The same state on a block whose map is a non-uniform reparametrisation of the box in each
+// direction (x_d = f_d(xi_d): the middle control points moved along their own direction by an
+// amount of that direction only, so the faces stay planar), loaded by pressure on the east
+// face: pressure q on x = 2 gives sxx = -q. Why separable: in 3-D the cofactors of J are
+// products of two derivatives, and for a general distorted map B det J has degree ~3p per
+// direction, beyond the p + 1 Gauss points (the 2-D patch test has no such limit: there adj J
+// is linear in the derivatives); with x_d = f_d(xi_d) it stays within them.
+TEST(PatchTest3D, PressureOnADistortedBlockGivesUniaxialStress) {
+  const double q = 4.0;
+  // degree 2 in every direction, 3 x 3 x 3 control points; the middle ones moved
+  std::ostringstream cps;
+  cps.precision(17);
+  const double L[3] = {2.0, 1.0, 0.5};
+  for (int k = 0; k < 3; ++k)
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i) {
+        double x[3] = {L[0] * i / 2.0, L[1] * j / 2.0, L[2] * k / 2.0};
+        double w = 1.0;
+        const int idx[3] = {i, j, k};
+        for (int d = 0; d < 3; ++d)   // move middle points along their own direction only: faces stay planar
+          if (idx[d] == 1) x[d] += 0.13 * L[d] * std::sin(1.0 + 2 * d);
+        cps << (cps.tellp() > 0 ? ", " : "") << "[" << x[0] << ", " << x[1] << ", " << x[2] << ", " << w << "]";
+      }
+  std::ostringstream os;
+  os << "analysis: {type: solid}\n"
+     << "bodies:\n  - name: block\n    material: {youngs_modulus: " << kE << ", poisson_ratio: " << kNu << "}\n"
+     << "    geometry:\n      nurbs:\n        degree: [2, 2, 2]\n"
+     << "        knots: [[0, 0, 0, 1, 1, 1], [0, 0, 0, 1, 1, 1], [0, 0, 0, 1, 1, 1]]\n"
+     << "        control_points: [" << cps.str() << "]\n"
+     << "    refine: {subdivide: [2, 3, 2]}\n"
+     << "    boundary:\n      west: {displacement: {x: 0}}\n      south: {displacement: {y: 0}}\n"
+     << "      front: {displacement: {z: 0}}\n      east: {pressure: " << q << "}\n";
+  const Solved r = solve_text(os.str());
+  ASSERT_TRUE(r.res.converged) << r.res.message;
+  if (Tpetra::getDefaultComm()->getRank() != 0) return;
+  const double s = -q;
+  const double A[3][3] = {{s / kE, 0, 0}, {0, -kNu * s / kE, 0}, {0, 0, -kNu * s / kE}};
+  EXPECT_LT(affine_error(r, A), 1e-10 * q / kE * 2.0);
+}
+
+namespace {
+
+// Host evaluation of a trivariate patch and a field given per control point (3 values each):
+// x and u at the parameters t.
+void eval3(const Patch& P, const std::vector<double>& u, const double t[3], double x[3], double uh[3]) {
+  int s[3];
+  double N[3][3][kMaxBasis1D];
+  for (int d = 0; d < 3; ++d) {
+    s[d] = find_span(P.ncp(d), P.degree[d], t[d], P.knots[d].data());
+    bspline_ders(s[d], t[d], P.degree[d], P.knots[d].data(), 0, N[d]);
+  }
+  double W = 0;
+  for (int c = 0; c < 3; ++c) x[c] = uh[c] = 0;
+  for (int k = 0; k <= P.degree[2]; ++k)
+    for (int j = 0; j <= P.degree[1]; ++j)
+      for (int i = 0; i <= P.degree[0]; ++i) {
+        const int a = P.index(s[0] - P.degree[0] + i, s[1] - P.degree[1] + j, s[2] - P.degree[2] + k);
+        const double b = N[0][0][i] * N[1][0][j] * N[2][0][k] * P.cp[a].w;
+        W += b;
+        for (int c = 0; c < 3; ++c) {
+          x[c] += b * P.cp[a].x[c];
+          uh[c] += b * u[3 * a + c];
+        }
+      }
+  for (int c = 0; c < 3; ++c) {
+    x[c] /= W;
+    uh[c] /= W;
+  }
+}
+
+// The L2 norms of u_h - u and of u over body 0's single patch, u(x) given: Gauss rule of p + 2
+// points per element and direction, det J by central differences of the map (relative error
+// ~ 1e-10, far below the discretisation errors measured).
+template <class Exact>
+std::pair<double, double> l2_error3(const Solved& s, Exact exact) {
+  const Patch& P = s.P.bodies[0].patches[0];
+  const auto u = s.P.bodies[0].patch_values(0, s.disp[0]);
+  std::vector<int> sp[3];
+  for (int d = 0; d < 3; ++d) sp[d] = P.element_spans(d);
+  double err = 0, norm = 0;
+  for (int e2 : sp[2])
+    for (int e1 : sp[1])
+      for (int e0 : sp[0]) {
+        const int es[3] = {e0, e1, e2};
+        GaussRule g[3];
+        for (int d = 0; d < 3; ++d) g[d] = gauss_rule(P.degree[d] + 2);
+        for (int q2 = 0; q2 < g[2].n; ++q2)
+          for (int q1 = 0; q1 < g[1].n; ++q1)
+            for (int q0 = 0; q0 < g[0].n; ++q0) {
+              const int q[3] = {q0, q1, q2};
+              double t[3], w = 1, h[3];
+              for (int d = 0; d < 3; ++d) {
+                const double a = P.knots[d][es[d]], b = P.knots[d][es[d] + 1];
+                h[d] = 0.5 * (b - a);
+                t[d] = a + h[d] * (g[d].x[q[d]] + 1);
+                w *= g[d].w[q[d]] * h[d];
+              }
+              double J[3][3];
+              for (int d = 0; d < 3; ++d) {
+                double tp[3] = {t[0], t[1], t[2]}, tm[3] = {t[0], t[1], t[2]};
+                const double dt = 1e-6 * h[d];
+                tp[d] += dt;
+                tm[d] -= dt;
+                const auto xp = P.point(tp), xm = P.point(tm);
+                for (int c = 0; c < 3; ++c) J[c][d] = (xp[c] - xm[c]) / (2 * dt);
+              }
+              const double det = J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) - J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+                                 J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+              double x[3], uh[3];
+              eval3(P, u, t, x, uh);
+              const std::array<double, 3> ue = exact(x);
+              for (int c = 0; c < 3; ++c) {
+                err += (uh[c] - ue[c]) * (uh[c] - ue[c]) * std::abs(det) * w;
+                norm += ue[c] * ue[c] * std::abs(det) * w;
+              }
+            }
+      }
+  return {std::sqrt(err), std::sqrt(norm)};
+}
+
+// The octant of a thick sphere, radii a < b: degree (2, 2, 1), xi the angle about z from x to y,
+// eta the latitude from the equator (z = 0) to the pole, zeta the radius; the pole face
+// (north, eta = 1) collapses onto the z axis. Control points: the quarter circle's
+// {(1, 0), (1, 1), (0, 1)} with weights {1, sqrt(1/2), 1} in both angles.
+std::string sphere_octant_yaml(double a, double b, double p, int n, int elevate_r) {
+  const double w = std::sqrt(0.5);
+  const double c[3][2] = {{1, 0}, {1, 1}, {0, 1}}, cw[3] = {1, w, 1};
+  std::ostringstream os;
+  os.precision(17);
+  os << "analysis: {type: solid}\n"
+     << "bodies:\n  - name: sphere\n    material: {youngs_modulus: " << kE << ", poisson_ratio: " << kNu << "}\n"
+     << "    geometry:\n      nurbs:\n        degree: [2, 2, 1]\n"
+     << "        knots: [[0, 0, 0, 1, 1, 1], [0, 0, 0, 1, 1, 1], [0, 0, 1, 1]]\n        control_points: [";
+  bool first = true;
+  for (double r : {a, b})
+    for (int j = 0; j < 3; ++j)        // latitude: rho = r c[j][0], z = r c[j][1]
+      for (int i = 0; i < 3; ++i) {    // longitude
+        const double rho = r * c[j][0], z = r * c[j][1];
+        os << (first ? "" : ", ") << "[" << rho * c[i][0] << ", " << rho * c[i][1] << ", " << z << ", " << cw[i] * cw[j] << "]";
+        first = false;
+      }
+  os << "]\n    refine: {degree_elevate: [0, 0, " << elevate_r << "], subdivide: [" << n << ", " << n << ", " << n << "]}\n"
+     << "    boundary:\n      west: {displacement: {y: 0}}\n      east: {displacement: {x: 0}}\n"
+     << "      south: {displacement: {z: 0}}\n      front: {pressure: " << p << "}\n"
+     << "solver: {linear: {method: direct}}\n";
+  return os.str();
+}
+
+}  // namespace
+
+// The thick-walled sphere under internal pressure (reference-solutions.md, 3-D):
+// u_r = p a^3 / (E (b^3 - a^3)) ((1 - 2 nu) r + (1 + nu) b^3 / (2 r^2)). The octant's geometry is
+// exact, so the L2 error of u falls as h^(p+1) (p = 2: 3); checked from n = 2 to 4 to 8 elements
+// per direction, and the error at n = 8 below 1e-4 of |u|.
+TEST(ThickSphere, OctantWithDegeneratePoleConvergesAtOptimalRate) {
+  const double a = 1.0, b = 2.0, p = 1.0;
+  auto exact = [&](const double* x) {
+    const double r = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+    const double ur = p * a * a * a / (kE * (b * b * b - a * a * a)) * ((1 - 2 * kNu) * r + (1 + kNu) * b * b * b / (2 * r * r));
+    return std::array<double, 3>{ur * x[0] / r, ur * x[1] / r, ur * x[2] / r};
+  };
+  std::vector<double> rel;
+  for (int n : {2, 4, 8}) {
+    const Solved s = solve_text(sphere_octant_yaml(a, b, p, n, 1));
+    ASSERT_TRUE(s.res.converged) << s.res.message;
+    if (Tpetra::getDefaultComm()->getRank() != 0) continue;
+    const auto [err, norm] = l2_error3(s, exact);
+    rel.push_back(err / norm);
+    std::printf("  thick sphere, p = 2, n = %d: %lld dofs, L2 error of u %.3e (relative)\n", n,
+                static_cast<long long>(s.sys->num_dofs()), err / norm);
+  }
+  if (Tpetra::getDefaultComm()->getRank() != 0) return;
+  for (size_t k = 1; k < rel.size(); ++k) {
+    const double rate = std::log2(rel[k - 1] / rel[k]);
+    EXPECT_GT(rate, 2.6) << "n = " << (2 << k);   // p + 1 = 3, pre-asymptotic at n = 2
+  }
+}
+
+// Uniaxial stretch l1 of a box with free lateral faces at finite strain: the lateral stretch s
+// and the first Piola stress P11 against the closed forms (reference-solutions.md, 3-D):
+// neo-Hookean  mu (s - 1/s) + lambda ln(l1 s^2) / s = 0,  P11 = mu (l1 - 1/l1) + lambda ln(l1 s^2) / l1;
+// Saint Venant-Kirchhoff  S22 = 0 gives s^2 = 1 - nu (l1^2 - 1), P11 = l1 E (l1^2 - 1) / 2.
+// The deformation is homogeneous, so it is in every NURBS space: exact to Newton's tolerance.
+TEST(FiniteStretch3D, UniaxialStretchMatchesTheClosedForms) {
+  const double lam = kE * kNu / ((1 + kNu) * (1 - 2 * kNu)), mu = kE / (2 * (1 + kNu));
+  const double Lx = 2.0, A = 1.0 * 0.5;
+  for (const char* model : {"neo_hookean", "saint_venant_kirchhoff"})
+    for (double l1 : {1.3, 0.8}) {
+      double s = 1, P11 = 0;
+      if (std::string(model) == "neo_hookean") {
+        for (int it = 0; it < 100; ++it) {   // Newton on g(s) = mu (s - 1/s) + lam ln(l1 s^2) / s
+          const double g = mu * (s - 1 / s) + lam * std::log(l1 * s * s) / s;
+          const double dg = mu * (1 + 1 / (s * s)) + lam * (2 - std::log(l1 * s * s)) / (s * s);
+          s -= g / dg;
+        }
+        P11 = mu * (l1 - 1 / l1) + lam * std::log(l1 * s * s) / l1;
+      } else {
+        s = std::sqrt(1 - kNu * (l1 * l1 - 1));
+        P11 = l1 * kE * (l1 * l1 - 1) / 2;
+      }
+      std::ostringstream bc;
+      bc.precision(17);
+      bc << "      west: {displacement: {x: 0}}\n      south: {displacement: {y: 0}}\n"
+         << "      front: {displacement: {z: 0}}\n      east: {displacement: {x: " << (l1 - 1) * Lx << "}}\n";
+      const Solved r = solve_text(box_yaml("degree_elevate: 1, subdivide: [2, 2, 1]", bc.str(), ", kinematics: finite, load_steps: 4",
+                                           std::string("model: ") + model + ", "));
+      ASSERT_TRUE(r.res.converged) << model << " " << l1 << ": " << r.res.message;
+      const auto reac = reactions_json(*r.sys, *r.res.residual);
+      if (Tpetra::getDefaultComm()->getRank() != 0) continue;
+      const double G[3][3] = {{l1 - 1, 0, 0}, {0, s - 1, 0}, {0, 0, s - 1}};
+      EXPECT_LT(affine_error(r, G), 1e-8) << model << " l1 = " << l1;
+      const double Rx = reac["block"]["east"][0].get<double>();
+      EXPECT_NEAR(Rx, P11 * A, 1e-8 * std::abs(P11 * A)) << model << " l1 = " << l1;
+      EXPECT_NEAR(reac["block"]["west"][0].get<double>(), -P11 * A, 1e-8 * std::abs(P11 * A)) << model;
+    }
+}
+
+// The assembled 3-D tangent is the derivative of the assembled internal force (central
+// differences along a random direction) for every material, on the rational thick-sphere
+// octant, with finite kinematics the follower pressure on the curved inner face included; on
+// any number of ranks.
+TEST(Tangent3DSystem, IsTheDerivativeOfTheForceWithFollowerPressure) {
+  auto comm = Tpetra::getDefaultComm();
+  for (const std::string model : {"linear", "saint_venant_kirchhoff", "neo_hookean"}) {
+    std::string yaml = sphere_octant_yaml(1.0, 2.0, 30.0, 2, 1);
+    if (model != "linear") {
+      yaml.replace(yaml.find("{type: solid}"), 13, "{type: solid, kinematics: finite}");
+      yaml.replace(yaml.find("material: {"), 11, "material: {model: " + model + ", ");
+    }
+    const Problem P = parse_problem(yaml, "t.yaml");
+    System sys(P, comm);
+    Vector u(sys.owned_map()), v(sys.owned_map());
+    u.randomize(-0.05, 0.05);
+    v.randomize(-1.0, 1.0);
+    RCP<Matrix> K;
+    const LoadPoint lp = LoadPoint::at(0.7, 1);
+    sys.assemble_internal(&u, nullptr, &K, &lp);
+    Vector Kv(sys.owned_map()), fp(sys.owned_map()), fm(sys.owned_map()), up(sys.owned_map()), um(sys.owned_map());
+    K->apply(v, Kv);
+    const double h = 1e-6;
+    up.update(1.0, u, h, v, 0.0);
+    um.update(1.0, u, -h, v, 0.0);
+    sys.assemble_internal(&up, &fp, nullptr, &lp);
+    sys.assemble_internal(&um, &fm, nullptr, &lp);
+    fp.update(-1.0 / (2 * h), fm, 1.0 / (2 * h));
+    fp.update(-1.0, Kv, 1.0);
+    EXPECT_LT(fp.normInf(), 1e-7 * Kv.normInf()) << model;
+  }
+}
+
+// The follower pressure alone: on the inner face of the octant, at u = 0, the force it adds to
+// f_int is minus the dead-load vector of the same pressure (both integrate -p n over the same
+// reference face, to round-off), and the resultant tends to p times the projected area of the
+// inner face (pi a^2 / 4 in each of x, y, z) as the p + 1 Gauss points per face element
+// integrate the rational integrand better: by h^(2p+2) in principle, checked as at least a
+// factor 16 from 2 to 4 elements per direction.
+TEST(Tangent3DSystem, FollowerPressureAtRestEqualsTheDeadLoad) {
+  auto comm = Tpetra::getDefaultComm();
+  double previous = 0;
+  for (int n : {2, 4}) {
+    std::string yaml = sphere_octant_yaml(1.0, 2.0, 30.0, n, 1);
+    const Problem Ps = parse_problem(yaml, "t.yaml");
+    yaml.replace(yaml.find("{type: solid}"), 13, "{type: solid, kinematics: finite}");
+    const Problem Pf = parse_problem(yaml, "t.yaml");
+    System ss(Ps, comm), sf(Pf, comm);
+    Vector u(sf.owned_map()), f(sf.owned_map());
+    u.putScalar(0.0);
+    const LoadPoint lp = LoadPoint::at(1.0, 1);
+    sf.assemble_internal(&u, &f, nullptr, &lp);   // f_int(0) = 0 plus the follower -f_ext
+    RCP<Vector> fd = ss.assemble_loads(1.0);
+    f.update(1.0, *fd, 1.0);
+    EXPECT_LT(f.normInf(), 1e-13 * fd->normInf());
+    double loc[3] = {0, 0, 0}, glob[3];
+    auto h = fd->getLocalViewHost(Tpetra::Access::ReadOnly);
+    for (size_t l = 0; l < fd->getLocalLength(); ++l) loc[ss.owned_map()->getGlobalElement(l) % 3] += h(l, 0);
+    Teuchos::reduceAll(*comm, Teuchos::REDUCE_SUM, 3, loc, glob);
+    double worst = 0;
+    for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(glob[c] - 30.0 * M_PI / 4));
+    std::printf("  inner-face resultant, %d elements per direction: max error %.2e of %.2f\n", n, worst, 30.0 * M_PI / 4);
+    if (previous > 0) EXPECT_LT(worst, previous / 16);
+    previous = worst;
+  }
+}
