@@ -14,32 +14,17 @@ double FieldPoint::von_mises() const {
                    3.0 * sxy * sxy + 3.0 * (syz * syz + sxz * sxz));
 }
 
-namespace {
-
-// The 3-D material of a body: the kernels' laws on full 3 x 3 tensors (small strain: linear
-// isotropic; finite: Saint Venant-Kirchhoff or neo-Hookean).
-Material solid_material(const Problem& P, int b) {
-  const Body& body = P.bodies[b];
-  if (P.kinematics == Kinematics::Small) return Material::solid(Material::kLinear, body.E, body.nu);
-  return Material::solid(body.model == MaterialModel::NeoHookean ? Material::kNeoHookean : Material::kSaintVenantKirchhoff,
-                         body.E, body.nu);
-}
-
-}  // namespace
-
 BodyField::BodyField(const Problem& P, int body, const std::vector<double>& u, int patch)
     : patch_(&P.bodies[body].patches[patch]),
       dim_(P.bodies[body].patches[patch].dim()),
+      mat_(body_material(P, body, 1.0)),   // 3-D: the full-tensor laws (Material::solid)
       plane_strain_(P.analysis == Analysis::PlaneStrain),
       nu_(P.bodies[body].nu),
       u_(P.bodies[body].patch_values(patch, u)) {
-  if (dim_ == 3) {
+  if (dim_ == 3)
     pd3_ = host_patch_data3(*patch_);
-    mat_ = solid_material(P, body);
-  } else {
+  else
     pd_ = host_patch_data(*patch_);
-    mat_ = body_material(P, body, 1.0);
-  }
 }
 
 FieldPoint BodyField::eval(const double* t, const int* s) const {
