@@ -67,6 +67,10 @@ FieldPoint BodyField::eval(double u, double v, int s0, int s1) const {
 
 // 3-D: x, u and H = Grad u from the trivariate NURBS basis (nurbs_grad on the kernels' patch
 // data), then the kernels' law on the full tensors and sigma = P F^T / J (small strain: P).
+// Where the map is degenerate (det J = 0 on a face collapsed onto an edge or a point, as the
+// pole of a sphere octant, or on a degenerate edge) the gradient does not exist there: H is
+// taken at the point moved towards the element's centre by 1e-6 of the way (the limit from
+// inside, to O(1e-6 h |grad sigma|)); x, u and detJ stay those of the point itself.
 FieldPoint BodyField::eval3(const double* t, const int* sp) const {
   int s[3];
   for (int d = 0; d < 3; ++d)
@@ -77,23 +81,53 @@ FieldPoint BodyField::eval3(const double* t, const int* sp) const {
     constexpr int P = decltype(PP)::value;
     constexpr int nen = kNen<3, P>;
     double R[nen], dR[nen][3], x[3];
-    f.detJ = nurbs_grad<P>(pd3_, s, t, R, dR, x);
-    f.x = x[0];
-    f.y = x[1];
-    f.z = x[2];
     int cps[nen];
     pd3_.local_cps(s, cps);
-    double uu[3] = {0, 0, 0};
-    for (int a = 0; a < pd3_.nen(); ++a) {
-      const double* ua = &u_[3 * static_cast<size_t>(cps[a])];
-      for (int c = 0; c < 3; ++c) {
-        uu[c] += R[a] * ua[c];
-        for (int d = 0; d < 3; ++d) g[c][d] += dR[a][d] * ua[c];
+    // H (and optionally x, u) at the parameters tt; returns det J
+    auto at = [&](const double* tt, bool values) {
+      const double detJ = nurbs_grad<P>(pd3_, s, tt, R, dR, x);
+      double uu[3] = {0, 0, 0};
+      for (int c = 0; c < 3; ++c)
+        for (int d = 0; d < 3; ++d) g[c][d] = 0;
+      for (int a = 0; a < pd3_.nen(); ++a) {
+        const double* ua = &u_[3 * static_cast<size_t>(cps[a])];
+        for (int c = 0; c < 3; ++c) {
+          uu[c] += R[a] * ua[c];
+          for (int d = 0; d < 3; ++d) g[c][d] += dR[a][d] * ua[c];
+        }
       }
+      if (values) {
+        f.x = x[0];
+        f.y = x[1];
+        f.z = x[2];
+        f.ux = uu[0];
+        f.uy = uu[1];
+        f.uz = uu[2];
+      }
+      return detJ;
+    };
+    f.detJ = at(t, true);
+    // degenerate: |det J| far below the element's scale, (size of its control points' box)^3
+    // over the product of its parametric lengths
+    double lo[3] = {x[0], x[1], x[2]}, hi[3] = {x[0], x[1], x[2]}, h = 1;
+    for (int a = 0; a < pd3_.nen(); ++a)
+      for (int c = 0; c < 3; ++c) {
+        lo[c] = std::min(lo[c], pd3_.cp(cps[a], c));
+        hi[c] = std::max(hi[c], pd3_.cp(cps[a], c));
+      }
+    const double L = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+    for (int d = 0; d < 3; ++d) h *= pd3_.U[d](s[d] + 1) - pd3_.U[d](s[d]);
+    bool finite = true;
+    for (int c = 0; c < 3; ++c)
+      for (int d = 0; d < 3; ++d) finite = finite && std::isfinite(g[c][d]);
+    if (!finite || !(std::abs(f.detJ) > 1e-9 * L * L * L / h)) {
+      double tt[3];
+      for (int d = 0; d < 3; ++d) {
+        const double mid = 0.5 * (pd3_.U[d](s[d]) + pd3_.U[d](s[d] + 1));
+        tt[d] = t[d] + 1e-6 * (mid - t[d]);
+      }
+      at(tt, false);
     }
-    f.ux = uu[0];
-    f.uy = uu[1];
-    f.uz = uu[2];
   });
   double Pk[3][3], P33, sg[3][3], s33;
   material_response<false>(mat_, g, Pk, P33, nullptr);

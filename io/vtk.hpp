@@ -51,7 +51,7 @@
 //               body_names (String, one per body)
 // 3-D (Analysis::Solid, trivariate patches): the same construction on
 //   - faces (default, output.cells: faces): each boundary face of a patch that is not an
-//     interface is the bivariate patch Patch::face(s) (3-D Bezier points, its directions the
+//     interface and not collapsed onto a curve or a point (a sphere octant's pole) is the bivariate patch Patch::face(s) (3-D Bezier points, its directions the
 //     free ones in increasing order); its elements become VTK_BEZIER_QUADRILATERAL cells
 //     carrying the volume's field on the face (stress evaluated in the volume at the face's
 //     parameter); a cell is transposed (i <-> j, degrees (p1, p0)) where that order's normal

@@ -916,3 +916,62 @@ TEST(Output3D, ControlNetAndProbe) {
     std::ofstream(dir / "summary.json") << s.dump(1);
   }
 }
+
+namespace {
+
+// The octant of a thick sphere, radii 1 and 2 (as tests/test_solid.cpp builds it): degree
+// (2, 2, 1), xi the longitude, eta the latitude up to the pole, zeta the radius; the north face
+// (eta = 1) collapses onto the z axis, where det J = 0. Refined to degrees (2, 2, 2), n elements
+// per direction.
+Patch sphere_octant(int n) {
+  const double w = std::sqrt(0.5), c[3][2] = {{1, 0}, {1, 1}, {0, 1}}, cw[3] = {1, w, 1};
+  Patch a;
+  a.pdim = 3;
+  a.degree = {2, 2, 1};
+  a.knots[0] = {0, 0, 0, 1, 1, 1};
+  a.knots[1] = {0, 0, 0, 1, 1, 1};
+  a.knots[2] = {0, 0, 1, 1};
+  for (double r : {1.0, 2.0})
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i) {
+        const double rho = r * c[j][0], z = r * c[j][1];
+        a.cp.push_back(ControlPoint({rho * c[i][0], rho * c[i][1], z}, cw[i] * cw[j]));
+      }
+  a.elevate(2, 1);
+  for (int d = 0; d < 3; ++d) a.subdivide(d, n);
+  return a;
+}
+
+}  // namespace
+
+// A patch with a degenerate face (the sphere octant's pole, det J = 0 on it): the field there
+// is the limit from inside, so an affine displacement's constant stress is drawn constant on
+// every cell, those touching the pole included (faces and hexahedra), and the probe at the
+// pole gives it; the collapsed face itself is not drawn.
+TEST(VtkBezier3D, DegeneratePoleFace) {
+  const Patch pt = sphere_octant(2);
+  const double A[3][3] = {{0.02, -0.01, 0.03}, {0.015, -0.025, 0.01}, {-0.02, 0.005, 0.04}}, c[3] = {0, 0, 0};
+  const std::vector<double> u = affine_u(pt, A, c);
+  Problem P = solid_problem({pt});
+  const double tin[3] = {0.3, 0.4, 0.5}, tpole[3] = {0.3, 1.0, 0.5};
+  const FieldPoint in = BodyField(P, 0, u).eval(tin), pole = BodyField(P, 0, u).eval(tpole);
+  EXPECT_NEAR(std::hypot(pole.x, pole.y), 0.0, 1e-14);   // on the z axis
+  const double s_in[6] = {in.sxx, in.syy, in.szz, in.sxy, in.syz, in.sxz}, s_pole[6] = {pole.sxx, pole.syy, pole.szz, pole.sxy, pole.syz, pole.sxz};
+  const double scale = in.von_mises();
+  for (int k = 0; k < 6; ++k) EXPECT_NEAR(s_pole[k], s_in[k], 1e-6 * scale) << "component " << k;
+  for (bool volume : {false, true}) {
+    P.output.volume_cells = volume;
+    const BezierMesh m = bezier_mesh(P, {u});
+    // faces: the pole face (north, collapsed onto the z axis) has no area and is not drawn
+    const int ne = 2 * 2;
+    EXPECT_EQ(m.num_cells(), volume ? 8u : 5u * ne);
+    for (size_t q = 0; q < m.num_cells(); ++q) EXPECT_NE(m.face[q], static_cast<int>(Side::North));
+    double worst = 0;
+    auto take = [&](double d) { worst = std::isfinite(d) ? std::max(worst, d) : HUGE_VAL; };
+    for (size_t q = 0; q < m.num_points(); ++q) {
+      for (int k = 0; k < 6; ++k) take(std::abs(m.stress[6 * q + k] - s_in[k]));
+      take(std::abs(m.von_mises[q] - scale));
+    }
+    EXPECT_LT(worst, 1e-6 * scale) << (volume ? "hexahedra" : "faces");
+  }
+}
