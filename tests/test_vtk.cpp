@@ -944,8 +944,8 @@ Patch sphere_octant(int n) {
 
 }  // namespace
 
-// A patch with a degenerate face (the sphere octant's pole, det J = 0 on it): the field there
-// is the limit from inside, so an affine displacement's constant stress is drawn constant on
+// A patch with a degenerate face (the sphere octant's pole, det J = 0 on it): the stress there
+// is taken 1 % of the way inside the element (BodyField::eval3), so an affine displacement's constant stress is drawn constant on
 // every cell, those touching the pole included (faces and hexahedra), and the probe at the
 // pole gives it; the collapsed face itself is not drawn.
 TEST(VtkBezier3D, DegeneratePoleFace) {
