@@ -1,5 +1,7 @@
 // VTK rational Bezier output (io/vtk): the point order, the cells' geometry against the
 // NURBS patch, the displacement coefficients, the per-element stress fit, the .vtu/.pvd text.
+// 3-D (issue 35): BodyField on trivariate patches (Field3D), the face and hexahedron cells
+// (VtkBezier3D), a 3-D state's control net and probe entry (Output3D).
 // With IGACONTACT_VTU_OUT set, WritesQuarterAnnulusFiles leaves its .vtu files there for the
 // ParaView check (tests/paraview/check_bezier.py, run by tests/paraview_bezier.sh).
 #include <gtest/gtest.h>
