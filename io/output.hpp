@@ -4,6 +4,11 @@
 // result_control_nets.xdmf, result_contact.xdmf (contact sides), summary.json, contact_<n>.csv. Files are written through io/files.hpp (checked,
 // atomic, HDF5 built in memory, run id). Only rank 0 writes; the solution is brought there
 // with a Tpetra Import.
+// 3-D (analysis.type: solid): no sampled grid (no result.xdmf, no sampled datasets in the
+// HDF5 files); result_<n>.vtu holds the boundary faces (output.cells: faces, the default) or the
+// elements (volume) as Bezier cells, result_control_nets.xdmf the hexahedral control nets;
+// probes and reactions with three components (docs/paraview.md). Contact output in 3-D comes
+// with 3-D contact.
 #include <array>
 #include <functional>
 #include <ostream>
@@ -18,7 +23,7 @@
 
 namespace iga {
 
-/// Reactions per body and side ([Rx, Ry]), summed over ranks.
+/// Reactions per body and side ([Rx, Ry], in 3-D per face [Rx, Ry, Rz]), summed over ranks.
 nlohmann::json reactions_json(const System& sys, const Vector& residual);
 
 /// The bodies' part of one written state (docs/problem-file.md, "Outputs"): per patch the group
