@@ -182,6 +182,7 @@ Problem build(Reader& R, const YAML::Node& root) {
     }
   }
 
+  P.linear.dofs_per_node = P.dim();
   choose_linear_method(R, root, P);
 
   check_problem(R, root, P);

@@ -127,6 +127,8 @@ struct LinearOptions {
   /// the tangent is symmetric (no friction): the direct solver factors L D L^T
   bool symmetric = true;
   bool reuse_preconditioner = true;   // keep the preconditioner over a load step's Newton iterations
+  /// interleaved dofs per node for the AMG preconditioners: the problem's dimension (the loader sets it)
+  int dofs_per_node = 2;
   /// solver.linear.forcing: the tolerance of each Newton step's Krylov solve
   Forcing forcing = Forcing::Auto;
   /// solver.linear.muelu_xml, read and checked with the problem: MueLu parameters set over

@@ -135,6 +135,46 @@ RCP<Vector> System::assemble_loads(double lambda, int stage) const {
         });
       }
   }
+  if (!user_body_forces3_.empty()) {
+    auto h = f_ov.getLocalViewHost(Tpetra::Access::ReadWrite);
+    for (const auto& ub : user_body_forces3_)
+      for (const PatchBlock& bd : blocks_) {
+        if (bd.body != ub.body) continue;
+        const Patch& pt = P_.bodies[bd.body].patches[bd.patch];
+        const HostPatchData3 pd = host_patch_data3(pt);
+        GaussRule g[3];
+        for (int d = 0; d < 3; ++d) g[d] = gauss_rule(pd.p[d] + 2);
+        dispatch_degree(std::max({pd.p[0], pd.p[1], pd.p[2]}), [&](auto PP) {
+          constexpr int P = decltype(PP)::value;
+          std::vector<double> R(kNen<3, P>);
+          std::vector<std::array<double, 3>> dR(kNen<3, P>);
+          std::vector<int> cps(kNen<3, P>);
+          double x[3];
+          for (int e = bd.e_begin; e < bd.e_end; ++e) {
+            int ei[3], s[3];
+            pd.element_spans(e, ei, s);
+            pd.local_cps(s, cps.data());
+            double lo[3], hh[3];
+            for (int d = 0; d < 3; ++d) {
+              lo[d] = pt.knots[d][s[d]];
+              hh[d] = 0.5 * (pt.knots[d][s[d] + 1] - lo[d]);
+            }
+            for (int q2 = 0; q2 < g[2].n; ++q2)
+              for (int q1 = 0; q1 < g[1].n; ++q1)
+                for (int q0 = 0; q0 < g[0].n; ++q0) {
+                  const double xi[3] = {lo[0] + hh[0] * (g[0].x[q0] + 1), lo[1] + hh[1] * (g[1].x[q1] + 1), lo[2] + hh[2] * (g[2].x[q2] + 1)};
+                  const double det = nurbs_grad<P>(pd, s, xi, R.data(), reinterpret_cast<double(*)[3]>(dR.data()), x);
+                  const auto b = ub.b(x[0], x[1], x[2]);
+                  const double w = lambda * std::abs(det) * g[0].w[q0] * g[1].w[q1] * g[2].w[q2] * hh[0] * hh[1] * hh[2];
+                  for (int a = 0; a < pd.nen(); ++a) {
+                    const int l = bd.lid[cps[a]];
+                    for (int c = 0; c < 3; ++c) h(dof_of(l, c, 3), 0) += R[a] * w * b[c];
+                  }
+                }
+          }
+        });
+      }
+  }
   return export_vector(f_ov);
 }
 

@@ -106,8 +106,13 @@ PatchDataT<D, Kokkos::HostSpace> host_patch_data_d(const Patch& P) {
   if (P.dim() != D) throw std::logic_error("host_patch_data: patch of dimension " + std::to_string(P.dim()));
   PatchDataT<D, Kokkos::HostSpace> pd;
   set_patch_shape(pd, P);
-  for (int d = 0; d < D; ++d)
+  for (int d = 0; d < D; ++d) {
     pd.U[d] = Kokkos::View<const double*, Kokkos::HostSpace>(P.knots[d].data(), P.knots[d].size());
+    const std::vector<int> spans = P.element_spans(d);
+    Kokkos::View<int*, Kokkos::HostSpace> sp("span", spans.size());
+    for (size_t k = 0; k < spans.size(); ++k) sp(k) = spans[k];
+    pd.span[d] = sp;
+  }
   static_assert(sizeof(ControlPoint) == (kMaxDim + 1) * sizeof(double) && std::is_standard_layout_v<ControlPoint>,
                 "ControlPoint is laid out as rows {x, y, z, w}");
   if constexpr (D == kMaxDim) {

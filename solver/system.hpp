@@ -103,6 +103,9 @@ class System {
   /// body, scaled by the load factor like the file's loads (manufactured solutions; host).
   using BodyForceFunction = std::function<std::array<double, 2>(double X, double Y)>;
   void add_body_force(int body, BodyForceFunction b) { user_body_forces_.push_back({body, std::move(b)}); }
+  /// The same for a solid (3-D): b(X, Y, Z) per unit reference volume.
+  using BodyForceFunction3 = std::function<std::array<double, 3>(double X, double Y, double Z)>;
+  void add_body_force(int body, BodyForceFunction3 b) { user_body_forces3_.push_back({body, std::move(b)}); }
 
   /// The locally owned constrained dofs.
   const std::vector<DirichletDof>& dirichlet() const { return dirichlet_; }
@@ -158,6 +161,8 @@ class System {
   std::vector<UserTraction> user_tractions_;
   struct UserBodyForce { int body; BodyForceFunction b; };
   std::vector<UserBodyForce> user_body_forces_;
+  struct UserBodyForce3 { int body; BodyForceFunction3 b; };
+  std::vector<UserBodyForce3> user_body_forces3_;
   // Several ranks: element rows of owned control points go straight into the owned rows'
   // global pattern, the few others into a "ghost" matrix whose rows are exported (built once).
   struct OwnedGhost {
@@ -175,6 +180,9 @@ class System {
   // solver.formation: sum_factorized: per block, the 1-D tables and work arrays (built once)
   struct SumFactorCache;
   mutable std::vector<std::shared_ptr<SumFactorCache>> sum_factor_;
+  // 3-D: the element loop's batched element-matrix work view, kept from one assembly to the
+  // next (64 MB: allocating and zeroing its pages per Newton iteration costs)
+  mutable Kokkos::View<double**, Kokkos::LayoutRight, MemSpace> element_work_;
   RCP<const Graph> stiffness_graph() const;
 
   struct CouplingRange { std::vector<int> lo, hi; };

@@ -351,3 +351,171 @@ TEST(Tangent3DSystem, FollowerPressureAtRestEqualsTheDeadLoad) {
     previous = worst;
   }
 }
+
+// Cook's membrane (examples/cooks_membrane.yaml: neo-Hookean, finite strain, dead shear load)
+// as a 3-D slab of thickness t with u_z = 0 on its front and back faces: the slab's discrete
+// problem, degree 1 in z with one element, has the plane-strain solution in each layer (the
+// problem is symmetric about the mid-plane, so both layers move alike and e_xz = e_yz = 0),
+// so every control point moves as in the 2-D plane-strain run with thickness t: one code path,
+// the same answer to Newton's tolerance, on 1 and 2 ranks.
+TEST(Cook3D, SlabWithFixedFacesEqualsPlaneStrain) {
+  const double t = 2.5;
+  const std::string base = read(std::string(IGACONTACT_SOURCE_DIR) + "/examples/cooks_membrane.yaml");
+  const std::string refine = "{degree_elevate: 1, subdivide: [8, 8]}";
+  std::string two = base;
+  two.replace(two.find("{kinematics: finite, load_steps: 4}"), 35, "{kinematics: finite, load_steps: 4, thickness: 2.5}");
+  two.replace(two.find("{degree_elevate: 1, subdivide: [16, 16]}"), 40, refine);
+  two.replace(two.find("output:"), std::string::npos, "solver: {linear: {method: direct}, newton: {tolerance: 1.0e-12}}\n");
+  const Solved s2 = solve_text(two);
+  ASSERT_TRUE(s2.res.converged) << s2.res.message;
+  const double X[4][2] = {{0, 0}, {48, 44}, {0, 44}, {48, 60}};
+  std::ostringstream os;
+  os.precision(17);
+  os << "analysis: {type: solid, kinematics: finite, load_steps: 4}\n"
+     << "bodies:\n  - name: panel\n    material: {model: neo_hookean, youngs_modulus: 200.0, poisson_ratio: 0.3}\n"
+     << "    geometry:\n      nurbs:\n        degree: [1, 1, 1]\n        knots: [[0, 0, 1, 1], [0, 0, 1, 1], [0, 0, 1, 1]]\n"
+     << "        control_points: [";
+  for (int k = 0; k < 2; ++k)
+    for (int a = 0; a < 4; ++a) os << (k + a ? ", " : "") << "[" << X[a][0] << ", " << X[a][1] << ", " << k * t << ", 1]";
+  os << "]\n    refine: {degree_elevate: [1, 1, 0], subdivide: [8, 8, 1]}\n"
+     << "    boundary:\n      west: {displacement: {x: 0.0, y: 0.0, z: 0.0}}\n      east: {traction: [0.0, 6.0, 0.0]}\n"
+     << "      front: {displacement: {z: 0.0}}\n      back: {displacement: {z: 0.0}}\n"
+     << "solver: {linear: {method: direct}, newton: {tolerance: 1.0e-12}}\n";
+  const Solved s3 = solve_text(os.str());
+  ASSERT_TRUE(s3.res.converged) << s3.res.message;
+  if (Tpetra::getDefaultComm()->getRank() != 0) return;
+  const auto& u2 = s2.disp[0];
+  const auto& u3 = s3.disp[0];
+  const size_t n2 = u2.size() / 2;
+  ASSERT_EQ(u3.size(), 3 * 2 * n2);
+  double worst = 0, umax = 0;
+  for (int k = 0; k < 2; ++k)
+    for (size_t a = 0; a < n2; ++a) {
+      for (int c = 0; c < 2; ++c) {
+        worst = std::max(worst, std::abs(u3[3 * (a + k * n2) + c] - u2[2 * a + c]));
+        umax = std::max(umax, std::abs(u2[2 * a + c]));
+      }
+      EXPECT_EQ(u3[3 * (a + k * n2) + 2], 0.0);
+    }
+  std::printf("  Cook: tip (2-D) %.6f %.6f; max |u_3D - u_2D| = %.1e of %.2f\n", u2[2 * (n2 - 1)], u2[2 * (n2 - 1) + 1], worst, umax);
+  EXPECT_LT(worst, 1e-8 * umax);
+}
+
+namespace {
+
+// u_h and grad u_h of body 0's patch at the parameters xi (3-D), through the kernels' basis.
+template <int P>
+void eval_grad3(const HostPatchData3& pd, const std::vector<double>& u, const double xi[3], double x[3], double uh[3],
+                double G[3][3], double& det) {
+  int s[3];
+  for (int d = 0; d < 3; ++d) s[d] = find_span(pd.n[d], pd.p[d], xi[d], pd.U[d].data());
+  double R[kNen<3, P>], dR[kNen<3, P>][3];
+  int cps[kNen<3, P>];
+  det = nurbs_grad<P>(pd, s, xi, R, dR, x);
+  pd.local_cps(s, cps);
+  for (int i = 0; i < 3; ++i) {
+    uh[i] = 0;
+    for (int j = 0; j < 3; ++j) G[i][j] = 0;
+  }
+  for (int a = 0; a < pd.nen(); ++a)
+    for (int i = 0; i < 3; ++i) {
+      uh[i] += R[a] * u[3 * cps[a] + i];
+      for (int j = 0; j < 3; ++j) G[i][j] += dR[a][j] * u[3 * cps[a] + i];
+    }
+}
+
+}  // namespace
+
+// A manufactured solution on the unit cube, all faces held: u = v(x) c with
+// v = sin(pi x) sin(pi y) sin(pi z), c = (1, 2, -1) / 100, and the body force
+// b = -div sigma(u) = -(lambda + mu) H(v) c + 3 mu pi^2 v c (H: the Hessian of v). The L2
+// error of u falls as h^(p+1), the H1 seminorm error as h^p, at p = 1..4 (n = 4 -> 8 elements
+// per direction; rates within 0.3 of the optimal ones).
+TEST(Manufactured3D, ConvergesAtOptimalRatesForDegreesOneToFour) {
+  const double lam = kE * kNu / ((1 + kNu) * (1 - 2 * kNu)), mu = kE / (2 * (1 + kNu));
+  const double c[3] = {0.01, 0.02, -0.01}, pi = M_PI;
+  auto v = [&](double x, double y, double z) { return std::sin(pi * x) * std::sin(pi * y) * std::sin(pi * z); };
+  auto gradv = [&](double x, double y, double z) {
+    return std::array<double, 3>{pi * std::cos(pi * x) * std::sin(pi * y) * std::sin(pi * z),
+                                 pi * std::sin(pi * x) * std::cos(pi * y) * std::sin(pi * z),
+                                 pi * std::sin(pi * x) * std::sin(pi * y) * std::cos(pi * z)};
+  };
+  auto body = [&](double x, double y, double z) {
+    const double s[3] = {std::sin(pi * x), std::sin(pi * y), std::sin(pi * z)}, k[3] = {std::cos(pi * x), std::cos(pi * y), std::cos(pi * z)};
+    double H[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        double h = pi * pi;
+        for (int m = 0; m < 3; ++m) h *= (m == i || m == j) ? (i == j ? s[m] : k[m]) : s[m];
+        H[i][j] = i == j ? -h : h;
+      }
+    std::array<double, 3> b{};
+    for (int i = 0; i < 3; ++i) {
+      double Hc = 0;
+      for (int j = 0; j < 3; ++j) Hc += H[i][j] * c[j];
+      b[i] = -(lam + mu) * Hc + 3 * mu * pi * pi * v(x, y, z) * c[i];
+    }
+    return b;
+  };
+  for (int p = 1; p <= 4; ++p) {
+    double el2[2], eh1[2];
+    int k = 0;
+    for (int n : {4, 8}) {
+      std::ostringstream os;
+      os << "analysis: {type: solid}\n"
+         << "bodies:\n  - name: cube\n    material: {youngs_modulus: " << kE << ", poisson_ratio: " << kNu << "}\n"
+         << "    geometry: {box: {origin: [0, 0, 0], size: [1, 1, 1]}}\n"
+         << "    refine: {degree_elevate: " << p - 1 << ", subdivide: " << n << "}\n"
+         << "    boundary:\n";
+      for (const char* f : {"west", "east", "south", "north", "front", "back"})
+        os << "      " << f << ": {displacement: {x: 0, y: 0, z: 0}}\n";
+      os << "solver: {linear: {method: direct}}\n";
+      const Solved s = solve_text(os.str(), Tpetra::getDefaultComm(), [&](System& sys) { sys.add_body_force(0, System::BodyForceFunction3(body)); });
+      ASSERT_TRUE(s.res.converged) << s.res.message;
+      if (Tpetra::getDefaultComm()->getRank() != 0) continue;
+      const Patch& pt = s.P.bodies[0].patches[0];
+      const HostPatchData3 pd = host_patch_data3(pt);
+      const auto u = s.P.bodies[0].patch_values(0, s.disp[0]);
+      double e0 = 0, e1 = 0, n0 = 0, n1 = 0;
+      GaussRule g = gauss_rule(p + 2);
+      dispatch_degree(p, [&](auto PP) {
+        constexpr int P = decltype(PP)::value;
+        for (int e = 0; e < pd.num_elements(); ++e) {
+          int ei[3], sp[3];
+          pd.element_spans(e, ei, sp);
+          double lo[3], hh[3];
+          for (int d = 0; d < 3; ++d) {
+            lo[d] = pt.knots[d][sp[d]];
+            hh[d] = 0.5 * (pt.knots[d][sp[d] + 1] - lo[d]);
+          }
+          for (int q2 = 0; q2 < g.n; ++q2)
+            for (int q1 = 0; q1 < g.n; ++q1)
+              for (int q0 = 0; q0 < g.n; ++q0) {
+                const double xi[3] = {lo[0] + hh[0] * (g.x[q0] + 1), lo[1] + hh[1] * (g.x[q1] + 1), lo[2] + hh[2] * (g.x[q2] + 1)};
+                double x[3], uh[3], G[3][3], det;
+                eval_grad3<P>(pd, u, xi, x, uh, G, det);
+                const double w = std::abs(det) * g.w[q0] * g.w[q1] * g.w[q2] * hh[0] * hh[1] * hh[2];
+                const double vv = v(x[0], x[1], x[2]);
+                const auto gv = gradv(x[0], x[1], x[2]);
+                for (int i = 0; i < 3; ++i) {
+                  e0 += (uh[i] - vv * c[i]) * (uh[i] - vv * c[i]) * w;
+                  n0 += vv * c[i] * vv * c[i] * w;
+                  for (int j = 0; j < 3; ++j) {
+                    e1 += (G[i][j] - c[i] * gv[j]) * (G[i][j] - c[i] * gv[j]) * w;
+                    n1 += c[i] * gv[j] * c[i] * gv[j] * w;
+                  }
+                }
+              }
+        }
+      });
+      el2[k] = std::sqrt(e0 / n0);
+      eh1[k] = std::sqrt(e1 / n1);
+      std::printf("  manufactured 3-D, p = %d, n = %d: %lld dofs, L2 %.3e, H1 %.3e\n", p, n, static_cast<long long>(s.sys->num_dofs()),
+                  el2[k], eh1[k]);
+      ++k;
+    }
+    if (Tpetra::getDefaultComm()->getRank() != 0) continue;
+    EXPECT_GT(std::log2(el2[0] / el2[1]), p + 1 - 0.3) << "p = " << p;
+    EXPECT_GT(std::log2(eh1[0] / eh1[1]), p - 0.3) << "p = " << p;
+  }
+}
