@@ -15,6 +15,7 @@
 #include "io/fields.hpp"
 #include "kernels/nurbs_basis.hpp"
 #include "model/bezier.hpp"
+#include "model/multipatch.hpp"
 
 namespace iga {
 
@@ -367,33 +368,6 @@ void add_cells(BezierMesh& m, const CellFamily& F) {
   }
 }
 
-// A face collapsed onto a curve or a point (the pole of a sphere octant): along one of its
-// directions the control points of every line coincide (to 1e-12 of the face's size). It has
-// no area: no cells are drawn for it.
-bool collapsed_face(const Patch& face) {
-  double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-  for (const ControlPoint& c : face.cp)
-    for (int d = 0; d < 3; ++d) {
-      lo[d] = std::min(lo[d], c.x[d]);
-      hi[d] = std::max(hi[d], c.x[d]);
-    }
-  const double tol = 1e-12 * std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
-  const int n0 = face.ncp(0), n1 = face.ncp(1);
-  auto same = [&](int a, int b) {
-    return std::abs(face.cp[a].x[0] - face.cp[b].x[0]) <= tol && std::abs(face.cp[a].x[1] - face.cp[b].x[1]) <= tol &&
-           std::abs(face.cp[a].x[2] - face.cp[b].x[2]) <= tol;
-  };
-  for (int dir = 0; dir < 2; ++dir) {
-    bool all = true;
-    const int lines = dir == 0 ? n1 : n0, along = dir == 0 ? n0 : n1;
-    for (int l = 0; l < lines && all; ++l)
-      for (int k = 1; k < along && all; ++k)
-        all = dir == 0 ? same(face.index(0, l), face.index(k, l)) : same(face.index(l, 0), face.index(l, k));
-    if (all) return true;
-  }
-  return false;
-}
-
 }  // namespace
 
 BezierMesh bezier_mesh(const Problem& P, const std::vector<std::vector<double>>& cp_displacement) {
@@ -437,8 +411,10 @@ BezierMesh bezier_mesh(const Problem& P, const std::vector<std::vector<double>>&
       for (int sd = 0; sd < num_sides(3); ++sd) {
         const Side side = static_cast<Side>(sd);
         if (body.is_interface(PatchSide{static_cast<int>(k), side})) continue;
+        // a face collapsed onto a curve or a point (a sphere octant's pole) has no area: no
+        // boundary, no cells (the same rule as the configuration check's)
+        if (side_collapsed(pt, side, body.tolerance)) continue;
         const Patch face = pt.face(side);
-        if (collapsed_face(face)) continue;
         const std::vector<int> idx = pt.side_indices(side);
         std::vector<double> uf(3 * idx.size());
         for (size_t a = 0; a < idx.size(); ++a)

@@ -408,6 +408,7 @@ Problem solid_problem(const std::vector<Patch>& patches, Kinematics kin = Kinema
   b.sides.resize(patches.size());
   b.corners.resize(patches.size());
   b.interfaces = std::move(interfaces);
+  b.tolerance = 1e-8 * patches_diameter(patches);   // as the loader sets it
   for (const Patch& pt : patches) {
     std::vector<int> idx(pt.cp.size());
     for (size_t a = 0; a < idx.size(); ++a) idx[a] = b.num_cps + static_cast<int>(a);
