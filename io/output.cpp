@@ -194,17 +194,18 @@ double write_bodies(H5Memory& f, const std::string& h5name, const Problem& P,
   const int dim = P.dim();
   for (size_t b = 0; b < P.bodies.size(); ++b)
     for (size_t patch = 0; patch < P.bodies[b].patches.size(); ++patch) {
-      const Patch& pt = P.bodies[b].patches[static_cast<int>(patch)];
+      const int bi = static_cast<int>(b), k = static_cast<int>(patch);
+      const Patch& pt = P.bodies[b].patches[patch];
       // a multi-patch body: one grid per patch, <body>.patch<k>
-      const std::string bn = P.bodies[b].name + (P.bodies[b].multipatch() ? ".patch" + std::to_string(static_cast<int>(patch)) : std::string());
+      const std::string bn = P.bodies[b].name + (P.bodies[b].multipatch() ? ".patch" + std::to_string(k) : std::string());
       const std::string g = "/bodies/" + bn;
       f.group(g);
       if (dim == 3) {
         // 3-D: no sampled grid (docs/paraview.md); the control net as hexahedra
-        write_control_net3(f, h5name, g, bn, pt, P.bodies[b].patch_values(static_cast<int>(patch), disp[b]), nets);
+        write_control_net3(f, h5name, g, bn, pt, P.bodies[b].patch_values(k, disp[b]), nets);
         continue;
       }
-      const BodyField field(P, static_cast<int>(b), disp[b], static_cast<int>(patch));
+      const BodyField field(P, bi, disp[b], k);
       const int s = output_samples(P.output, pt);
       const auto su = samples(pt.knots[0], pt.element_spans(0), s);
       const auto sv = samples(pt.knots[1], pt.element_spans(1), s);
@@ -234,7 +235,7 @@ double write_bodies(H5Memory& f, const std::string& h5name, const Problem& P,
       const int m0 = pt.ncp(0), m1 = pt.ncp(1);
       const hsize_t m = static_cast<hsize_t>(m0) * m1;
       std::vector<double> cxyz, cd3;
-      const std::vector<double> ucp = P.bodies[b].patch_values(static_cast<int>(patch), disp[b]);
+      const std::vector<double> ucp = P.bodies[b].patch_values(k, disp[b]);
       for (hsize_t a = 0; a < m; ++a) {
         cxyz.insert(cxyz.end(), {pt.cp[a].x[0], pt.cp[a].x[1], 0.0});
         cd3.insert(cd3.end(), {ucp[2 * a], ucp[2 * a + 1], 0.0});
