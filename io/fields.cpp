@@ -72,10 +72,10 @@ FieldPoint BodyField::eval(double u, double v, int s0, int s1) const {
 // unbounded there, and a discrete solution whose control points on the collapsed face differ
 // (independent dofs) has a stress growing like 1/distance in a thin layer (measured on a thick
 // sphere octant, p = 2, 6 x 6 x 4: sound at 6e-3 of an element from the pole, -47 at 6e-5,
-// -6500 at the pole against an exact 7.1). H is taken at the point moved 1 % of the way towards
-// the element's centre, outside that layer (there: 6.9, 6.5, -9.6 against 7.1, 7.1, -10); x, u
-// and detJ stay those of the point itself. Every fit point on a collapsed face is such a point;
-// the others lie at least 1 / p of an element away.
+// -6500 at 1e-6, against an exact 7.1; NaN on the pole itself). H is taken at the point moved
+// 1 % of the way towards the element's centre, outside that layer (there: 6.9, 6.5, -9.6
+// against 7.1, 7.1, -10); x, u and detJ stay those of the point itself. The output's other
+// evaluation points lie 1 / p or 1 / s (s <= 64 samples) of an element or more from the face.
 FieldPoint BodyField::eval3(const double* t, const int* sp) const {
   int s[3];
   for (int d = 0; d < 3; ++d)
