@@ -146,6 +146,9 @@ struct OutputOptions {
   std::string directory;
   int samples_per_element = 0;   // 1..64; 0: auto (samples())
   bool all_steps = true;   // output.steps: all (a state per converged load step) | last
+  /// output.cells (3-D only): faces (false, the default: the boundary faces of the patches as
+  /// Bezier quadrilaterals) | volume (true: every element as a Bezier hexahedron) in result_<n>.vtu
+  bool volume_cells = false;
   std::vector<Probe> probes;
 
   /// Samples per element and direction of the sampled grid (result_<n>.h5, result.xdmf) of a
