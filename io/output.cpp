@@ -136,13 +136,178 @@ std::vector<int> grid_quads(int n0, int n1) {
   return q;
 }
 
+// Hexahedra of an n0 x n1 x n2 grid of points (i fastest): bottom face counter-clockwise,
+// then the top (VTK_HEXAHEDRON / XDMF Hexahedron order).
+std::vector<int> grid_hexes(int n0, int n1, int n2) {
+  std::vector<int> h;
+  h.reserve(static_cast<size_t>(n0 - 1) * (n1 - 1) * (n2 - 1) * 8);
+  auto at = [&](int i, int j, int k) { return i + n0 * (j + n1 * k); };
+  for (int k = 0; k + 1 < n2; ++k)
+    for (int j = 0; j + 1 < n1; ++j)
+      for (int i = 0; i + 1 < n0; ++i)
+        h.insert(h.end(), {at(i, j, k), at(i + 1, j, k), at(i + 1, j + 1, k), at(i, j + 1, k), at(i, j, k + 1),
+                           at(i + 1, j, k + 1), at(i + 1, j + 1, k + 1), at(i, j + 1, k + 1)});
+  return h;
+}
+
 std::string step_name(int step) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "result_%04d", step);
   return buf;
 }
 
+// 3-D: the control net of a trivariate patch in the state's HDF5 image (control_shape
+// {m2, m1, m0}, control_xyz, control_hexes, control_displacement; Float64: the exact data) and
+// its grid in result_control_nets.xdmf (Hexahedron topology: Wireframe shows the net).
+void write_control_net3(H5Memory& f, const std::string& h5name, const std::string& g, const std::string& bn,
+                        const Patch& pt, const std::vector<double>& ucp, std::ostream& nets) {
+  const int m0 = pt.ncp(0), m1 = pt.ncp(1), m2 = pt.ncp(2);
+  const hsize_t m = static_cast<hsize_t>(m0) * m1 * m2;
+  std::vector<double> cxyz, cd3;
+  cxyz.reserve(3 * m);
+  cd3.reserve(3 * m);
+  for (hsize_t a = 0; a < m; ++a) {
+    cxyz.insert(cxyz.end(), {pt.cp[a].x[0], pt.cp[a].x[1], pt.cp[a].x[2]});
+    cd3.insert(cd3.end(), {ucp[3 * a], ucp[3 * a + 1], ucp[3 * a + 2]});
+  }
+  const std::vector<int> hexes = grid_hexes(m0, m1, m2);
+  const hsize_t mh = hexes.size() / 8;
+  f.write_int(g + "/control_shape", {m2, m1, m0}, {3});
+  f.write(g + "/control_xyz", cxyz, {m, 3});
+  f.write_int(g + "/control_hexes", hexes, {mh, 8});
+  f.write(g + "/control_displacement", cd3, {m, 3});
+  nets << "   <Grid Name=\"" << bn << "_control_net\" GridType=\"Uniform\">\n"
+       << "    <Topology TopologyType=\"Hexahedron\" NumberOfElements=\"" << mh << "\" NodesPerElement=\"8\">"
+       << data_item(h5name, g + "/control_hexes", {mh, 8}, Item::Int) << "</Topology>\n"
+       << "    <Geometry GeometryType=\"XYZ\">" << data_item(h5name, g + "/control_xyz", {m, 3}) << "</Geometry>\n"
+       << "    <Attribute Name=\"control_displacement\" AttributeType=\"Vector\" Center=\"Node\">"
+       << data_item(h5name, g + "/control_displacement", {m, 3}) << "</Attribute>\n"
+       << "   </Grid>\n";
+}
+
+
 }  // namespace
+
+double write_bodies(H5Memory& f, const std::string& h5name, const Problem& P,
+                    const std::vector<std::vector<double>>& disp, std::ostream& grids, std::ostream& nets) {
+  double umax = 0;
+  const int dim = P.dim();
+  for (size_t b = 0; b < P.bodies.size(); ++b)
+    for (size_t patch = 0; patch < P.bodies[b].patches.size(); ++patch) {
+      const int bi = static_cast<int>(b), k = static_cast<int>(patch);
+      const Patch& pt = P.bodies[b].patches[patch];
+      // a multi-patch body: one grid per patch, <body>.patch<k>
+      const std::string bn = P.bodies[b].name + (P.bodies[b].multipatch() ? ".patch" + std::to_string(k) : std::string());
+      const std::string g = "/bodies/" + bn;
+      f.group(g);
+      if (dim == 3) {
+        // 3-D: no sampled grid (docs/paraview.md); the control net as hexahedra
+        write_control_net3(f, h5name, g, bn, pt, P.bodies[b].patch_values(k, disp[b]), nets);
+        continue;
+      }
+      const BodyField field(P, bi, disp[b], k);
+      const int s = output_samples(P.output, pt);
+      const auto su = samples(pt.knots[0], pt.element_spans(0), s);
+      const auto sv = samples(pt.knots[1], pt.element_spans(1), s);
+      const int n0 = static_cast<int>(su.size()), n1 = static_cast<int>(sv.size());
+      const hsize_t n = static_cast<hsize_t>(n0) * n1;
+      // the sampled grid is a picture: Float32 (the exact data are the control net's, Float64)
+      std::vector<float> xyz, d3, stress, vm;
+      xyz.reserve(3 * n); d3.reserve(3 * n); stress.reserve(6 * n); vm.reserve(n);
+      for (const auto& v : sv)
+        for (const auto& uu : su) {
+          const FieldPoint fp = field.eval(uu.first, v.first, uu.second, v.second);
+          xyz.insert(xyz.end(), {static_cast<float>(fp.x), static_cast<float>(fp.y), 0.0f});
+          d3.insert(d3.end(), {static_cast<float>(fp.ux), static_cast<float>(fp.uy), 0.0f});
+          umax = std::max(umax, std::hypot(fp.ux, fp.uy));
+          // VTK order XX YY ZZ XY YZ XZ
+          stress.insert(stress.end(), {static_cast<float>(fp.sxx), static_cast<float>(fp.syy), static_cast<float>(fp.szz),
+                                       static_cast<float>(fp.sxy), 0.0f, 0.0f});
+          vm.push_back(static_cast<float>(fp.von_mises()));
+        }
+      const std::vector<int> quads = grid_quads(n0, n1);
+      const hsize_t nq = quads.size() / 4;
+      const int ne0 = static_cast<int>(pt.element_spans(0).size());
+      std::vector<int> element;
+      element.reserve(nq);
+      for (int j = 0; j + 1 < n1; ++j)
+        for (int i = 0; i + 1 < n0; ++i) element.push_back(i / s + (j / s) * ne0);
+      const int m0 = pt.ncp(0), m1 = pt.ncp(1);
+      const hsize_t m = static_cast<hsize_t>(m0) * m1;
+      std::vector<double> cxyz, cd3;
+      const std::vector<double> ucp = P.bodies[b].patch_values(k, disp[b]);
+      for (hsize_t a = 0; a < m; ++a) {
+        cxyz.insert(cxyz.end(), {pt.cp[a].x[0], pt.cp[a].x[1], 0.0});
+        cd3.insert(cd3.end(), {ucp[2 * a], ucp[2 * a + 1], 0.0});
+      }
+      const std::vector<int> cquads = grid_quads(m0, m1);
+      const hsize_t mq = cquads.size() / 4;
+
+      f.write_int(g + "/shape", {n1, n0}, {2});
+      f.write_float(g + "/xyz", xyz, {n, 3});
+      f.write_int(g + "/quads", quads, {nq, 4});
+      f.write_int(g + "/element", element, {nq});
+      f.write_float(g + "/displacement", d3, {n, 3});
+      f.write_float(g + "/stress", stress, {n, 6});
+      f.write_float(g + "/von_mises", vm, {n});
+      f.write_int(g + "/control_shape", {m1, m0}, {2});
+      f.write(g + "/control_xyz", cxyz, {m, 3});
+      f.write_int(g + "/control_quads", cquads, {mq, 4});
+      f.write(g + "/control_displacement", cd3, {m, 3});
+
+      grids << "   <Grid Name=\"" << bn << "\" GridType=\"Uniform\">\n"
+            << "    <Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"" << nq << "\" NodesPerElement=\"4\">"
+            << data_item(h5name, g + "/quads", {nq, 4}, Item::Int) << "</Topology>\n"
+            << "    <Geometry GeometryType=\"XYZ\">" << data_item(h5name, g + "/xyz", {n, 3}, Item::Float) << "</Geometry>\n"
+            << "    <Attribute Name=\"displacement\" AttributeType=\"Vector\" Center=\"Node\">"
+            << data_item(h5name, g + "/displacement", {n, 3}, Item::Float) << "</Attribute>\n"
+            << "    <Attribute Name=\"stress\" AttributeType=\"Tensor6\" Center=\"Node\">"
+            << data_item(h5name, g + "/stress", {n, 6}, Item::Float) << "</Attribute>\n";
+      // the stress once, as a tensor: ParaView colours by its components XX, YY, ZZ, XY (the
+      // scalars sxx, syy, sxy, szz written beside it before doubled the file; an XDMF
+      // hyperslab view of a column reads in the Xdmf3 readers or in the legacy one, not both)
+      grids << "    <Attribute Name=\"von_mises\" AttributeType=\"Scalar\" Center=\"Node\">"
+            << data_item(h5name, g + "/von_mises", {n}, Item::Float) << "</Attribute>\n";
+      grids << "    <Attribute Name=\"element\" AttributeType=\"Scalar\" Center=\"Cell\">"
+            << data_item(h5name, g + "/element", {nq}, Item::Int) << "</Attribute>\n"
+            << "   </Grid>\n";
+      nets  << "   <Grid Name=\"" << bn << "_control_net\" GridType=\"Uniform\">\n"
+            << "    <Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"" << mq << "\" NodesPerElement=\"4\">"
+            << data_item(h5name, g + "/control_quads", {mq, 4}, Item::Int) << "</Topology>\n"
+            << "    <Geometry GeometryType=\"XYZ\">" << data_item(h5name, g + "/control_xyz", {m, 3}) << "</Geometry>\n"
+            << "    <Attribute Name=\"control_displacement\" AttributeType=\"Vector\" Center=\"Node\">"
+            << data_item(h5name, g + "/control_displacement", {m, 3}) << "</Attribute>\n"
+            << "   </Grid>\n";
+    }
+  return umax;
+}
+
+nlohmann::json probe_json(const Problem& P, const Probe& pr, const std::vector<double>& body_disp) {
+  const Patch& pt = P.bodies[pr.body].patches[pr.patch];
+  const BodyField field(P, pr.body, body_disp, pr.patch);
+  if (pt.dim() == 3) {
+    double t[3];
+    for (int d = 0; d < 3; ++d) t[d] = pt.knots[d].front() + pr.at[d] * (pt.knots[d].back() - pt.knots[d].front());
+    const FieldPoint fp = field.eval(t);
+    return nlohmann::json({{"body", P.bodies[pr.body].name}, {"patch", pr.patch}, {"at", {pr.at[0], pr.at[1], pr.at[2]}},
+                      {"x", fp.x}, {"y", fp.y}, {"z", fp.z}, {"displacement", {fp.ux, fp.uy, fp.uz}},
+                      {"stress", {fp.sxx, fp.syy, fp.szz, fp.syz, fp.sxz, fp.sxy}}});
+  }
+  const double u = pt.knots[0].front() + pr.at[0] * (pt.knots[0].back() - pt.knots[0].front());
+  const double v = pt.knots[1].front() + pr.at[1] * (pt.knots[1].back() - pt.knots[1].front());
+  const FieldPoint fp = field.eval(u, v);
+  return nlohmann::json({{"body", P.bodies[pr.body].name}, {"patch", pr.patch}, {"at", {pr.at[0], pr.at[1]}}, {"x", fp.x},
+                    {"y", fp.y}, {"displacement", {fp.ux, fp.uy}}, {"stress", {fp.sxx, fp.syy, fp.sxy}}});
+}
+
+std::string xdmf_file(const std::string& run_id, const std::vector<std::string>& states) {
+  std::ostringstream x;
+  x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n  <Information Name=\"run_id\" Value=\"" << run_id
+    << "\"/>\n  <Grid Name=\"load_steps\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  for (const auto& s : states) x << s;
+  x << "  </Grid>\n </Domain>\n</Xdmf>\n";
+  return x.str();
+}
 
 // ------------------------------------------------------------------ ResultWriter
 
@@ -151,6 +316,7 @@ ResultWriter::ResultWriter(const System& sys, std::string dir, std::string probl
   history_ = nlohmann::json::array();
   files_ = nlohmann::json::object();
 }
+
 
 nlohmann::json ResultWriter::contact_json(const std::vector<ContactPairData>& contact) const {
   const Problem& P = sys_.problem();
@@ -228,90 +394,11 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
     for (std::ostringstream* o : {&grids, &nets, &points})
       *o << "  <Grid Name=\"step_" << name.substr(7) << "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
          << "   <Time Value=\"" << tv << "\"/>\n";
-    double umax = 0;
-    for (const PatchBlock& blk : sys_.blocks()) {
-      const size_t b = static_cast<size_t>(blk.body);
-      const Patch& pt = P.bodies[b].patches[blk.patch];
-      const BodyField field(P, blk.body, disp[b], blk.patch);
-      const int s = output_samples(P.output, pt);
-      const auto su = samples(pt.knots[0], pt.element_spans(0), s);
-      const auto sv = samples(pt.knots[1], pt.element_spans(1), s);
-      const int n0 = static_cast<int>(su.size()), n1 = static_cast<int>(sv.size());
-      const hsize_t n = static_cast<hsize_t>(n0) * n1;
-      // the sampled grid is a picture: Float32 (the exact data are the control net's, Float64)
-      std::vector<float> xyz, d3, stress, vm;
-      xyz.reserve(3 * n); d3.reserve(3 * n); stress.reserve(6 * n); vm.reserve(n);
-      for (const auto& v : sv)
-        for (const auto& uu : su) {
-          const FieldPoint fp = field.eval(uu.first, v.first, uu.second, v.second);
-          xyz.insert(xyz.end(), {static_cast<float>(fp.x), static_cast<float>(fp.y), 0.0f});
-          d3.insert(d3.end(), {static_cast<float>(fp.ux), static_cast<float>(fp.uy), 0.0f});
-          umax = std::max(umax, std::hypot(fp.ux, fp.uy));
-          // VTK order XX YY ZZ XY YZ XZ
-          stress.insert(stress.end(), {static_cast<float>(fp.sxx), static_cast<float>(fp.syy), static_cast<float>(fp.szz),
-                                       static_cast<float>(fp.sxy), 0.0f, 0.0f});
-          vm.push_back(static_cast<float>(fp.von_mises()));
-        }
-      const std::vector<int> quads = grid_quads(n0, n1);
-      const hsize_t nq = quads.size() / 4;
-      const int ne0 = static_cast<int>(pt.element_spans(0).size());
-      std::vector<int> element;
-      element.reserve(nq);
-      for (int j = 0; j + 1 < n1; ++j)
-        for (int i = 0; i + 1 < n0; ++i) element.push_back(i / s + (j / s) * ne0);
-      const int m0 = pt.ncp(0), m1 = pt.ncp(1);
-      const hsize_t m = static_cast<hsize_t>(m0) * m1;
-      std::vector<double> cxyz, cd3;
-      const std::vector<double> ucp = P.bodies[b].patch_values(blk.patch, disp[b]);
-      for (hsize_t a = 0; a < m; ++a) {
-        cxyz.insert(cxyz.end(), {pt.cp[a].x[0], pt.cp[a].x[1], 0.0});
-        cd3.insert(cd3.end(), {ucp[2 * a], ucp[2 * a + 1], 0.0});
-      }
-      const std::vector<int> cquads = grid_quads(m0, m1);
-      const hsize_t mq = cquads.size() / 4;
-
-      // a multi-patch body: one grid per patch, <body>.patch<k>
-      const std::string bn = P.bodies[b].name + (P.bodies[b].multipatch() ? ".patch" + std::to_string(blk.patch) : std::string());
-      const std::string g = "/bodies/" + bn;
-      f.group(g);
-      f.write_int(g + "/shape", {n1, n0}, {2});
-      f.write_float(g + "/xyz", xyz, {n, 3});
-      f.write_int(g + "/quads", quads, {nq, 4});
-      f.write_int(g + "/element", element, {nq});
-      f.write_float(g + "/displacement", d3, {n, 3});
-      f.write_float(g + "/stress", stress, {n, 6});
-      f.write_float(g + "/von_mises", vm, {n});
-      f.write_int(g + "/control_shape", {m1, m0}, {2});
-      f.write(g + "/control_xyz", cxyz, {m, 3});
-      f.write_int(g + "/control_quads", cquads, {mq, 4});
-      f.write(g + "/control_displacement", cd3, {m, 3});
-
-      grids << "   <Grid Name=\"" << bn << "\" GridType=\"Uniform\">\n"
-            << "    <Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"" << nq << "\" NodesPerElement=\"4\">"
-            << data_item(h5name, g + "/quads", {nq, 4}, Item::Int) << "</Topology>\n"
-            << "    <Geometry GeometryType=\"XYZ\">" << data_item(h5name, g + "/xyz", {n, 3}, Item::Float) << "</Geometry>\n"
-            << "    <Attribute Name=\"displacement\" AttributeType=\"Vector\" Center=\"Node\">"
-            << data_item(h5name, g + "/displacement", {n, 3}, Item::Float) << "</Attribute>\n"
-            << "    <Attribute Name=\"stress\" AttributeType=\"Tensor6\" Center=\"Node\">"
-            << data_item(h5name, g + "/stress", {n, 6}, Item::Float) << "</Attribute>\n";
-      // the stress once, as a tensor: ParaView colours by its components XX, YY, ZZ, XY (the
-      // scalars sxx, syy, sxy, szz written beside it before doubled the file; an XDMF
-      // hyperslab view of a column reads in the Xdmf3 readers or in the legacy one, not both)
-      grids << "    <Attribute Name=\"von_mises\" AttributeType=\"Scalar\" Center=\"Node\">"
-            << data_item(h5name, g + "/von_mises", {n}, Item::Float) << "</Attribute>\n";
-      grids << "    <Attribute Name=\"element\" AttributeType=\"Scalar\" Center=\"Cell\">"
-            << data_item(h5name, g + "/element", {nq}, Item::Int) << "</Attribute>\n"
-            << "   </Grid>\n";
-      nets  << "   <Grid Name=\"" << bn << "_control_net\" GridType=\"Uniform\">\n"
-            << "    <Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"" << mq << "\" NodesPerElement=\"4\">"
-            << data_item(h5name, g + "/control_quads", {mq, 4}, Item::Int) << "</Topology>\n"
-            << "    <Geometry GeometryType=\"XYZ\">" << data_item(h5name, g + "/control_xyz", {m, 3}) << "</Geometry>\n"
-            << "    <Attribute Name=\"control_displacement\" AttributeType=\"Vector\" Center=\"Node\">"
-            << data_item(h5name, g + "/control_displacement", {m, 3}) << "</Attribute>\n"
-            << "   </Grid>\n";
-    }
-    if (!cstate.empty()) f.group("/contact");
-    for (size_t k = 0; k < cstate.size(); ++k) {
+    const int dim = P.dim();
+    double umax = write_bodies(f, h5name, P, disp, grids, nets);
+    // (3-D contact output comes with 3-D contact)
+    if (!cstate.empty() && dim == 2) f.group("/contact");
+    for (size_t k = 0; k < (dim == 2 ? cstate.size() : 0); ++k) {
       // slave points in the reference configuration with their displacement, so that they
       // move with the bodies under any Warp By Vector scale
       const auto& cs = cstate[k];
@@ -365,18 +452,19 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
       xml.insert(xml.find('\n') + 1, "<!-- igacontact run_id " + run_id_ + " -->\n");
       return xml;
     };
-    write(name + ".vtu", bezier_vtu(P, disp, lambda, run_id_));   // its run id comment is vtu_text's
+    {
+      const BezierMesh mesh = bezier_mesh(P, disp);
+      write(name + ".vtu", vtu_text(mesh, lambda, run_id_));   // its run id comment is vtu_text's
+      if (dim == 3) umax = mesh.max_displacement;   // 3-D: at the cells' evaluation points
+    }
 
     // the collections over every state written so far, rewritten whole each time
     xdmf_grids_.push_back({grids.str(), nets.str(), points.str()});
     const char* xdmf_names[3] = {"result.xdmf", "result_control_nets.xdmf", "result_contact.xdmf"};
-    for (int fi = 0; fi < 3; ++fi) {
-      std::ostringstream x;
-      x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n  <Information Name=\"run_id\" Value=\"" << run_id_
-        << "\"/>\n  <Grid Name=\"load_steps\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-      for (const auto& gs : xdmf_grids_) x << gs[fi];
-      x << "  </Grid>\n </Domain>\n</Xdmf>\n";
-      write(xdmf_names[fi], x.str());
+    for (int fi = dim == 3 ? 1 : 0; fi < 3; ++fi) {   // 3-D: no sampled grid, no result.xdmf
+      std::vector<std::string> states;
+      for (const auto& gs : xdmf_grids_) states.push_back(gs[fi]);
+      write(xdmf_names[fi], xdmf_file(run_id_, states));
     }
     std::vector<std::pair<double, std::string>> vtus;
     for (const auto& w : written_) vtus.push_back({w.lambda, step_name(w.step) + ".vtu"});
@@ -439,13 +527,7 @@ nlohmann::json ResultWriter::finish(const SolveResult& res) {
 
     nlohmann::json probes = nlohmann::json::array();
     for (const Probe& pr : P.output.probes) {
-      const Patch& pt = P.bodies[pr.body].patches[pr.patch];
-      const BodyField field(P, pr.body, disp[pr.body], pr.patch);
-      const double u = pt.knots[0].front() + pr.at[0] * (pt.knots[0].back() - pt.knots[0].front());
-      const double v = pt.knots[1].front() + pr.at[1] * (pt.knots[1].back() - pt.knots[1].front());
-      const FieldPoint fp = field.eval(u, v);
-      probes.push_back({{"body", P.bodies[pr.body].name}, {"patch", pr.patch}, {"at", {pr.at[0], pr.at[1]}}, {"x", fp.x},
-                        {"y", fp.y}, {"displacement", {fp.ux, fp.uy}}, {"stress", {fp.sxx, fp.syy, fp.sxy}}});
+      probes.push_back(probe_json(P, pr, disp[pr.body]));
     }
     summary["probes"] = probes;
 

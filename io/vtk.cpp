@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <iomanip>
 #include <limits>
 #include <sstream>
@@ -14,6 +15,7 @@
 #include "io/fields.hpp"
 #include "kernels/nurbs_basis.hpp"
 #include "model/bezier.hpp"
+#include "model/multipatch.hpp"
 
 namespace iga {
 
@@ -175,107 +177,273 @@ int output_samples(const OutputOptions& o, const Patch& pt) {
                    static_cast<long long>(pt.cp.size()));
 }
 
+namespace {
+
+// One family of cells: the elements of a patch `geo` in Bezier form, bivariate (quadrilaterals:
+// a 2-D patch, or a face of a 3-D patch as Patch::face gives it) or trivariate (hexahedra),
+// with the displacement per control point of `geo` (ncu components) and the field evaluated at
+// geo's parameters.
+struct CellFamily {
+  const Patch* geo = nullptr;
+  const std::vector<double>* u = nullptr;   // ncu per control point of geo
+  int ncu = 2;
+  int body = 0, patch = 0;
+  // 3-D faces: the side of the volume patch (-1: the patch's own elements), its volume
+  // patch, and whether the cells are transposed (i <-> j) so that their VTK normal is outward
+  int face = -1;
+  const Patch* volume = nullptr;
+  bool flip = false;
+  int samples = 0;   // the bounds grid per element and direction (0: the fit points only)
+  std::function<FieldPoint(const double* t, const int* s)> eval;   // t: geo's parameters, s its spans
+};
+
+// The stress values of a field point fitted per cell: 2-D sxx, syy, szz, sxy, von Mises; 3-D
+// sxx, syy, szz, sxy, syz, sxz (VTK's order), von Mises.
+int stress_values(int ncu, const FieldPoint& f, double* v) {
+  if (ncu == 2) {
+    const double w[5] = {f.sxx, f.syy, f.szz, f.sxy, f.von_mises()};
+    std::copy(w, w + 5, v);
+    return 5;
+  }
+  const double w[7] = {f.sxx, f.syy, f.szz, f.sxy, f.syz, f.sxz, f.von_mises()};
+  std::copy(w, w + 7, v);
+  return 7;
+}
+
+// The cells of one family appended to m (points shared within the family, shared_offsets).
+void add_cells(BezierMesh& m, const CellFamily& F) {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  const Patch& pt = *F.geo;
+  const int cd = pt.dim();   // cell dimension: 2 quadrilaterals, 3 hexahedra
+  const BezierPatch B(pt);
+  const int nq = F.ncu == 2 ? 5 : 7;   // fitted values: stress components and von Mises
+  int p[3] = {B.degree()[0], B.degree()[1], cd == 3 ? B.degree()[2] : 0};
+  const int n0 = p[0] + 1, n1 = p[1] + 1, n = B.points_per_element();
+  int N[3] = {1, 1, 1};
+  std::vector<int> off[3];
+  for (int d = 0; d < cd; ++d) off[d] = shared_offsets(pt.knots[d], pt.element_spans(d), p[d], N[d]);
+  for (int d = cd; d < 3; ++d) off[d] = {0};
+  const size_t base = m.weights.size(), np = static_cast<size_t>(N[0]) * N[1] * N[2];
+  m.points.resize(3 * (base + np), 0.0);
+  m.weights.resize(base + np);
+  m.displacement.resize(3 * (base + np), 0.0);
+  m.stress.resize(6 * (base + np), 0.0);
+  m.von_mises.resize(base + np);
+  // per shared point: the sum of the elements' fitted coefficients, their number, and the
+  // union of the sampled ranges of the elements that share it
+  std::vector<double> sum(nq * np, 0.0), lo(nq * np, inf), hi(nq * np, -inf);
+  std::vector<int> count(np, 0);
+  // fit points (j0 / p0, j1 / p1[, j2 / p2]), j0 fastest; then the bounds grid of s per element
+  // and direction, less the points that are fit points already (the same doubles: j s' = k p)
+  std::vector<std::array<double, 3>> tb;
+  for (int j2 = 0; j2 <= p[2]; ++j2)
+    for (int j1 = 0; j1 <= p[1]; ++j1)
+      for (int j0 = 0; j0 <= p[0]; ++j0)
+        tb.push_back({static_cast<double>(j0) / p[0], static_cast<double>(j1) / p[1], cd == 3 ? static_cast<double>(j2) / p[2] : 0.0});
+  const int s = F.samples;
+  if (s > 0)
+    for (int j2 = 0; j2 <= (cd == 3 ? s : 0); ++j2)
+      for (int j1 = 0; j1 <= s; ++j1)
+        for (int j0 = 0; j0 <= s; ++j0)
+          if ((j0 * p[0]) % s != 0 || (j1 * p[1]) % s != 0 || (cd == 3 && (j2 * p[2]) % s != 0))
+            tb.push_back({static_cast<double>(j0) / s, static_cast<double>(j1) / s, cd == 3 ? static_cast<double>(j2) / s : 0.0});
+  std::vector<ControlPoint> pts(n);
+  std::vector<double> u(F.ncu * n), w(n), vals(nq * n), coef(nq * n), elo(nq), ehi(nq);
+  const std::vector<double> none;
+  for (int e = 0; e < B.num_elements(); ++e) {
+    B.element_points(e, pts.data());
+    B.element_field(e, F.u->data(), F.ncu, u.data());
+    std::array<double, 2> r[3] = {{0, 0}, {0, 0}, {0, 0}};
+    int sp[3] = {0, 0, 0}, ei[3] = {0, 0, 0};
+    for (int d = 0; d < cd; ++d) {
+      r[d] = B.range(e, d);
+      sp[d] = B.span(e, d);
+      ei[d] = B.element_index(e, d);
+    }
+    std::fill(elo.begin(), elo.end(), inf);
+    std::fill(ehi.begin(), ehi.end(), -inf);
+    for (size_t j = 0; j < tb.size(); ++j) {
+      double t[3];
+      for (int d = 0; d < cd; ++d) t[d] = r[d][0] + tb[j][d] * (r[d][1] - r[d][0]);
+      const FieldPoint f = F.eval(t, sp);
+      m.max_displacement = std::max(m.max_displacement, std::sqrt(f.ux * f.ux + f.uy * f.uy + f.uz * f.uz));
+      double v[7];
+      stress_values(F.ncu, f, v);
+      for (int q = 0; q < nq; ++q) {
+        elo[q] = std::min(elo[q], v[q]);
+        ehi[q] = std::max(ehi[q], v[q]);
+      }
+      if (j < static_cast<size_t>(n)) {
+        w[j] = pts[j].w;
+        std::copy(v, v + nq, &vals[nq * j]);
+      }
+    }
+    fit_rational_bezier(cd, p, w.data(), nq, vals.data(), coef.data());
+    const size_t cbase = m.connectivity.size();
+    m.connectivity.resize(cbase + n);
+    for (int kk = 0; kk < n; ++kk) {
+      const int i = kk % n0, j = (kk / n0) % n1, k = kk / (n0 * n1);
+      const size_t g = static_cast<size_t>(off[0][ei[0]] + i) +
+                       static_cast<size_t>(N[0]) * (static_cast<size_t>(off[1][ei[1]] + j) + static_cast<size_t>(N[1]) * (off[2][ei[2]] + k));
+      const size_t q = base + g;
+      const int at = cd == 3 ? vtk_hex_point_index(i, j, k, p[0], p[1], p[2])
+                             : F.flip ? vtk_quad_point_index(j, i, p[1], p[0]) : vtk_quad_point_index(i, j, p[0], p[1]);
+      m.connectivity[cbase + at] = static_cast<std::int64_t>(q);
+      m.points[3 * q] = pts[kk].x[0];
+      m.points[3 * q + 1] = pts[kk].x[1];
+      m.weights[q] = pts[kk].w;
+      m.displacement[3 * q] = u[F.ncu * kk];
+      m.displacement[3 * q + 1] = u[F.ncu * kk + 1];
+      if (F.ncu == 3) {   // (2-D keeps the literal zeros: a 3-D extraction of z = 0 may give -0)
+        m.points[3 * q + 2] = pts[kk].x[2];
+        m.displacement[3 * q + 2] = u[3 * kk + 2];
+      }
+      ++count[g];
+      for (int c = 0; c < nq; ++c) {
+        sum[nq * g + c] += coef[nq * kk + c];
+        lo[nq * g + c] = std::min(lo[nq * g + c], elo[c]);
+        hi[nq * g + c] = std::max(hi[nq * g + c], ehi[c]);
+      }
+    }
+    m.offsets.push_back(static_cast<std::int64_t>(cbase + n));
+    m.types.push_back(cd == 3 ? 79 : 77);
+    m.body.push_back(F.body);
+    m.patch.push_back(F.patch);
+    if (F.ncu == 2) {   // 2-D: the patch's own elements
+      m.degrees.insert(m.degrees.end(), {p[0], p[1], 0});
+      m.element.push_back(e);
+      m.element_ij.insert(m.element_ij.end(), {ei[0], ei[1]});
+      m.knot_span.insert(m.knot_span.end(), {sp[0], sp[1]});
+      m.range.insert(m.range.end(), {r[0][0], r[0][1], r[1][0], r[1][1]});
+      continue;
+    }
+    // 3-D: the volume element the cell is (hexahedra) or lies on (faces)
+    if (cd == 3)
+      m.degrees.insert(m.degrees.end(), {p[0], p[1], p[2]});
+    else if (F.flip)
+      m.degrees.insert(m.degrees.end(), {p[1], p[0], 0});
+    else
+      m.degrees.insert(m.degrees.end(), {p[0], p[1], 0});
+    const Patch& V = F.face >= 0 ? *F.volume : pt;
+    int vi[3], vs[3];
+    std::array<double, 2> vr[3];
+    if (F.face < 0) {
+      for (int d = 0; d < 3; ++d) {
+        vi[d] = ei[d];
+        vs[d] = sp[d];
+        vr[d] = r[d];
+      }
+    } else {
+      const int fd = side_direction(F.face), end = side_end(F.face);
+      for (int d = 0, a = 0; d < 3; ++d) {
+        if (d == fd) {
+          const std::vector<int> spans = V.element_spans(d);
+          vi[d] = end ? static_cast<int>(spans.size()) - 1 : 0;
+          vs[d] = spans[vi[d]];
+          const double x = end ? V.knots[d].back() : V.knots[d].front();
+          vr[d] = {x, x};
+        } else {
+          vi[d] = ei[a];
+          vs[d] = sp[a];
+          vr[d] = r[a];
+          ++a;
+        }
+      }
+    }
+    m.element.push_back(vi[0] + V.num_elements(0) * (vi[1] + V.num_elements(1) * vi[2]));
+    m.element_ij.insert(m.element_ij.end(), {vi[0], vi[1], vi[2]});
+    m.knot_span.insert(m.knot_span.end(), {vs[0], vs[1], vs[2]});
+    m.range.insert(m.range.end(), {vr[0][0], vr[0][1], vr[1][0], vr[1][1], vr[2][0], vr[2][1]});
+    m.face.push_back(F.face);
+  }
+  // the shared coefficients: the mean of the elements' fits (equal to round-off where the
+  // stress is continuous), clamped into the union of those elements' sampled ranges
+  for (size_t g = 0; g < np; ++g) {
+    double c[7];
+    for (int q = 0; q < nq; ++q) c[q] = sum[nq * g + q] / count[g];
+    clamp_coefficients(1, nq, &lo[nq * g], &hi[nq * g], c);
+    const double st[6] = {c[0], c[1], c[2], c[3], nq == 7 ? c[4] : 0.0, nq == 7 ? c[5] : 0.0};
+    std::copy(st, st + 6, &m.stress[6 * (base + g)]);
+    m.von_mises[base + g] = c[nq - 1];
+  }
+}
+
+}  // namespace
+
 BezierMesh bezier_mesh(const Problem& P, const std::vector<std::vector<double>>& cp_displacement) {
   if (cp_displacement.size() != P.bodies.size())
     throw std::invalid_argument("bezier_mesh: one displacement vector per body expected");
+  const int dim = P.dim();
   BezierMesh m;
+  m.dim = dim;
   for (size_t b = 0; b < P.bodies.size(); ++b) {
-    if (cp_displacement[b].size() != 2 * static_cast<size_t>(P.bodies[b].num_cps))
-      throw std::invalid_argument("bezier_mesh: body " + P.bodies[b].name + ": 2 displacements per control point expected");
+    if (cp_displacement[b].size() != static_cast<size_t>(dim) * static_cast<size_t>(P.bodies[b].num_cps))
+      throw std::invalid_argument("bezier_mesh: body " + P.bodies[b].name + ": " + std::to_string(dim) +
+                                  " displacements per control point expected");
     m.body_names.push_back(P.bodies[b].name);
   }
-  constexpr double inf = std::numeric_limits<double>::infinity();
-  // cells patch after patch of each body; points shared within a patch (shared_offsets)
+  // cells patch after patch of each body; points shared within a patch (shared_offsets), in
+  // 3-D within a face
   for (size_t b = 0; b < P.bodies.size(); ++b)
     for (size_t k = 0; k < P.bodies[b].patches.size(); ++k) {
-      const Patch& pt = P.bodies[b].patches[k];
-      const BezierPatch B(pt);
+      const Body& body = P.bodies[b];
+      const Patch& pt = body.patches[k];
       const BodyField field(P, static_cast<int>(b), cp_displacement[b], static_cast<int>(k));
-      const std::vector<double> ucp = P.bodies[b].patch_values(static_cast<int>(k), cp_displacement[b]);
-      const int p0 = B.degree()[0], p1 = B.degree()[1], n0 = p0 + 1, n = B.points_per_element();
-      int N0 = 0, N1 = 0;
-      const std::vector<int> off0 = shared_offsets(pt.knots[0], pt.element_spans(0), p0, N0);
-      const std::vector<int> off1 = shared_offsets(pt.knots[1], pt.element_spans(1), p1, N1);
-      const size_t base = m.weights.size(), np = static_cast<size_t>(N0) * N1;
-      m.points.resize(3 * (base + np), 0.0);
-      m.weights.resize(base + np);
-      m.displacement.resize(3 * (base + np), 0.0);
-      m.stress.resize(6 * (base + np), 0.0);
-      m.von_mises.resize(base + np);
-      // per shared point: the sum of the elements' fitted coefficients, their number, and the
-      // union of the sampled ranges of the elements that share it
-      std::vector<double> sum(5 * np, 0.0), lo(5 * np, inf), hi(5 * np, -inf);
-      std::vector<int> count(np, 0);
-      const auto t = fit_points(p0, p1);
-      // the bounds of each cell's fit: the fit points and the output sample grid of the cell
-      // (the points result.xdmf shows, s per element and direction, ends included)
-      const int s = output_samples(P.output, pt);
-      // (a grid point that is also a fit point, j0 / s = k0 / p0 and j1 / s = k1 / p1 (the
-      // corners always), is the same double and was evaluated with the fit points already)
-      std::vector<std::array<double, 2>> tb(t);
-      for (int j1 = 0; j1 <= s; ++j1)
-        for (int j0 = 0; j0 <= s; ++j0)
-          if ((j0 * p0) % s != 0 || (j1 * p1) % s != 0)
-            tb.push_back({static_cast<double>(j0) / s, static_cast<double>(j1) / s});
-      std::vector<ControlPoint> pts(n);
-      std::vector<double> u(2 * n), w(n), vals(5 * n), coef(5 * n), elo(5), ehi(5);
-      for (int e = 0; e < B.num_elements(); ++e) {
-        B.element_points(e, pts.data());
-        B.element_field(e, ucp.data(), 2, u.data());
-        const auto r0 = B.range(e, 0), r1 = B.range(e, 1);
-        const int s0 = B.span(e, 0), s1 = B.span(e, 1);
-        const int e0 = e % B.num_elements(0), e1 = e / B.num_elements(0);
-        std::fill(elo.begin(), elo.end(), inf);
-        std::fill(ehi.begin(), ehi.end(), -inf);
-        for (size_t j = 0; j < tb.size(); ++j) {
-          const FieldPoint f = field.eval(r0[0] + tb[j][0] * (r0[1] - r0[0]), r1[0] + tb[j][1] * (r1[1] - r1[0]), s0, s1);
-          const double v[5] = {f.sxx, f.syy, f.szz, f.sxy, f.von_mises()};
-          for (int q = 0; q < 5; ++q) {
-            elo[q] = std::min(elo[q], v[q]);
-            ehi[q] = std::max(ehi[q], v[q]);
-          }
-          if (j < static_cast<size_t>(n)) {
-            w[j] = pts[j].w;
-            std::copy(v, v + 5, &vals[5 * j]);
-          }
-        }
-        fit_rational_bezier(p0, p1, w.data(), 5, vals.data(), coef.data());
-        const size_t cbase = m.connectivity.size();
-        m.connectivity.resize(cbase + n);
-        for (int kk = 0; kk < n; ++kk) {
-          const int i = kk % n0, j = kk / n0;
-          const size_t g = static_cast<size_t>(off0[e0] + i) + static_cast<size_t>(N0) * (off1[e1] + j), q = base + g;
-          m.connectivity[cbase + vtk_quad_point_index(i, j, p0, p1)] = static_cast<std::int64_t>(q);
-          m.points[3 * q] = pts[kk].x[0];
-          m.points[3 * q + 1] = pts[kk].x[1];
-          m.weights[q] = pts[kk].w;
-          m.displacement[3 * q] = u[2 * kk];
-          m.displacement[3 * q + 1] = u[2 * kk + 1];
-          ++count[g];
-          for (int c = 0; c < 5; ++c) {
-            sum[5 * g + c] += coef[5 * kk + c];
-            lo[5 * g + c] = std::min(lo[5 * g + c], elo[c]);
-            hi[5 * g + c] = std::max(hi[5 * g + c], ehi[c]);
-          }
-        }
-        m.offsets.push_back(static_cast<std::int64_t>(cbase + n));
-        m.degrees.insert(m.degrees.end(), {p0, p1, 0});
-        m.body.push_back(static_cast<int>(b));
-        m.patch.push_back(static_cast<int>(k));
-        m.element.push_back(e);
-        m.element_ij.insert(m.element_ij.end(), {e0, e1});
-        m.knot_span.insert(m.knot_span.end(), {s0, s1});
-        m.range.insert(m.range.end(), {r0[0], r0[1], r1[0], r1[1]});
+      const std::vector<double> ucp = body.patch_values(static_cast<int>(k), cp_displacement[b]);
+      CellFamily F;
+      F.ncu = dim;
+      F.body = static_cast<int>(b);
+      F.patch = static_cast<int>(k);
+      if (dim == 2 || P.output.volume_cells) {
+        // the patch's elements: 2-D quadrilaterals, bounds from the fit points and the output
+        // grid of result.xdmf; 3-D hexahedra, bounds from the fit points and, where
+        // output.samples_per_element is given, that grid
+        F.geo = &pt;
+        F.u = &ucp;
+        F.samples = dim == 2 ? output_samples(P.output, pt) : P.output.samples_per_element;
+        F.eval = [&](const double* t, const int* s) { return field.eval(t, s); };
+        add_cells(m, F);
+        continue;
       }
-      // the shared coefficients: the mean of the elements' fits (equal to round-off where the
-      // stress is continuous), clamped into the union of those elements' sampled ranges
-      for (size_t g = 0; g < np; ++g) {
-        double c[5];
-        for (int q = 0; q < 5; ++q) c[q] = sum[5 * g + q] / count[g];
-        clamp_coefficients(1, 5, &lo[5 * g], &hi[5 * g], c);
-        const double st[6] = {c[0], c[1], c[2], c[3], 0.0, 0.0};
-        std::copy(st, st + 6, &m.stress[6 * (base + g)]);
-        m.von_mises[base + g] = c[4];
+      // 3-D faces: the patch's boundary faces that are not interfaces, each a bivariate patch
+      // of its own (Patch::face: the free directions in increasing order) with the volume's
+      // field on it; cells transposed where that order's normal points inwards
+      for (int sd = 0; sd < num_sides(3); ++sd) {
+        const Side side = static_cast<Side>(sd);
+        if (body.is_interface(PatchSide{static_cast<int>(k), side})) continue;
+        // a face collapsed onto a curve or a point (a sphere octant's pole) has no area: no
+        // boundary, no cells (the same rule as the configuration check's)
+        if (side_collapsed(pt, side, body.tolerance)) continue;
+        const Patch face = pt.face(side);
+        const std::vector<int> idx = pt.side_indices(side);
+        std::vector<double> uf(3 * idx.size());
+        for (size_t a = 0; a < idx.size(); ++a)
+          for (int c = 0; c < 3; ++c) uf[3 * a + c] = ucp[3 * static_cast<size_t>(idx[a]) + c];
+        const int fd = side_direction(side), end = side_end(side);
+        int fdirs[2], fi = 0;
+        for (int d = 0; d < 3; ++d)
+          if (d != fd) fdirs[fi++] = d;
+        const std::vector<int> fixed_spans = pt.element_spans(fd);
+        const double x_fixed = end ? pt.knots[fd].back() : pt.knots[fd].front();
+        const int s_fixed = end ? fixed_spans.back() : fixed_spans.front();
+        F.geo = &face;
+        F.u = &uf;
+        F.face = sd;
+        F.volume = &pt;
+        F.flip = side_normal_sign(side) * pt.orientation() < 0;
+        F.samples = output_samples(P.output, face);
+        F.eval = [&](const double* t, const int* s) {
+          double t3[3];
+          int s3[3];
+          t3[fd] = x_fixed;
+          s3[fd] = s_fixed;
+          for (int a = 0; a < 2; ++a) {
+            t3[fdirs[a]] = t[a];
+            s3[fdirs[a]] = s[a];
+          }
+          return field.eval(t3, s3);
+        };
+        add_cells(m, F);
       }
     }
   return m;
@@ -360,7 +528,9 @@ std::string vtu_text(const BezierMesh& m, double load_factor, const std::string&
   std::ostringstream x;
   x << "<?xml version=\"1.0\"?>\n"
     << "<!-- igacontact run_id " << run_id << " -->\n"   // VTK writes string arrays as character codes
-    << "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"" << (little_endian() ? "LittleEndian" : "BigEndian")
+    // version 2.2 where hexahedra may be written: VTK >= 9.1 reads the higher-order hexahedra
+    // of an older file in the legacy point order (two edges' points swapped) and converts them
+    << "<VTKFile type=\"UnstructuredGrid\" version=\"" << (m.dim == 3 ? "2.2" : "1.0") << "\" byte_order=\"" << (little_endian() ? "LittleEndian" : "BigEndian")
     << "\" header_type=\"UInt64\">\n"
     << " <UnstructuredGrid>\n"
     << "  <FieldData>\n"
@@ -387,13 +557,15 @@ std::string vtu_text(const BezierMesh& m, double load_factor, const std::string&
   w.array("Int32", "body", 0, m.body, in);
   w.array("Int32", "patch", 0, m.patch, in);
   w.array("Int32", "element", 0, m.element, in);
-  w.array("Int32", "element_ij", 2, m.element_ij, in);
-  w.array("Int32", "knot_span", 2, m.knot_span, in);
-  w.array("Float64", "parametric_range", 4, m.range, in);
+  w.array("Int32", "element_ij", m.dim, m.element_ij, in);
+  w.array("Int32", "knot_span", m.dim, m.knot_span, in);
+  w.array("Float64", "parametric_range", 2 * m.dim, m.range, in);
+  if (m.dim == 3) w.array("Int32", "face", 0, m.face, in);
   x << "   </CellData>\n   <Points>\n";
   w.array("Float64", "Points", 3, m.points, in);
   x << "   </Points>\n   <Cells>\n";
-  const std::vector<std::uint8_t> types(nc, 77);  // VTK_BEZIER_QUADRILATERAL
+  // VTK_BEZIER_QUADRILATERAL (77), VTK_BEZIER_HEXAHEDRON (79)
+  const std::vector<std::uint8_t> types = m.types.size() == nc ? m.types : std::vector<std::uint8_t>(nc, 77);
   if (m.connectivity.size() < static_cast<size_t>(std::numeric_limits<std::int32_t>::max())) {
     w.array("Int32", "connectivity", 0, std::vector<std::int32_t>(m.connectivity.begin(), m.connectivity.end()), in);
     w.array("Int32", "offsets", 0, std::vector<std::int32_t>(m.offsets.begin(), m.offsets.end()), in);

@@ -49,6 +49,25 @@
 //   parametric_range   C x 4  Float64  u_a, u_b, v_a, v_b of the element
 //   field data: TimeValue (Float64, 1: the load factor), run_id (String, 1),
 //               body_names (String, one per body)
+// 3-D (Analysis::Solid, trivariate patches): the same construction on
+//   - faces (default, output.cells: faces): each boundary face of a patch that is not an
+//     interface and not collapsed onto a curve or a point (a sphere octant's pole) is the bivariate patch Patch::face(s) (3-D Bezier points, its directions the
+//     free ones in increasing order); its elements become VTK_BEZIER_QUADRILATERAL cells
+//     carrying the volume's field on the face (stress evaluated in the volume at the face's
+//     parameter); a cell is transposed (i <-> j, degrees (p1, p0)) where that order's normal
+//     points into the body, so every face cell's VTK normal points outwards. Points are shared
+//     within a face, not between faces. Bounds of the stress fit: fit points and the grid of
+//     output_samples of the face.
+//   - volume (output.cells: volume): each element a VTK_BEZIER_HEXAHEDRON (type 79) of
+//     (p0 + 1)(p1 + 1)(p2 + 1) points in vtk_hex_point_index order, shared within the patch
+//     as above in three directions; bounds: the fit points (j0 / p0, j1 / p1, j2 / p2) and,
+//     where output.samples_per_element is given, that grid.
+//   Arrays as in 2-D with Points x, y, z, displacement ux, uy, uz, stress all six components,
+//   HigherOrderDegrees p0, p1, p2 (hexahedra) or the face's two degrees and 0; the cell arrays
+//   name the volume element the cell is or lies on: element e0 + ne0 (e1 + ne1 e2),
+//   element_ij C x 3, knot_span C x 3, parametric_range C x 6 (u_a, u_b, v_a, v_b, w_a, w_b;
+//   on a face the fixed direction's a = b), and face C Int32 (the side 0..5 of a face cell,
+//   -1 for a hexahedron).
 // Cost: O(C (p0 + p1 + 2)(p0 + 1)(p1 + 1)) for the fits (tensor-product solves of the
 // Bernstein collocation matrices), plus one BodyField evaluation per fit point and per
 // sample of the bounds.
@@ -95,19 +114,24 @@ void clamp_coefficients(int n, int ncomp, const double* lo, const double* hi, do
 
 /// All bodies as rational Bezier cells, arrays as described above (points in VTK order).
 struct BezierMesh {
+  int dim = 2;                        // of the problem: 3-D cells carry 3-component indices
   std::vector<double> points;         // 3 per point
   std::vector<double> weights;        // 1 per point
   std::vector<double> displacement;   // 3 per point
   std::vector<double> stress;         // 6 per point: XX, YY, ZZ, XY, YZ, XZ
   std::vector<double> von_mises;      // 1 per point
-  std::vector<std::int64_t> connectivity;   // (p0 + 1)(p1 + 1) point indices per cell, VTK order
+  std::vector<std::int64_t> connectivity;   // the cell's points, VTK order
   std::vector<std::int64_t> offsets;  // end of each cell's connectivity (VTK "offsets")
+  std::vector<std::uint8_t> types;    // VTK cell type: 77 quadrilateral, 79 hexahedron
   std::vector<int> degrees;           // 3 per cell
   std::vector<int> body, patch, element;   // 1 per cell (patch: of its body)
-  std::vector<int> element_ij;        // 2 per cell
-  std::vector<int> knot_span;         // 2 per cell
-  std::vector<double> range;          // 4 per cell
+  std::vector<int> element_ij;        // dim per cell
+  std::vector<int> knot_span;         // dim per cell
+  std::vector<double> range;          // 2 dim per cell
+  std::vector<int> face;              // 3-D: 1 per cell, the side (0..5) of a face cell, -1 for a hexahedron
   std::vector<std::string> body_names;
+  /// Largest |u| at the points where the field was evaluated (fit points and bounds samples)
+  double max_displacement = 0;
   std::size_t num_points() const { return weights.size(); }
   std::size_t num_cells() const { return body.size(); }
 };
@@ -115,8 +139,11 @@ struct BezierMesh {
 /// Samples per element and direction of the output grid of a patch (OutputOptions::samples).
 int output_samples(const OutputOptions& o, const Patch& pt);
 
-/// Builds the cells. cp_displacement: per body, 2 values per control point (as
-/// gather_displacements returns them on rank 0).
+/// Builds the cells. cp_displacement: per body, dim values per control point (as
+/// gather_displacements returns them on rank 0). 3-D (Problem::dim() = 3): by default the
+/// boundary faces of every patch that are not interfaces (output.cells: faces), or with
+/// OutputOptions::volume_cells (output.cells: volume) every element as a hexahedron; see
+/// "3-D" above.
 BezierMesh bezier_mesh(const Problem& P, const std::vector<std::vector<double>>& cp_displacement);
 
 enum class VtkEncoding { Ascii, AppendedRaw };

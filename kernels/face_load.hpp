@@ -39,6 +39,34 @@ KOKKOS_INLINE_FUNCTION void face_directions(int face, int fd[2]) {
     if (e != side_direction(face)) fd[i++] = e;
 }
 
+/// Face elements of a face of a trivariate patch: ne_f0 x ne_f1.
+KOKKOS_INLINE_FUNCTION int num_face_elements(const PatchData3& pd, int face) {
+  int fd[2];
+  face_directions(face, fd);
+  return pd.ne[fd[0]] * pd.ne[fd[1]];
+}
+
+/// Face element k = k0 + ne_f0 k1 of a face: its free directions fd, knot spans s, and per free
+/// direction the span's start lo and half length h. False where the patch element it belongs
+/// to is not in [e_begin, e_end) (another rank's).
+struct FaceElement {
+  int fd[2], s[2];
+  double lo[2], h[2];
+  KOKKOS_INLINE_FUNCTION bool set(const PatchData3& pd, int face, int k, int e_begin, int e_end) {
+    face_directions(face, fd);
+    const int kk[2] = {k % pd.ne[fd[0]], k / pd.ne[fd[0]]};
+    const int pe = side_tensor_index(face, kk, pd.ne, 3);
+    if (pe < e_begin || pe >= e_end) return false;
+    for (int i = 0; i < 2; ++i) {
+      s[i] = pd.span[fd[i]](kk[i]);
+      const double* U = pd.U[fd[i]].data();
+      lo[i] = U[s[i]];
+      h[i] = 0.5 * (U[s[i] + 1] - U[s[i]]);
+    }
+    return true;
+  }
+};
+
 template <class FView>
 struct AssembleFaceLoad {
   PatchData3 pd;
@@ -47,31 +75,24 @@ struct AssembleFaceLoad {
   FView f;
   int e_begin = 0, e_end = 0;
 
-  /// Face elements: ne_f0 x ne_f1.
-  int num_face_elements() const {
-    int fd[2];
-    face_directions(load.face, fd);
-    return pd.ne[fd[0]] * pd.ne[fd[1]];
-  }
+  int num_face_elements() const { return iga::num_face_elements(pd, load.face); }
 
   KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
-    int fd[2];
-    face_directions(load.face, fd);
-    const int kk[2] = {k % pd.ne[fd[0]], k / pd.ne[fd[0]]};
-    const int pe = side_tensor_index(load.face, kk, pd.ne, 3);
-    if (pe < e_begin || pe >= e_end) return;
-    int p[2], s[2];
+    FaceElement fe;
+    if (!fe.set(pd, load.face, k, e_begin, e_end)) return;
+    const int* fd = fe.fd;
+    const int* s = fe.s;
+    int p[2];
     const double* U[2];
     for (int i = 0; i < 2; ++i) {
       p[i] = pd.p[fd[i]];
       U[i] = pd.U[fd[i]].data();
-      s[i] = pd.span[fd[i]](kk[i]);
     }
-    const double h0 = 0.5 * (U[0][s[0] + 1] - U[0][s[0]]), h1 = 0.5 * (U[1][s[1] + 1] - U[1][s[1]]);
+    const double h0 = fe.h[0], h1 = fe.h[1];
     const double sgn = static_cast<double>(side_normal_sign(load.face)) * load.orientation;
     for (int q1 = 0; q1 < g[1].n; ++q1)
       for (int q0 = 0; q0 < g[0].n; ++q0) {
-        const double u0 = U[0][s[0]] + h0 * (g[0].x[q0] + 1.0), u1 = U[1][s[1]] + h1 * (g[1].x[q1] + 1.0);
+        const double u0 = fe.lo[0] + h0 * (g[0].x[q0] + 1.0), u1 = fe.lo[1] + h1 * (g[1].x[q1] + 1.0);
         double N0[3][kMaxBasis1D], N1[3][kMaxBasis1D];
         bspline_ders(s[0], u0, p[0], U[0], 1, N0);
         bspline_ders(s[1], u1, p[1], U[1], 1, N1);
@@ -179,26 +200,15 @@ struct AssembleFollowerFacePressure {
   ElementScatter<LocalMatrix> scatter = {};
   bool force = false, tangent = false;
 
-  int num_face_elements() const {
-    int fd[2];
-    face_directions(load.face, fd);
-    return pd.ne[fd[0]] * pd.ne[fd[1]];
-  }
+  int num_face_elements() const { return iga::num_face_elements(pd, load.face); }
 
   KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
-    int fd[2];
-    face_directions(load.face, fd);
-    const int kk[2] = {k % pd.ne[fd[0]], k / pd.ne[fd[0]]};
-    const int pe = side_tensor_index(load.face, kk, pd.ne, 3);
-    if (pe < e_begin || pe >= e_end) return;
-    int s[2];
-    double lo[2], h[2];
-    for (int i = 0; i < 2; ++i) {
-      s[i] = pd.span[fd[i]](kk[i]);
-      const double* U = pd.U[fd[i]].data();
-      lo[i] = U[s[i]];
-      h[i] = 0.5 * (U[s[i] + 1] - U[s[i]]);
-    }
+    FaceElement el;
+    if (!el.set(pd, load.face, k, e_begin, e_end)) return;
+    const int* fd = el.fd;
+    const int* s = el.s;
+    const double* lo = el.lo;
+    const double* h = el.h;
     const double sp = static_cast<double>(side_normal_sign(load.face)) * load.orientation * load.p * load.scale;
     int cps[MaxNf];
     double R[MaxNf], R0[MaxNf], R1[MaxNf], a0[3], a1[3];

@@ -6,6 +6,7 @@
 #include "model/geometry_check.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -567,9 +568,544 @@ class Checker {
   double inv_binom_[2][kN * kN];
 };
 
+// ---- 3-D: trivariate patches (see geometry_check.hpp, "3-D") ----
+namespace three_d {
+
+constexpr int kMaxM3 = 4 * kMaxP - 1;   // degree of D per direction, rational
+constexpr int kN3 = kMaxM3 + 1;
+constexpr int kMaxDepth3 = 8;           // subdivision levels (pieces of 2^-8 of the element)
+constexpr int kMaxPieces3 = 20000;      // per element, a guard
+constexpr int kGrid3 = 6;               // interior sample grid per direction
+
+struct Binom3 {
+  double b[kN3][kN3];
+};
+constexpr Binom3 make_binom3() {
+  Binom3 t{};
+  for (int n = 0; n < kN3; ++n) {
+    t.b[n][0] = t.b[n][n] = 1;
+    for (int k = 1; k < n; ++k) t.b[n][k] = t.b[n - 1][k - 1] + t.b[n - 1][k];
+  }
+  return t;
+}
+constexpr Binom3 kB3 = make_binom3();
+
+// Trivariate Bernstein coefficients of degrees (m0, m1, m2), c[i + (m0 + 1)(j + (m1 + 1) k)].
+struct Poly3 {
+  std::array<int, 3> m{0, 0, 0};
+  std::vector<double> c;
+  int n(int d) const { return m[d] + 1; }
+  size_t size() const { return c.size(); }
+  size_t idx(int i, int j, int k) const { return i + static_cast<size_t>(m[0] + 1) * (j + static_cast<size_t>(m[1] + 1) * k); }
+  double& at(int i, int j, int k) { return c[idx(i, j, k)]; }
+  double at(int i, int j, int k) const { return c[idx(i, j, k)]; }
+  static Poly3 zero(int a, int b, int d) {
+    Poly3 p;
+    p.m = {a, b, d};
+    p.c.assign(static_cast<size_t>(a + 1) * (b + 1) * (d + 1), 0.0);
+    return p;
+  }
+  // the stride of direction d in c
+  size_t stride(int d) const { return d == 0 ? 1 : d == 1 ? static_cast<size_t>(m[0] + 1) : static_cast<size_t>(m[0] + 1) * (m[1] + 1); }
+};
+
+// standard <-> scaled (c_ijk binom(m0, i) binom(m1, j) binom(m2, k)) coefficients
+void scale3(Poly3& a, bool up) {
+  for (int k = 0; k <= a.m[2]; ++k)
+    for (int j = 0; j <= a.m[1]; ++j)
+      for (int i = 0; i <= a.m[0]; ++i) {
+        const double f = kB3.b[a.m[0]][i] * kB3.b[a.m[1]][j] * kB3.b[a.m[2]][k];
+        a.at(i, j, k) = up ? a.at(i, j, k) * f : a.at(i, j, k) / f;
+      }
+}
+
+// scaled coefficients of the derivative along d of standard coefficients f
+Poly3 derivative(const Poly3& f, int d) {
+  std::array<int, 3> m = f.m;
+  m[d] -= 1;
+  Poly3 g = Poly3::zero(m[0], m[1], m[2]);
+  const size_t st = f.stride(d);
+  for (int k = 0; k <= m[2]; ++k)
+    for (int j = 0; j <= m[1]; ++j)
+      for (int i = 0; i <= m[0]; ++i) {
+        const size_t a = f.idx(i, j, k);
+        g.at(i, j, k) = f.m[d] * (f.c[a + st] - f.c[a]) * kB3.b[m[0]][i] * kB3.b[m[1]][j] * kB3.b[m[2]][k];
+      }
+  return g;
+}
+
+// out += sign * a * b (scaled coefficients; out of degree a.m + b.m)
+void mul_add3(const Poly3& a, const Poly3& b, double sign, Poly3& out) {
+  for (int ak = 0; ak <= a.m[2]; ++ak)
+    for (int aj = 0; aj <= a.m[1]; ++aj)
+      for (int ai = 0; ai <= a.m[0]; ++ai) {
+        const double av = sign * a.at(ai, aj, ak);
+        if (av == 0.0) continue;
+        for (int bk = 0; bk <= b.m[2]; ++bk)
+          for (int bj = 0; bj <= b.m[1]; ++bj) {
+            double* o = &out.c[out.idx(ai, aj + bj, ak + bk)];
+            const double* bb = &b.c[b.idx(0, bj, bk)];
+            for (int bi = 0; bi <= b.m[0]; ++bi) o[bi] += av * bb[bi];
+          }
+      }
+}
+
+Poly3 product_sum(const Poly3& a, const Poly3& b, const Poly3& c, const Poly3& d) {   // a b - c d
+  Poly3 out = Poly3::zero(a.m[0] + b.m[0], a.m[1] + b.m[1], a.m[2] + b.m[2]);
+  mul_add3(a, b, 1.0, out);
+  mul_add3(c, d, -1.0, out);
+  return out;
+}
+
+double eval3(const Poly3& a, double t, double s, double r) {
+  double B0[kN3], B1[kN3], B2[kN3];
+  bernstein(a.m[0], t, B0);
+  bernstein(a.m[1], s, B1);
+  bernstein(a.m[2], r, B2);
+  double v = 0;
+  for (int k = 0; k <= a.m[2]; ++k) {
+    double vs = 0;
+    for (int j = 0; j <= a.m[1]; ++j) {
+      double vt = 0;
+      for (int i = 0; i <= a.m[0]; ++i) vt += a.at(i, j, k) * B0[i];
+      vs += vt * B1[j];
+    }
+    v += vs * B2[k];
+  }
+  return v;
+}
+
+// de Casteljau at 1/2 along direction d
+void split3(const Poly3& a, int d, Poly3& lo, Poly3& hi) {
+  lo = a;
+  hi = a;
+  const int m = a.m[d];
+  const size_t st = a.stride(d);
+  double tmp[kN3];
+  std::array<int, 3> n{a.m[0] + 1, a.m[1] + 1, a.m[2] + 1};
+  n[d] = 1;
+  for (int k = 0; k < n[2]; ++k)
+    for (int j = 0; j < n[1]; ++j)
+      for (int i = 0; i < n[0]; ++i) {
+        const size_t base = a.idx(i, j, k);
+        for (int q = 0; q <= m; ++q) tmp[q] = a.c[base + q * st];
+        for (int q = 0; q <= m; ++q) {
+          lo.c[base + q * st] = tmp[0];
+          hi.c[base + (m - q) * st] = tmp[m - q];
+          for (int l = 0; l < m - q; ++l) tmp[l] = 0.5 * (tmp[l] + tmp[l + 1]);
+        }
+      }
+}
+
+// face f = 2 d + end of the element's unit cube: all coefficients there |c| <= tol (and the
+// degree along d is >= 1, so a factor can be divided out)
+bool face_vanishes(const Poly3& a, int f, double tol) {
+  const int d = f / 2;
+  if (a.m[d] == 0) return false;
+  const int fixed = f % 2 ? a.m[d] : 0;
+  for (int k = 0; k <= a.m[2]; ++k)
+    for (int j = 0; j <= a.m[1]; ++j)
+      for (int i = 0; i <= a.m[0]; ++i) {
+        const int ijk[3] = {i, j, k};
+        if (ijk[d] != fixed) continue;
+        if (std::abs(a.at(i, j, k)) > tol) return false;
+      }
+  return true;
+}
+
+// D = t E (face t = 0) or (1 - t) E (t = 1), t the coordinate of direction f / 2: E from D's
+// standard coefficients
+void divide_face(Poly3& a, int f) {
+  const int d = f / 2, m = a.m[d];
+  std::array<int, 3> em = a.m;
+  em[d] -= 1;
+  Poly3 e = Poly3::zero(em[0], em[1], em[2]);
+  for (int k = 0; k <= em[2]; ++k)
+    for (int j = 0; j <= em[1]; ++j)
+      for (int i = 0; i <= em[0]; ++i) {
+        int ijk[3] = {i, j, k};
+        const int q = ijk[d];
+        if (f % 2 == 0) {
+          ijk[d] = q + 1;
+          e.at(i, j, k) = a.at(ijk[0], ijk[1], ijk[2]) * m / (q + 1);
+        } else {
+          e.at(i, j, k) = a.at(i, j, k) * m / (m - q);
+        }
+      }
+  a = e;
+}
+
+struct Element3 {
+  std::array<int, 3> e{0, 0, 0}, p{1, 1, 1};
+  std::array<double, 3> u0{}, u1{};
+  std::vector<double> x[3], w;   // Bezier points (Euclidean) and weights / max
+  bool rational = false;
+  double tolJ = 0, tolD = 0;
+  double wmin = 1, wmean = 1;   // of the weights / max
+  Poly3 F[4];   // standard coefficients of W, A1, A2, A3
+  Poly3 D;      // standard coefficients of D = W^4 det J (W^0 det J with equal weights)
+  Poly3 M0;     // rational: standard coefficients of det [A_t; A_s; A_r] (the quick bound)
+  bool has_D = false;
+};
+
+class Checker3 {
+ public:
+  Checker3(const Patch& P, int sign) : P_(P), bez_(P), sign_(sign) {
+    for (int d = 0; d < 3; ++d) ne_[d] = bez_.num_elements(d);
+  }
+
+  // Bezier points, tolerances, the coefficients of W and A; with full, D too (else, for a
+  // rational element, only M0: see classify).
+  void build(int e, Element3& el, bool full) const {
+    const auto& p = bez_.degree();
+    for (int d = 0; d < 3; ++d) {
+      el.e[d] = bez_.element_index(e, d);
+      el.p[d] = p[d];
+      const auto r = bez_.range(e, d);
+      el.u0[d] = r[0];
+      el.u1[d] = r[1];
+    }
+    const int nb = bez_.points_per_element();
+    std::vector<ControlPoint> pts(nb);
+    bez_.element_points(e, pts.data());
+    double wmax = 0, wmin = 1e300, lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+    for (const auto& q : pts) {
+      wmax = std::max(wmax, q.w);
+      wmin = std::min(wmin, q.w);
+      for (int d = 0; d < 3; ++d) lo[d] = std::min(lo[d], q.x[d]), hi[d] = std::max(hi[d], q.x[d]);
+    }
+    el.rational = wmax - wmin > 1e-13 * wmax;
+    el.w.resize(nb);
+    for (int d = 0; d < 3; ++d) el.x[d].resize(nb);
+    double L = 0, X = 0, c[3];
+    for (int d = 0; d < 3; ++d) {
+      L = std::max(L, hi[d] - lo[d]);
+      X = std::max(X, std::max(std::abs(lo[d]), std::abs(hi[d])));
+      c[d] = 0.5 * (lo[d] + hi[d]);
+    }
+    el.tolJ = 1e-12 * L * L * L + 1e-15 * L * L * X;
+    const double wr = el.rational ? wmin / wmax : 1.0;
+    el.tolD = el.tolJ * wr * wr * wr * wr;
+    // standard coefficients of W and A_d = W (x_d - c_d), and the scaled ones of their derivatives
+    Poly3* F = el.F;
+    for (int a = 0; a < 4; ++a) F[a] = Poly3::zero(p[0], p[1], p[2]);
+    el.wmin = wmin / wmax;
+    el.wmean = 0;
+    for (int k = 0; k < nb; ++k) el.wmean += pts[k].w / wmax;
+    el.wmean = el.rational ? el.wmean / nb : 1.0;
+    for (int k = 0; k < nb; ++k) {
+      el.w[k] = pts[k].w / wmax;
+      const double wk = el.rational ? el.w[k] : 1.0;
+      F[0].c[k] = wk;
+      for (int d = 0; d < 3; ++d) {
+        el.x[d][k] = pts[k].x[d];
+        F[d + 1].c[k] = wk * (pts[k].x[d] - c[d]);
+      }
+    }
+    // D = det of rows (f, f_t, f_s, f_r), columns f = W, A1, A2, A3 (rational), or of rows
+    // (f_t, f_s, f_r), columns A1, A2, A3 (equal weights). The 2 x 2 minors of rows (f_s, f_r)
+    // are shared by the 3 x 3 cofactors.
+    const int c0 = el.rational && full ? 0 : 1;
+    Poly3 dt[4], ds[4], dr[4];
+    for (int a = c0; a < 4; ++a) {
+      dt[a] = derivative(F[a], 0);
+      ds[a] = derivative(F[a], 1);
+      dr[a] = derivative(F[a], 2);
+    }
+    Poly3 minor[4][4];
+    for (int a = c0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b) minor[a][b] = product_sum(ds[a], dr[b], dr[a], ds[b]);
+    // cofactor of column x: det of rows (t, s, r) over the other columns a < b < c
+    auto det3 = [&](int a, int b, int cc) {
+      Poly3 out = Poly3::zero(dt[a].m[0] + minor[b][cc].m[0], dt[a].m[1] + minor[b][cc].m[1], dt[a].m[2] + minor[b][cc].m[2]);
+      mul_add3(dt[a], minor[b][cc], 1.0, out);
+      mul_add3(dt[b], minor[a][cc], -1.0, out);
+      mul_add3(dt[cc], minor[a][b], 1.0, out);
+      return out;
+    };
+    el.has_D = !el.rational || full;
+    if (!el.rational) {
+      el.D = det3(1, 2, 3);
+    } else if (!full) {
+      el.M0 = det3(1, 2, 3);
+      scale3(el.M0, false);
+      return;
+    } else {
+      Poly3 Fs[4];
+      for (int a = 0; a < 4; ++a) {
+        Fs[a] = F[a];
+        scale3(Fs[a], true);
+      }
+      const Poly3 M[4] = {det3(1, 2, 3), det3(0, 2, 3), det3(0, 1, 3), det3(0, 1, 2)};
+      el.D = Poly3::zero(M[0].m[0] + p[0], M[0].m[1] + p[1], M[0].m[2] + p[2]);
+      for (int a = 0; a < 4; ++a) mul_add3(Fs[a], M[a], a % 2 ? -1.0 : 1.0, el.D);
+    }
+    scale3(el.D, false);
+  }
+
+  // Step 1 on an element built without full: +1 if D > tolD is proven, -1 if D < -tolD, else
+  // 0; the element's volume (approximately: the integral of D over the unit cube, the mean
+  // coefficient, over the mean weight to the 4th; rational: of M0 over its 3rd) for the
+  // patch's orientation. Rational elements first by a quick bound: D = W M0 - A1 M1 + A2 M2 -
+  // A3 M3 (the cofactor expansion along the first row), M0 = det [A_t; A_s; A_r] formed
+  // exactly, |A_a M_a| bounded by the largest coefficients (|M_a| <= the permanent of the
+  // largest derivatives' coefficients of its columns), so min W min M0 - R > tol proves D >
+  // tol; where it fails, all coefficients of D.
+  int classify(Element3& el, double& volume) const {
+    auto range = [](const Poly3& a, double& lo, double& hi, double& mean) {
+      lo = 1e300, hi = -1e300, mean = 0;
+      for (double v : a.c) lo = std::min(lo, v), hi = std::max(hi, v), mean += v;
+      mean /= static_cast<double>(a.size());
+    };
+    double lo, hi, mean;
+    if (!el.rational) {
+      range(el.D, lo, hi, mean);
+      volume = mean;
+      return lo > el.tolD ? 1 : (hi < -el.tolD ? -1 : 0);
+    }
+    range(el.M0, lo, hi, mean);
+    volume = mean / (el.wmean * el.wmean * el.wmean);
+    // the largest |coefficient| of each F[a] (h) and of its derivatives (g[a][d])
+    double h[4], g[4][3];
+    for (int a = 0; a < 4; ++a) {
+      const Poly3& f = el.F[a];
+      h[a] = 0;
+      for (double v : f.c) h[a] = std::max(h[a], std::abs(v));
+      for (int d = 0; d < 3; ++d) {
+        const size_t st = f.stride(d);
+        double m = 0;
+        for (int k = 0; k <= f.m[2]; ++k)
+          for (int j = 0; j <= f.m[1]; ++j)
+            for (int i = 0; i <= f.m[0]; ++i) {
+              const int ijk[3] = {i, j, k};
+              if (ijk[d] == f.m[d]) continue;
+              const size_t q = f.idx(i, j, k);
+              m = std::max(m, std::abs(f.c[q + st] - f.c[q]));
+            }
+        g[a][d] = f.m[d] * m;
+      }
+    }
+    auto permanent = [&](int a, int b, int c) {
+      return g[a][0] * (g[b][1] * g[c][2] + g[b][2] * g[c][1]) + g[a][1] * (g[b][0] * g[c][2] + g[b][2] * g[c][0]) +
+             g[a][2] * (g[b][0] * g[c][1] + g[b][1] * g[c][0]);
+    };
+    const double R = h[1] * permanent(0, 2, 3) + h[2] * permanent(0, 1, 3) + h[3] * permanent(0, 1, 2);
+    if (lo > 0 && el.wmin * lo - R > el.tolD) return 1;
+    if (hi < 0 && el.wmin * hi + R < -el.tolD) return -1;
+    full_D(el);
+    range(el.D, lo, hi, mean);
+    return lo > el.tolD ? 1 : (hi < -el.tolD ? -1 : 0);
+  }
+
+  void full_D(Element3& el) const {
+    if (el.has_D) return;
+    build(current_, el, true);
+  }
+
+  // det J with respect to the element's local (t, s, r), and the physical point there
+  static double detJ_local(const Element3& el, const Poly3& D, double t, double s, double r, double* xyz = nullptr) {
+    double B0[kMaxP + 1], B1[kMaxP + 1], B2[kMaxP + 1];
+    bernstein(el.p[0], t, B0);
+    bernstein(el.p[1], s, B1);
+    bernstein(el.p[2], r, B2);
+    double W = 0, X[3] = {0, 0, 0};
+    int k = 0;
+    for (int c = 0; c <= el.p[2]; ++c)
+      for (int j = 0; j <= el.p[1]; ++j)
+        for (int i = 0; i <= el.p[0]; ++i, ++k) {
+          const double b = B0[i] * B1[j] * B2[c] * el.w[k];
+          W += b;
+          for (int d = 0; d < 3; ++d) X[d] += b * el.x[d][k];
+        }
+    if (xyz)
+      for (int d = 0; d < 3; ++d) xyz[d] = X[d] / W;
+    const double v = eval3(D, t, s, r);
+    return el.rational ? v / (W * W * W * W) : v;
+  }
+
+  bool on_patch_boundary(const Element3& el, const double* t) const {
+    for (int d = 0; d < 3; ++d)
+      if ((t[d] == 0.0 && el.e[d] == 0) || (t[d] == 1.0 && el.e[d] == ne_[d] - 1)) return true;
+    return false;
+  }
+
+  enum Kind { Fine, Sign, Zero, ZeroVolume, Overflow };
+  struct Finding {
+    Kind kind = Fine;
+    std::array<double, 3> t{0.5, 0.5, 0.5};
+  };
+
+  Finding examine(const Element3& el, int sigma) const {
+    Finding f;
+    double maxabs = 0;
+    for (double v : el.D.c) {
+      if (!std::isfinite(v)) { f.kind = Overflow; return f; }
+      maxabs = std::max(maxabs, std::abs(v));
+    }
+    if (maxabs <= el.tolD) { f.kind = ZeroVolume; return f; }
+
+    // 2. samples: the solver's Gauss points and an interior grid
+    std::vector<std::array<double, 3>> pts;
+    const GaussRule g[3] = {gauss_rule(el.p[0] + 1), gauss_rule(el.p[1] + 1), gauss_rule(el.p[2] + 1)};
+    for (int k = 0; k < g[2].n; ++k)
+      for (int j = 0; j < g[1].n; ++j)
+        for (int i = 0; i < g[0].n; ++i) pts.push_back({0.5 * (g[0].x[i] + 1), 0.5 * (g[1].x[j] + 1), 0.5 * (g[2].x[k] + 1)});
+    for (int k = 0; k < kGrid3; ++k)
+      for (int j = 0; j < kGrid3; ++j)
+        for (int i = 0; i < kGrid3; ++i) pts.push_back({(i + 0.5) / kGrid3, (j + 0.5) / kGrid3, (k + 0.5) / kGrid3});
+    double worst = 1e300, smallest = 1e300;
+    std::array<double, 3> at_worst{0.5, 0.5, 0.5}, at_smallest{0.5, 0.5, 0.5};
+    for (const auto& q : pts) {
+      const double J = sigma * detJ_local(el, el.D, q[0], q[1], q[2]);
+      if (J < worst) { worst = J; at_worst = q; }
+      if (std::abs(J) < smallest) { smallest = std::abs(J); at_smallest = q; }
+    }
+    if (worst < -el.tolJ) return {Sign, at_worst};
+    if (smallest <= el.tolJ) return {Zero, at_smallest};
+
+    // 3. divide out the faces of the patch where D vanishes identically (a face collapsed
+    // onto an edge or a point), then subdivide
+    Poly3 E = el.D;
+    for (int face = 0; face < 6; ++face) {
+      const int d = face / 2;
+      const bool on_boundary = face % 2 ? el.e[d] == ne_[d] - 1 : el.e[d] == 0;
+      while (on_boundary && face_vanishes(E, face, el.tolD)) divide_face(E, face);
+    }
+    struct Piece {
+      Poly3 c;
+      std::array<double, 3> a, b;
+      int depth;
+    };
+    std::vector<Piece> stack;
+    stack.push_back({E, {0.0, 0.0, 0.0}, {1.0, 1.0, 1.0}, 0});
+    int count = 0;
+    while (!stack.empty()) {
+      Piece pc = std::move(stack.back());
+      stack.pop_back();
+      ++count;
+      double lo = 1e300;
+      for (double v : pc.c.c) lo = std::min(lo, sigma * v);
+      if (lo > el.tolD) continue;
+      bool boundary_zero = false;
+      for (int corner = 0; corner < 8; ++corner) {
+        int ijk[3];
+        double t[3];
+        for (int d = 0; d < 3; ++d) {
+          const bool hi = (corner >> d) & 1;
+          ijk[d] = hi ? pc.c.m[d] : 0;
+          t[d] = hi ? pc.b[d] : pc.a[d];
+        }
+        const double v = sigma * pc.c.at(ijk[0], ijk[1], ijk[2]);
+        if (v < -el.tolD) return inward({Sign, {t[0], t[1], t[2]}}, el, sigma, pc.a, pc.b);
+        if (std::abs(v) <= el.tolD) {
+          if (!on_patch_boundary(el, t)) return {Zero, {t[0], t[1], t[2]}};
+          boundary_zero = true;
+        }
+      }
+      if (pc.depth == kMaxDepth3 || count > kMaxPieces3) {
+        if (boundary_zero) continue;   // a zero of det J on the patch boundary
+        return {Zero, {0.5 * (pc.a[0] + pc.b[0]), 0.5 * (pc.a[1] + pc.b[1]), 0.5 * (pc.a[2] + pc.b[2])}};
+      }
+      // split into 8 octants
+      std::vector<Piece> parts{std::move(pc)};
+      for (int d = 0; d < 3; ++d) {
+        std::vector<Piece> next;
+        for (const Piece& q : parts) {
+          Piece l{Poly3(), q.a, q.b, q.depth}, h{Poly3(), q.a, q.b, q.depth};
+          split3(q.c, d, l.c, h.c);
+          const double mid = 0.5 * (q.a[d] + q.b[d]);
+          l.b[d] = mid;
+          h.a[d] = mid;
+          next.push_back(std::move(l));
+          next.push_back(std::move(h));
+        }
+        parts.swap(next);
+      }
+      for (Piece& q : parts) {
+        q.depth += 1;
+        stack.push_back(std::move(q));
+      }
+    }
+    return f;
+  }
+
+  // A wrong sign found at a piece corner: a point inside the element with the wrong sign nearby
+  // (on a collapsed face det J itself is 0 at the corner).
+  static Finding inward(Finding f, const Element3& el, int sigma, const std::array<double, 3>& a, const std::array<double, 3>& b) {
+    for (double s : {1e-3, 1e-2, 0.1, 0.5}) {
+      std::array<double, 3> t;
+      for (int d = 0; d < 3; ++d) t[d] = f.t[d] + s * (0.5 * (a[d] + b[d]) - f.t[d]);
+      if (sigma * detJ_local(el, el.D, t[0], t[1], t[2]) < -el.tolJ) return {Sign, t};
+    }
+    return f;
+  }
+
+  std::string message(const Element3& el, const Finding& f, int sigma) const {
+    double xyz[3];
+    double vol = 1;
+    for (int d = 0; d < 3; ++d) vol *= el.u1[d] - el.u0[d];
+    const double J = detJ_local(el, el.D, f.t[0], f.t[1], f.t[2], xyz) / vol;
+    double xi[3];
+    for (int d = 0; d < 3; ++d) xi[d] = el.u0[d] + f.t[d] * (el.u1[d] - el.u0[d]);
+    char where[640];
+    std::snprintf(where, sizeof where,
+                  "element [%.6g, %.6g] x [%.6g, %.6g] x [%.6g, %.6g] (det J = %.3g at xi = %.6g, eta = %.6g, zeta = %.6g, x = (%.6g, %.6g, %.6g))",
+                  el.u0[0], el.u1[0], el.u0[1], el.u1[1], el.u0[2], el.u1[2], J, xi[0], xi[1], xi[2], xyz[0], xyz[1], xyz[2]);
+    switch (f.kind) {
+      case Sign:
+        return std::string("det J changes sign in ") + where + "; the control net folds over" +
+               (by_volume_ ? (sigma > 0 ? " (det J is positive on most of the patch)" : " (det J is negative on most of the patch)") : "");
+      case Zero: return std::string("det J vanishes inside the patch in ") + where + "; the map is degenerate there";
+      case ZeroVolume: return std::string("det J vanishes (zero volume) on all of ") + where + "; the control net is flat there";
+      case Overflow: return std::string("det J overflows in ") + where + "; the coordinates are too large";
+      default: return "";
+    }
+  }
+
+  std::string run() {
+    const int n = bez_.num_elements();
+    std::vector<std::int8_t> cls(static_cast<size_t>(n));
+    Element3 el;
+    double vol = 0, vol_abs = 0;
+    for (int e = 0; e < n; ++e) {
+      current_ = e;
+      build(e, el, false);
+      double v = 0;
+      cls[e] = static_cast<std::int8_t>(classify(el, v));
+      vol += v;
+      vol_abs += std::abs(v);
+    }
+    by_volume_ = sign_ == 0 && std::abs(vol) > 1e-12 * vol_abs;
+    const int sigma = sign_ != 0 ? sign_ : by_volume_ ? (vol > 0 ? 1 : -1) : P_.orientation();
+    for (const int pass : {-sigma, 0})
+      for (int e = 0; e < n; ++e) {
+        if (cls[e] != pass) continue;
+        build(e, el, true);
+        const Finding f = examine(el, sigma);
+        if (f.kind != Fine) return message(el, f, sigma);
+      }
+    return "";
+  }
+
+ private:
+  const Patch& P_;
+  BezierPatch bez_;
+  const int sign_;
+  std::array<int, 3> ne_{1, 1, 1};
+  bool by_volume_ = true;
+  mutable int current_ = 0;   // the element classify works on
+};
+
+}  // namespace three_d
+
 }  // namespace
 
 std::string check_jacobian(const Patch& patch, int sign) {
+  if (patch.dim() == 3) {
+    for (int d = 0; d < 3; ++d)
+      if (patch.degree[d] < 1 || patch.degree[d] > kMaxP) return "degree outside 1.." + std::to_string(kMaxP);
+    return three_d::Checker3(patch, sign).run();
+  }
   if (patch.degree[0] < 1 || patch.degree[0] > kMaxP || patch.degree[1] < 1 || patch.degree[1] > kMaxP)
     return "degree outside 1.." + std::to_string(kMaxP);
   return Checker(patch, sign).run();

@@ -87,8 +87,8 @@ std::string number_row(const std::vector<double>& v) {
   return r;
 }
 
-std::string side_out_of_range(const PatchSide& s, int np) {
-  if (s.patch >= 0 && s.patch < np && static_cast<int>(s.side) >= 0 && static_cast<int>(s.side) <= 3) return "";
+std::string side_out_of_range(const PatchSide& s, int np, int dim) {
+  if (s.patch >= 0 && s.patch < np && static_cast<int>(s.side) >= 0 && static_cast<int>(s.side) < num_sides(dim)) return "";
   return "names patch " + std::to_string(s.patch) + " side " + std::to_string(static_cast<int>(s.side)) +
          ", not one of the " + std::to_string(np) + " patches' sides";
 }

@@ -27,7 +27,7 @@ bool to_int(const std::string& s, long& v);
 std::string fmt(double v);
 // The writers' pieces: numbers on one line, and whether a side names one of np patches.
 std::string number_row(const std::vector<double>& v);
-std::string side_out_of_range(const PatchSide& s, int np);
+std::string side_out_of_range(const PatchSide& s, int np, int dim = 2);   // sides 0 .. 2 dim - 1
 std::string read_file_text(const std::string& path);
 
 // The side of a 1-based G+Smo / GeoPDEs side number (both: 1 west, 2 east, 3 south, 4 north).
@@ -59,7 +59,7 @@ class TopologyCheck {
   }
 
  private:
-  static int key(const PatchSide& s) { return s.patch * 4 + static_cast<int>(s.side); }
+  static int key(const PatchSide& s) { return s.patch * 6 + static_cast<int>(s.side); }   // 6 sides in 3-D
   std::map<int, std::string> used_;
 };
 

@@ -134,10 +134,12 @@ MultiPatch read_geopdes(const std::string& path) {
     fail(in.at(line), "expected 'ndim rdim npatches ninterfaces nsubdomains' (1 to 5 integers), found " +
                           std::to_string(head.size()));
   const long ndim = head[0];
-  if (ndim != 2)
-    fail(in.at(line), "ndim = " + std::to_string(ndim) + ": igacontact reads 2-D parametric patches (ndim = 2)" +
-                          (ndim == 3 ? ", not volumes" : ""));
+  if (ndim != 2 && ndim != 3)
+    fail(in.at(line), "ndim = " + std::to_string(ndim) + ": igacontact reads 2-D and 3-D parametric patches (ndim = 2 or 3)");
+  const int dim = static_cast<int>(ndim);
   const long rdim = head.size() > 1 ? head[1] : ndim;
+  if (dim == 3 && rdim != 3)
+    fail(in.at(line), "rdim = " + std::to_string(rdim) + ": volumes (ndim = 3) need the physical dimension 3");
   if (rdim != 2 && rdim != 3)
     fail(in.at(line), "rdim = " + std::to_string(rdim) + ": the physical dimension must be 2 (or 3 with z = 0)");
   const long np = head.size() > 2 ? head[2] : 1;
@@ -147,36 +149,37 @@ MultiPatch read_geopdes(const std::string& path) {
   if (ni < 0 || ns < 0) fail(in.at(line), "negative number of interfaces or subdomains");
 
   MultiPatch mp;
-  const char* dir_name[2] = {"u", "v"};
+  const char* dir_name[3] = {"u", "v", "w"};
   for (long k = 1; k <= np; ++k) {
     const std::string pk = "patch " + std::to_string(k);
     s = in.need("the degrees of " + pk, line);
     const int start = line;
     if (!numeric_line(s)) s = in.need("the degrees of " + pk, line);   // the optional name, e.g. "PATCH 1"
     Patch P;
-    const auto deg = line_ints(in, s, line, pk + " degrees", 2);
-    for (int d = 0; d < 2; ++d) {
+    P.pdim = dim;
+    const auto deg = line_ints(in, s, line, pk + " degrees", dim);
+    for (int d = 0; d < dim; ++d) {
       if (deg[d] < 1)
         fail(in.at(line), pk + ": degree " + std::to_string(deg[d]) + " in " + dir_name[d] + ": the degree must be at least 1");
       if (deg[d] > 1000) fail(in.at(line), pk + ": degree " + std::to_string(deg[d]) + " in " + dir_name[d] + " is too high");
       P.degree[d] = static_cast<int>(deg[d]);   // Patch::validate() checks the supported range
     }
     s = in.need("the numbers of control points of " + pk, line);
-    const auto ncp = line_ints(in, s, line, pk + " numbers of control points", 2);
-    for (int d = 0; d < 2; ++d) {
+    const auto ncp = line_ints(in, s, line, pk + " numbers of control points", dim);
+    for (int d = 0; d < dim; ++d) {
       if (ncp[d] < deg[d] + 1)
         fail(in.at(line), pk + ": " + std::to_string(ncp[d]) + " control points in " + dir_name[d] + "; degree " +
                               std::to_string(deg[d]) + " needs at least " + std::to_string(deg[d] + 1));
       if (ncp[d] > 1000000) fail(in.at(line), pk + ": " + std::to_string(ncp[d]) + " control points in " + dir_name[d] + " is too many");
     }
-    for (int d = 0; d < 2; ++d) {
+    for (int d = 0; d < dim; ++d) {
       const std::string what = pk + " knots in " + dir_name[d];
       s = in.need("the " + what, line);
       P.knots[d] = line_numbers(in, s, line, what, static_cast<size_t>(ncp[d] + deg[d] + 1));
       const std::string bad = check_knots(P.knots[d], P.degree[d]);
       if (!bad.empty()) fail(in.at(line), what + ": " + bad);
     }
-    const size_t n = static_cast<size_t>(ncp[0] * ncp[1]);
+    const size_t n = static_cast<size_t>(ncp[0] * ncp[1] * (dim == 3 ? ncp[2] : 1));
     std::vector<double> coord[3];
     int coord_line[3] = {0, 0, 0};
     const char* cname[3] = {"x", "y", "z"};
@@ -190,14 +193,16 @@ MultiPatch read_geopdes(const std::string& path) {
     const auto w = line_numbers(in, s, line, pk + " weights", n);
     for (size_t a = 0; a < n; ++a)
       if (!(w[a] > 0)) fail(in.at(line), pk + ": weight " + std::to_string(a + 1) + " is " + fmt(w[a]) + "; weights must be > 0");
-    if (rdim == 3)
+    if (rdim == 3 && dim == 2)
       for (size_t a = 0; a < n; ++a)
         if (std::abs(coord[2][a]) > kZeroZ)
           fail(in.at(coord_line[2]), pk + ": control point " + std::to_string(a + 1) + " has z = " + fmt(coord[2][a] / w[a]) +
                                          "; igacontact is 2-D, z must be 0");
     // Homogeneous (w x, w y, w) to Euclidean.
     P.cp.resize(n);
-    for (size_t a = 0; a < n; ++a) P.cp[a] = ControlPoint{{coord[0][a] / w[a], coord[1][a] / w[a]}, w[a]};
+    for (size_t a = 0; a < n; ++a)
+      P.cp[a] = dim == 3 ? ControlPoint{{coord[0][a] / w[a], coord[1][a] / w[a], coord[2][a] / w[a]}, w[a]}
+                         : ControlPoint{{coord[0][a] / w[a], coord[1][a] / w[a]}, w[a]};
     const std::string bad = P.validate();
     if (!bad.empty()) fail(in.at(start), pk + ": " + bad);
     mp.patches.push_back(std::move(P));
@@ -222,8 +227,10 @@ MultiPatch read_geopdes(const std::string& path) {
     const auto v = line_ints(in, s, line, what + " (patch side)", 2);
     if (v[0] < 1 || v[0] > np)
       fail(in.at(line), what + ": patch " + std::to_string(v[0]) + " does not exist (patches 1.." + std::to_string(np) + ")");
-    if (v[1] < 1 || v[1] > 4)
+    if (dim == 2 && (v[1] < 1 || v[1] > 4))
       fail(in.at(line), what + ": side " + std::to_string(v[1]) + " is out of range 1..4 (u = 0, u = 1, v = 0, v = 1)");
+    if (v[1] < 1 || v[1] > 6)
+      fail(in.at(line), what + ": side " + std::to_string(v[1]) + " is out of range 1..6 (u = 0, u = 1, v = 0, v = 1, w = 0, w = 1)");
     return PatchSide{static_cast<int>(v[0] - 1), side_of_number(v[1])};
   };
   for (long i = 1; i <= ni; ++i) {
@@ -235,11 +242,24 @@ MultiPatch read_geopdes(const std::string& path) {
     Interface f;
     f.a = patch_side(ik + " first side");
     f.b = patch_side(ik + " second side");
-    s = in.need("the orientation of " + ik, line);
-    const auto o = line_ints(in, s, line, ik + " orientation", 1);
-    if (o[0] != 1 && o[0] != -1)
-      fail(in.at(line), ik + ": orientation " + std::to_string(o[0]) + " must be 1 (same direction) or -1 (reversed)");
-    f.reversed = o[0] == -1;
+    if (dim == 3) {
+      // flag ornt1 ornt2 (GeoPDEs' mp_interface_3d): flag -1: the face directions swap (the
+      // first of side1 runs along the second of side2); ornt k -1: side1's direction k runs
+      // against its partner
+      s = in.need("the orientation (flag ornt1 ornt2) of " + ik, line);
+      const auto o = line_ints(in, s, line, ik + " orientation (flag ornt1 ornt2)", 3);
+      const char* name[3] = {"flag", "ornt1", "ornt2"};
+      for (int k = 0; k < 3; ++k)
+        if (o[k] != 1 && o[k] != -1) fail(in.at(line), ik + ": " + name[k] + " " + std::to_string(o[k]) + " must be 1 or -1");
+      f.face_map = o[0] == 1 ? std::array<int, 2>{0, 1} : std::array<int, 2>{1, 0};
+      f.face_flip = {o[1] == -1, o[2] == -1};
+    } else {
+      s = in.need("the orientation of " + ik, line);
+      const auto o = line_ints(in, s, line, ik + " orientation", 1);
+      if (o[0] != 1 && o[0] != -1)
+        fail(in.at(line), ik + ": orientation " + std::to_string(o[0]) + " must be 1 (same direction) or -1 (reversed)");
+      f.reversed = o[0] == -1;
+    }
     topo.interface(f, in.at(start) + ": " + ik, ik + " (line " + std::to_string(start) + ")");
     mp.interfaces.push_back(f);
   }
@@ -263,8 +283,8 @@ MultiPatch read_geopdes(const std::string& path) {
     const std::string name = boundary_name(s, nb);
     s = in.need("the number of sides of " + bk, line);
     const auto cnt = line_ints(in, s, line, bk + " number of sides", 1);
-    if (cnt[0] < 0 || cnt[0] > 4 * np)
-      fail(in.at(line), bk + ": " + std::to_string(cnt[0]) + " sides is out of range 0.." + std::to_string(4 * np));
+    if (cnt[0] < 0 || cnt[0] > num_sides(dim) * np)
+      fail(in.at(line), bk + ": " + std::to_string(cnt[0]) + " sides is out of range 0.." + std::to_string(num_sides(dim) * np));
     for (long j = 1; j <= cnt[0]; ++j) {
       const PatchSide ps = patch_side(bk + " side " + std::to_string(j));
       topo.boundary(ps, in.at(line) + ": " + bk);
@@ -274,7 +294,7 @@ MultiPatch read_geopdes(const std::string& path) {
   }
   // GeoPDEs (mp_geo_read_nurbs) gives a single patch without boundaries its four sides.
   if (nb == 0 && np == 1)
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < num_sides(dim); ++k) {
       const PatchSide ps{0, static_cast<Side>(k)};
       mp.boundary.push_back(ps);
       mp.named.push_back({"boundary" + std::to_string(k + 1), {ps}});
@@ -285,9 +305,13 @@ MultiPatch read_geopdes(const std::string& path) {
 std::string geopdes_text(const MultiPatch& mp) {
   auto error = [&](const std::string& what) { throw std::runtime_error("GeoPDEs text: " + what); };
   if (mp.patches.empty()) error("the multipatch has no patches");
+  const int dim = mp.patches.front().dim();
+  for (size_t k = 0; k < mp.patches.size(); ++k)
+    if (mp.patches[k].dim() != dim)
+      error("patch " + std::to_string(k) + " is " + std::to_string(mp.patches[k].dim()) + "-D, patch 0 " + std::to_string(dim) + "-D");
   const int np = static_cast<int>(mp.patches.size());
   auto check = [&](const PatchSide& s, const std::string& what) {
-    const std::string bad = side_out_of_range(s, np);
+    const std::string bad = side_out_of_range(s, np, dim);
     if (!bad.empty()) error(what + " " + bad);
   };
   auto ps = [](const PatchSide& s) { return std::to_string(s.patch + 1) + " " + std::to_string(number_of_side(s.side)); };
@@ -313,17 +337,21 @@ std::string geopdes_text(const MultiPatch& mp) {
 
   std::ostringstream os;
   os << "# nurbs mesh v.2.1\n"
-     << "# Written by igacontact: GeoPDEs multipatch text; coordinate rows are homogeneous (w x, w y)\n"
-     << "2 2 " << np << " " << mp.interfaces.size() << " 0\n";
+     << "# Written by igacontact: GeoPDEs multipatch text; coordinate rows are homogeneous ("
+     << (dim == 3 ? "w x, w y, w z" : "w x, w y") << ")\n"
+     << dim << " " << dim << " " << np << " " << mp.interfaces.size() << " 0\n";
   for (int k = 0; k < np; ++k) {
     const Patch& P = mp.patches[k];
     const std::string bad = P.validate();
     if (!bad.empty()) error("patch " + std::to_string(k) + ": " + bad);
-    os << "PATCH " << k + 1 << "\n" << P.degree[0] << " " << P.degree[1] << "\n"
-       << P.knots[0].size() - P.degree[0] - 1 << " " << P.knots[1].size() - P.degree[1] - 1 << "\n";
-    for (int d = 0; d < 2; ++d) os << number_row(P.knots[d]) << "\n";
-    for (int c = 0; c < 3; ++c) {   // w x, w y, then w
-      for (size_t a = 0; a < P.cp.size(); ++a) os << (a ? " " : "") << fmt(c < 2 ? P.cp[a].x[c] * P.cp[a].w : P.cp[a].w);
+    os << "PATCH " << k + 1 << "\n";
+    for (int d = 0; d < dim; ++d) os << (d ? " " : "") << P.degree[d];
+    os << "\n";
+    for (int d = 0; d < dim; ++d) os << (d ? " " : "") << P.knots[d].size() - P.degree[d] - 1;
+    os << "\n";
+    for (int d = 0; d < dim; ++d) os << number_row(P.knots[d]) << "\n";
+    for (int c = 0; c <= dim; ++c) {   // w x, w y [, w z], then w
+      for (size_t a = 0; a < P.cp.size(); ++a) os << (a ? " " : "") << fmt(c < dim ? P.cp[a].x[c] * P.cp[a].w : P.cp[a].w);
       os << "\n";
     }
   }
@@ -331,7 +359,11 @@ std::string geopdes_text(const MultiPatch& mp) {
     const Interface& f = mp.interfaces[i];
     check(f.a, "an interface");
     check(f.b, "an interface");
-    os << "INTERFACE " << i + 1 << "\n" << ps(f.a) << "\n" << ps(f.b) << "\n" << (f.reversed ? -1 : 1) << "\n";
+    os << "INTERFACE " << i + 1 << "\n" << ps(f.a) << "\n" << ps(f.b) << "\n";
+    if (dim == 3)
+      os << (f.face_map[0] == 0 ? 1 : -1) << " " << (f.face_flip[0] ? -1 : 1) << " " << (f.face_flip[1] ? -1 : 1) << "\n";
+    else
+      os << (f.reversed ? -1 : 1) << "\n";
   }
   for (const auto& [name, sides] : blocks) {
     os << name << "\n" << sides.size() << "\n";

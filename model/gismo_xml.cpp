@@ -120,56 +120,64 @@ void read_xml_knots(const XMLObject& b, const std::string& where, int& degree, s
 
 Patch read_xml_patch(const XMLObject& g, const std::string& where) {
   const std::string type = attr(g, "type");
-  const bool nurbs = type == "TensorNurbs2";
-  if (!nurbs && type != "TensorBSpline2")
+  const bool nurbs = type == "TensorNurbs2" || type == "TensorNurbs3";
+  if (!nurbs && type != "TensorBSpline2" && type != "TensorBSpline3")
     fail(where, "unsupported type=" + quote(type) +
-                    " (igacontact reads 2-D tensor patches: TensorBSpline2, TensorNurbs2)");
+                    " (igacontact reads tensor patches: TensorBSpline2, TensorNurbs2, TensorBSpline3, TensorNurbs3)");
+  const int dim = type.back() == '3' ? 3 : 2;
+  const std::string D = std::to_string(dim);
 
   if (first_child(g, "transform"))
     fail(where, "<transform> is not supported (apply the transformation to the coefs)");
 
-  // Basis: TensorNurbsBasis2 { TensorBSplineBasis2, weights } or TensorBSplineBasis2.
+  // Basis: TensorNurbsBasis<D> { TensorBSplineBasis<D>, weights } or TensorBSplineBasis<D>.
   const std::string wb = where + " <Basis>";
   const XMLObject& basis = need_child(g, "Basis", where);
   const XMLObject* tensor = &basis;
   const XMLObject* weights = nullptr;
   if (nurbs) {
-    if (attr(basis, "type") != "TensorNurbsBasis2")
-      fail(wb, "type=" + quote(attr(basis, "type")) + ", a TensorNurbs2 needs \"TensorNurbsBasis2\"");
+    if (attr(basis, "type") != "TensorNurbsBasis" + D)
+      fail(wb, "type=" + quote(attr(basis, "type")) + ", a TensorNurbs" + D + " needs \"TensorNurbsBasis" + D + "\"");
     tensor = &need_child(basis, "Basis", wb);
     weights = &need_child(basis, "weights", wb);
   }
   const std::string wt = nurbs ? wb + " <Basis>" : wb;
-  if (attr(*tensor, "type") != "TensorBSplineBasis2")
-    fail(wt, "type=" + quote(attr(*tensor, "type")) + ", expected \"TensorBSplineBasis2\"");
+  if (attr(*tensor, "type") != "TensorBSplineBasis" + D)
+    fail(wt, "type=" + quote(attr(*tensor, "type")) + ", expected \"TensorBSplineBasis" + D + "\"");
   const auto comps = children(*tensor, "Basis");
-  if (comps.size() != 2)
-    fail(wt, "has " + std::to_string(comps.size()) + " <Basis> children; a 2-D tensor basis has 2");
+  if (static_cast<int>(comps.size()) != dim)
+    fail(wt, "has " + std::to_string(comps.size()) + " <Basis> children; a " + D + "-D tensor basis has " + D);
 
   Patch P;
-  bool seen[2] = {false, false};
-  for (int k = 0; k < 2; ++k) {
+  P.pdim = dim;
+  bool seen[3] = {false, false, false};
+  for (int k = 0; k < dim; ++k) {
     int d = k;
     if (comps[k]->hasAttribute("index")) {
       long idx;
-      if (!to_int(trim(comps[k]->getAttribute("index")), idx) || idx < 0 || idx > 1)
-        fail(wt, "<Basis index=" + quote(comps[k]->getAttribute("index")) + ">: index must be 0 or 1");
+      if (!to_int(trim(comps[k]->getAttribute("index")), idx) || idx < 0 || idx >= dim)
+        fail(wt, "<Basis index=" + quote(comps[k]->getAttribute("index")) + ">: index must be " + (dim == 2 ? "0 or 1" : "0, 1 or 2"));
       d = static_cast<int>(idx);
     }
     if (seen[d]) fail(wt, "two <Basis> children for direction " + std::to_string(d));
     seen[d] = true;
     read_xml_knots(*comps[k], wt + " <Basis index=\"" + std::to_string(d) + "\">", P.degree[d], P.knots[d]);
   }
-  const long n0 = P.ncp(0), n1 = P.ncp(1), n = n0 * n1;
-  const std::string dims = std::to_string(n0) + " x " + std::to_string(n1) + " = " + std::to_string(n);
+  const long n0 = P.ncp(0), n1 = P.ncp(1), n2 = P.ncp(2), n = n0 * n1 * n2;
+  const std::string dims = std::to_string(n0) + " x " + std::to_string(n1) + (dim == 3 ? " x " + std::to_string(n2) : std::string()) +
+                           " = " + std::to_string(n);
 
   // coefs: one row per basis function (x y [z]), Euclidean.
   const std::string wc = where + " <coefs>";
   const XMLObject& coefs = need_child(g, "coefs", where);
   if (!coefs.hasAttribute("geoDim")) fail(wc, "missing the geoDim attribute");
   long gd;
-  if (!to_int(trim(coefs.getAttribute("geoDim")), gd) || (gd != 2 && gd != 3))
+  if (dim == 3) {
+    if (!to_int(trim(coefs.getAttribute("geoDim")), gd) || gd != 3)
+      fail(wc, "geoDim=" + quote(coefs.getAttribute("geoDim")) + ": a " + type + " needs geoDim 3 (x y z)");
+  } else if (!to_int(trim(coefs.getAttribute("geoDim")), gd) || (gd != 2 && gd != 3)) {
     fail(wc, "geoDim=" + quote(coefs.getAttribute("geoDim")) + ": igacontact reads geoDim 2 (or 3 with z = 0)");
+  }
   check_ascii(coefs, wc);
   bool by_coordinate = false;
   if (coefs.hasAttribute("order")) {
@@ -182,7 +190,7 @@ Patch read_xml_patch(const XMLObject& g, const std::string& where) {
     fail(wc, "has " + std::to_string(c.size()) + " values; the basis has " + dims + " functions, times geoDim " +
                  std::to_string(gd) + " = " + std::to_string(n * gd));
   auto coef = [&](long a, int comp) { return by_coordinate ? c[comp * n + a] : c[a * gd + comp]; };
-  if (gd == 3)
+  if (gd == 3 && dim == 2)
     for (long a = 0; a < n; ++a)
       if (std::abs(coef(a, 2)) > kZeroZ)
         fail(wc, "control point " + std::to_string(a) + " has z = " + fmt(coef(a, 2)) +
@@ -199,7 +207,8 @@ Patch read_xml_patch(const XMLObject& g, const std::string& where) {
       if (!(w[a] > 0)) fail(ww, "weight " + std::to_string(a) + " is " + fmt(w[a]) + "; weights must be > 0");
   }
   P.cp.resize(n);
-  for (long a = 0; a < n; ++a) P.cp[a] = ControlPoint{{coef(a, 0), coef(a, 1)}, w[a]};
+  for (long a = 0; a < n; ++a)
+    P.cp[a] = dim == 3 ? ControlPoint{{coef(a, 0), coef(a, 1), coef(a, 2)}, w[a]} : ControlPoint{{coef(a, 0), coef(a, 1)}, w[a]};
   const std::string bad = P.validate();
   if (!bad.empty()) fail(where, bad);
   return P;
@@ -225,7 +234,7 @@ Patch read_xml_patch(const XMLObject& g, const std::string& where) {
 }
 
 // Reads a <MultiPatch>'s topology into mp (its patches already read; position: Geometry id -> patch).
-void read_xml_topology(const XMLObject& m, const std::string& where,
+void read_xml_topology(const XMLObject& m, const std::string& where, int dim,
                        const std::map<long, int>& position, const std::string& id_list, MultiPatch& mp) {
   TopologyCheck topo;
   auto patch_of = [&](const std::string& tok, const std::string& w) {
@@ -239,7 +248,8 @@ void read_xml_topology(const XMLObject& m, const std::string& where,
   auto side_of = [&](const std::string& tok, const std::string& w) {
     long s;
     if (!to_int(tok, s)) fail(w, quote(tok) + " is not an integer side");
-    if (s < 1 || s > 4) fail(w, "side " + std::to_string(s) + " is out of range 1..4 (west, east, south, north)");
+    if (dim == 2 && (s < 1 || s > 4)) fail(w, "side " + std::to_string(s) + " is out of range 1..4 (west, east, south, north)");
+    if (s < 1 || s > 6) fail(w, "side " + std::to_string(s) + " is out of range 1..6 (west, east, south, north, front, back)");
     return side_of_number(s);
   };
   auto flag_of = [&](const std::string& tok, const std::string& w, const char* what) {
@@ -254,18 +264,21 @@ void read_xml_topology(const XMLObject& m, const std::string& where,
     const auto lines = content_lines(*x);
     // G+Smo writes 8 numbers per 2-D interface: patch side patch side, the direction map (2)
     // and the orientation flags (2). Its older files have 5: patch side patch side flag.
-    const bool legacy = !lines.empty() && std::all_of(lines.begin(), lines.end(),
-                                                      [](const auto& l) { return l.size() == 5; });
+    // 3-D: 10 numbers (direction map (3), orientation flags (3)).
+    const bool legacy = dim == 2 && !lines.empty() && std::all_of(lines.begin(), lines.end(),
+                                                                  [](const auto& l) { return l.size() == 5; });
+    const size_t per = 4 + 2 * static_cast<size_t>(dim);
     std::vector<std::vector<std::string>> entries;
     if (legacy) {
       entries = lines;
     } else {
       std::vector<std::string> all;
       for (const auto& l : lines) all.insert(all.end(), l.begin(), l.end());
-      if (all.size() % 8 != 0)
-        fail(wi, "has " + std::to_string(all.size()) +
-                     " numbers; each 2-D interface takes 8 (patch side patch side, direction map (2), orientation (2))");
-      for (size_t k = 0; k < all.size(); k += 8) entries.emplace_back(all.begin() + k, all.begin() + k + 8);
+      if (all.size() % per != 0)
+        fail(wi, "has " + std::to_string(all.size()) + " numbers; each " + std::to_string(dim) + "-D interface takes " +
+                     std::to_string(per) + " (patch side patch side, direction map (" + std::to_string(dim) +
+                     "), orientation (" + std::to_string(dim) + "))");
+      for (size_t k = 0; k < all.size(); k += per) entries.emplace_back(all.begin() + k, all.begin() + k + per);
     }
     for (const auto& e : entries) {
       ++count;
@@ -277,7 +290,32 @@ void read_xml_topology(const XMLObject& m, const std::string& where,
       f.a = {patch_of(e[0], w), side_of(e[1], w)};
       f.b = {patch_of(e[2], w), side_of(e[3], w)};
       const int t1 = side_tangent_direction(f.a.side), t2 = side_tangent_direction(f.b.side);
-      if (legacy) {
+      if (dim == 3) {
+        // G+Smo's boundaryInterface: direction d of the first patch runs along direction map[d]
+        // of the second, in the same sense where the flag is 1. The entries of the direction
+        // across the faces G+Smo sets itself (the flag from the sides); the map must take it
+        // to the direction across the second face.
+        int map[3], o[3];
+        std::string mtext;
+        for (int d = 0; d < 3; ++d) {
+          long v;
+          if (!to_int(e[4 + d], v) || v < 0 || v > 2) fail(w, "direction map entry " + quote(e[4 + d]) + " is not 0, 1 or 2");
+          map[d] = static_cast<int>(v);
+          o[d] = flag_of(e[7 + d], w, "orientation flag");
+          mtext += (d ? " " : "") + e[4 + d];
+        }
+        if (map[0] == map[1] || map[0] == map[2] || map[1] == map[2])
+          fail(w, "the direction map (" + mtext + ") is not a permutation of 0 1 2");
+        const int da = side_direction(f.a.side), db = side_direction(f.b.side);
+        if (map[da] != db)
+          fail(w, "the direction map (" + mtext + ") does not take the direction across " + side_text(f.a) + " (" +
+                      std::to_string(da) + ") to the one across " + side_text(f.b) + " (" + std::to_string(db) + ")");
+        const auto fa = face_directions(f.a.side), fb = face_directions(f.b.side);
+        for (int k = 0; k < 2; ++k) {
+          f.face_map[k] = map[fa[k]] == fb[0] ? 0 : 1;
+          f.face_flip[k] = o[fa[k]] == 0;
+        }
+      } else if (legacy) {
         long o;
         if (!to_int(e[4], o)) fail(w, "orientation " + quote(e[4]) + " is not an integer");
         f.reversed = !(o > 0);   // G+Smo's old reader: orient = (k > 0)
@@ -296,7 +334,7 @@ void read_xml_topology(const XMLObject& m, const std::string& where,
       }
       bool dup = false;
       for (const Interface& g : mp.interfaces)
-        dup = dup || (g.a == f.a && g.b == f.b && g.reversed == f.reversed);
+        dup = dup || (g.a == f.a && g.b == f.b && g.reversed == f.reversed && g.face_map == f.face_map && g.face_flip == f.face_flip);
       if (dup) continue;   // G+Smo drops repeated interfaces
       topo.interface(f, w, label);
       mp.interfaces.push_back(f);
@@ -337,16 +375,23 @@ MultiPatch read_gismo_xml(const std::string& path) {
   if (!m) {
     // No topology: every Geometry, in file order, is a patch.
     if (geoms.empty()) fail(path, "no <Geometry> and no <MultiPatch> in <xml>: nothing to read");
-    for (size_t k = 0; k < geoms.size(); ++k)
-      mp.patches.push_back(read_xml_patch(*geoms[k], path + ": " + geometry_label(*geoms[k], static_cast<int>(k))));
+    for (size_t k = 0; k < geoms.size(); ++k) {
+      const std::string label = path + ": " + geometry_label(*geoms[k], static_cast<int>(k));
+      mp.patches.push_back(read_xml_patch(*geoms[k], label));
+      if (mp.patches.back().dim() != mp.patches.front().dim())
+        fail(label, "a " + std::to_string(mp.patches.back().dim()) + "-D patch after " + std::to_string(mp.patches.front().dim()) +
+                        "-D ones: the patches of one file have one parametric dimension");
+    }
     return mp;
   }
 
   const std::string where =
       path + ": " + (m->hasAttribute("id") ? "<MultiPatch id=\"" + m->getAttribute("id") + "\">" : "<MultiPatch>");
   if (!m->hasAttribute("parDim")) fail(where, "missing the parDim attribute");
-  if (trim(m->getAttribute("parDim")) != "2")
-    fail(where, "parDim=" + quote(m->getAttribute("parDim")) + ": igacontact reads 2-D multipatches (parDim=\"2\")");
+  const std::string pd = trim(m->getAttribute("parDim"));
+  if (pd != "2" && pd != "3")
+    fail(where, "parDim=" + quote(m->getAttribute("parDim")) + ": igacontact reads 2-D and 3-D multipatches (parDim=\"2\" or \"3\")");
+  const int dim = pd == "3" ? 3 : 2;
 
   // Geometry ids (siblings of the MultiPatch, as G+Smo looks them up).
   std::map<long, const XMLObject*> by_id;
@@ -393,9 +438,12 @@ MultiPatch read_gismo_xml(const std::string& path) {
     auto it = by_id.find(id);
     if (it == by_id.end()) fail(wp, "no <Geometry> with id=\"" + std::to_string(id) + "\" in the file");
     position[id] = static_cast<int>(mp.patches.size());
-    mp.patches.push_back(read_xml_patch(*it->second, path + ": <Geometry id=\"" + std::to_string(id) + "\">"));
+    const std::string label = path + ": <Geometry id=\"" + std::to_string(id) + "\">";
+    mp.patches.push_back(read_xml_patch(*it->second, label));
+    if (mp.patches.back().dim() != dim)
+      fail(label, "a " + std::to_string(mp.patches.back().dim()) + "-D patch in " + where.substr(path.size() + 2) + " of parDim=\"" + pd + "\"");
   }
-  read_xml_topology(*m, where, position, id_list, mp);
+  read_xml_topology(*m, where, dim, position, id_list, mp);
   return mp;
 }
 
@@ -413,9 +461,26 @@ std::string gismo_xml_text(const std::vector<const MultiPatch*>& multipatches) {
     return o;
   };
 
+  // the parametric dimension of each multipatch (one per multipatch)
+  std::vector<int> pdim(multipatches.size(), 2);
+  bool any2 = false, any3 = false;
+  for (size_t m = 0; m < multipatches.size(); ++m) {
+    const MultiPatch* mp = multipatches[m];
+    if (!mp || mp->patches.empty()) continue;   // said below
+    pdim[m] = mp->patches.front().dim();
+    for (size_t k = 0; k < mp->patches.size(); ++k)
+      if (mp->patches[k].dim() != pdim[m])
+        error("multipatch " + std::to_string(m) + ", patch " + std::to_string(k) + " is " + std::to_string(mp->patches[k].dim()) +
+              "-D, its patch 0 " + std::to_string(pdim[m]) + "-D");
+    (pdim[m] == 3 ? any3 : any2) = true;
+  }
+
   std::ostringstream os;
   os << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-     << "<!--Written by igacontact: G+Smo geometry (TensorBSpline2 / TensorNurbs2, Euclidean coefs)-->\n"
+     << "<!--Written by igacontact: G+Smo geometry ("
+     << (any3 ? (any2 ? "TensorBSpline2 / TensorNurbs2 / TensorBSpline3 / TensorNurbs3" : "TensorBSpline3 / TensorNurbs3")
+              : "TensorBSpline2 / TensorNurbs2")
+     << ", Euclidean coefs)-->\n"
      << "<xml>\n";
   std::vector<int> first(multipatches.size(), 0);
   int id = 0;
@@ -430,10 +495,12 @@ std::string gismo_xml_text(const std::vector<const MultiPatch*>& multipatches) {
       if (!bad.empty()) error("multipatch " + std::to_string(m) + ", patch " + std::to_string(k) + ": " + bad);
       const bool rational = std::any_of(P.cp.begin(), P.cp.end(), [](const ControlPoint& c) { return c.w != 1.0; });
       const std::string in = rational ? "   " : "  ";
-      os << " <Geometry type=\"" << (rational ? "TensorNurbs2" : "TensorBSpline2") << "\" id=\"" << id << "\">\n";
-      if (rational) os << "  <Basis type=\"TensorNurbsBasis2\">\n";
-      os << in << "<Basis type=\"TensorBSplineBasis2\">\n";
-      for (int d = 0; d < 2; ++d) {
+      const int dim = P.dim();
+      const std::string D = std::to_string(dim);
+      os << " <Geometry type=\"" << (rational ? "TensorNurbs" : "TensorBSpline") << D << "\" id=\"" << id << "\">\n";
+      if (rational) os << "  <Basis type=\"TensorNurbsBasis" << D << "\">\n";
+      os << in << "<Basis type=\"TensorBSplineBasis" << D << "\">\n";
+      for (int d = 0; d < dim; ++d) {
         os << in << " <Basis type=\"BSplineBasis\" index=\"" << d << "\">\n"
            << in << "  <KnotVector degree=\"" << P.degree[d] << "\">";
         os << number_row(P.knots[d]) << "</KnotVector>\n" << in << " </Basis>\n";
@@ -444,8 +511,12 @@ std::string gismo_xml_text(const std::vector<const MultiPatch*>& multipatches) {
         for (const ControlPoint& c : P.cp) os << fmt(c.w) << "\n";
         os << "</weights>\n  </Basis>\n";
       }
-      os << "  <coefs geoDim=\"2\">\n";
-      for (const ControlPoint& c : P.cp) os << fmt(c.x[0]) << " " << fmt(c.x[1]) << "\n";
+      os << "  <coefs geoDim=\"" << D << "\">\n";
+      for (const ControlPoint& c : P.cp) {
+        os << fmt(c.x[0]) << " " << fmt(c.x[1]);
+        if (dim == 3) os << " " << fmt(c.x[2]);
+        os << "\n";
+      }
       os << "</coefs>\n </Geometry>\n";
     }
   }
@@ -453,17 +524,34 @@ std::string gismo_xml_text(const std::vector<const MultiPatch*>& multipatches) {
     const MultiPatch& mp = *multipatches[m];
     const int np = static_cast<int>(mp.patches.size());
     auto check = [&](const PatchSide& s, const std::string& what) {
-      const std::string bad = side_out_of_range(s, np);
+      const std::string bad = side_out_of_range(s, np, pdim[m]);
       if (!bad.empty()) error("multipatch " + std::to_string(m) + ": " + what + " " + bad);
     };
     auto ps = [&](const PatchSide& s) { return std::to_string(first[m] + s.patch) + " " + std::to_string(number_of_side(s.side)); };
-    os << " <MultiPatch parDim=\"2\" id=\"" << id++ << "\">\n"
+    os << " <MultiPatch parDim=\"" << pdim[m] << "\" id=\"" << id++ << "\">\n"
        << "  <patches type=\"id_range\">" << first[m] << " " << first[m] + np - 1 << "</patches>\n";
     if (!mp.interfaces.empty()) {
       os << "  <interfaces>\n";
       for (const Interface& f : mp.interfaces) {
         check(f.a, "an interface");
         check(f.b, "an interface");
+        if (pdim[m] == 3) {
+          // G+Smo's boundaryInterface over the 3 directions: across the faces the direction
+          // across the second (flag: the same parameter value, as G+Smo sets it), along them
+          // as face_map / face_flip say
+          const int d1 = side_direction(f.a.side), d2 = side_direction(f.b.side);
+          const auto fa = face_directions(f.a.side), fb = face_directions(f.b.side);
+          int map[3], orient[3];
+          map[d1] = d2;
+          orient[d1] = side_end(f.a.side) == side_end(f.b.side);
+          for (int k = 0; k < 2; ++k) {
+            map[fa[k]] = fb[f.face_map[k]];
+            orient[fa[k]] = !f.face_flip[k];
+          }
+          os << ps(f.a) << " " << ps(f.b) << " " << map[0] << " " << map[1] << " " << map[2] << " " << orient[0] << " "
+             << orient[1] << " " << orient[2] << "\n";
+          continue;
+        }
         // G+Smo's 2-D boundaryInterface: the direction across the first side maps to the one
         // across the second (flag: same parameter value), the one along it to the one along
         // the second (flag: same orientation).

@@ -35,16 +35,20 @@ int corner_index(const Patch& P, Corner c) {
 }
 
 double patches_diameter(const std::vector<Patch>& patches) {
-  double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
   for (const Patch& P : patches)
     for (const auto& c : P.cp)
-      for (int d = 0; d < 2; ++d) lo[d] = std::min(lo[d], c.x[d]), hi[d] = std::max(hi[d], c.x[d]);
-  return patches.empty() ? 0.0 : std::hypot(hi[0] - lo[0], hi[1] - lo[1]);
+      for (int d = 0; d < 3; ++d) lo[d] = std::min(lo[d], c.x[d]), hi[d] = std::max(hi[d], c.x[d]);
+  // hypot(h, 0) = h exactly: 2-D (z = 0) gives the 2-D diagonal bit for bit
+  return patches.empty() ? 0.0 : std::hypot(std::hypot(hi[0] - lo[0], hi[1] - lo[1]), hi[2] - lo[2]);
 }
 
 namespace {
 
-double dist(const ControlPoint& a, const ControlPoint& b) { return std::hypot(a.x[0] - b.x[0], a.x[1] - b.x[1]); }
+// hypot(h, 0) = h exactly: in 2-D (z = 0) the plane distance bit for bit
+double dist(const ControlPoint& a, const ControlPoint& b) {
+  return std::hypot(std::hypot(a.x[0] - b.x[0], a.x[1] - b.x[1]), a.x[2] - b.x[2]);
+}
 
 std::vector<ControlPoint> side_points(const Patch& P, Side s) {
   std::vector<ControlPoint> v;
@@ -108,9 +112,147 @@ int base_normal_sign(const Patch& P, Side s) {
   return side_normal_sign(s) * P.orientation();
 }
 
+// ---- 3-D faces ----
+
+// control point counts of face s along its two directions
+std::array<int, 2> face_counts(const Patch& P, Side s) {
+  const auto f = face_directions(s);
+  return {P.ncp(f[0]), P.ncp(f[1])};
+}
+
+// The 8 relative orientations, in the order find_interfaces tries them.
+std::array<Interface, 8> orientations(const PatchSide& a, const PatchSide& b) {
+  std::array<Interface, 8> o;
+  for (int k = 0; k < 8; ++k) {
+    o[k].a = a;
+    o[k].b = b;
+    o[k].face_map = k < 4 ? std::array<int, 2>{0, 1} : std::array<int, 2>{1, 0};
+    o[k].face_flip = {(k & 1) != 0, (k & 2) != 0};
+  }
+  return o;
+}
+
+bool counts_fit(const Interface& f, const std::array<int, 2>& na, const std::array<int, 2>& nb) {
+  return nb[f.face_map[0]] == na[0] && nb[f.face_map[1]] == na[1] && f.face_map[0] != f.face_map[1];
+}
+
+// largest distance between face a's control points and their images on face b (counts fit);
+// returns early once it exceeds stop
+double face_gap(const std::vector<Patch>& patches, const Interface& f, double stop = 1e300) {
+  const Patch &P = patches[f.a.patch], &Q = patches[f.b.patch];
+  const auto ia = P.side_indices(f.a.side), ib = Q.side_indices(f.b.side);
+  const auto na = face_counts(P, f.a.side), nb = face_counts(Q, f.b.side);
+  double g = 0;
+  for (int i1 = 0; i1 < na[1]; ++i1)
+    for (int i0 = 0; i0 < na[0]; ++i0)
+      if ((g = std::max(g, dist(P.cp[ia[i0 + na[0] * i1]], Q.cp[ib[face_mapped_index(f, nb, i0, i1)]]))) > stop) return g;
+  return g;
+}
+
+// The orientation of faces a and b in which all control points coincide within tol (the
+// first of the 8), or false.
+bool match_faces(const std::vector<Patch>& patches, const PatchSide& a, const PatchSide& b, double tol, Interface& out) {
+  const auto na = face_counts(patches[a.patch], a.side), nb = face_counts(patches[b.patch], b.side);
+  for (const Interface& f : orientations(a, b))
+    if (counts_fit(f, na, nb) && face_gap(patches, f, tol) <= tol) {
+      out = f;
+      return true;
+    }
+  return false;
+}
+
+// the 4 corners of face a coincide with those of face b in some orientation (counts aside)
+bool corners_meet(const std::vector<Patch>& patches, const PatchSide& a, const PatchSide& b, double tol) {
+  const Patch &P = patches[a.patch], &Q = patches[b.patch];
+  const auto ia = P.side_indices(a.side), ib = Q.side_indices(b.side);
+  const auto na = face_counts(P, a.side), nb = face_counts(Q, b.side);
+  for (const Interface& f : orientations(a, b)) {
+    bool all = true;
+    for (int c = 0; c < 4 && all; ++c) {
+      const int i0 = c % 2 ? na[0] - 1 : 0, i1 = c / 2 ? na[1] - 1 : 0;
+      // the corner's image: the end of b's direction face_map[k] (counts may differ)
+      int pb[2];
+      const int ic[2] = {c % 2, c / 2};
+      for (int k = 0; k < 2; ++k) pb[f.face_map[k]] = (ic[k] != 0) != f.face_flip[k] ? nb[f.face_map[k]] - 1 : 0;
+      all = dist(P.cp[ia[i0 + na[0] * i1]], Q.cp[ib[pb[0] + nb[0] * pb[1]]]) <= tol;
+    }
+    if (all) return true;
+  }
+  return false;
+}
+
+std::array<double, kMaxDim> face_centre(const Patch& P, Side s) {
+  const Patch F = P.face(s);
+  const double t[2] = {0.5 * (F.knots[0].front() + F.knots[0].back()), 0.5 * (F.knots[1].front() + F.knots[1].back())};
+  return F.point(t);
+}
+
+std::string counts_text(const std::array<int, 2>& n) { return std::to_string(n[0]) + " x " + std::to_string(n[1]); }
+
+// "" when faces a and b (coincident control points, orientation f) carry the same basis
+std::string same_face_basis(const std::vector<Patch>& patches, const Interface& f, const std::string& names) {
+  const Patch &P = patches[f.a.patch], &Q = patches[f.b.patch];
+  const auto da = face_directions(f.a.side), db = face_directions(f.b.side);
+  for (int k = 0; k < 2; ++k) {
+    const int d = da[k], e = db[f.face_map[k]];
+    const int dp = P.degree[d], dq = Q.degree[e];
+    auto unit = [](const std::vector<double>& U, bool rev) {
+      std::vector<double> v;
+      for (double u : U) v.push_back((u - U.front()) / (U.back() - U.front()));
+      if (rev) {
+        std::reverse(v.begin(), v.end());
+        for (double& u : v) u = 1.0 - u;
+      }
+      return v;
+    };
+    const auto a = unit(P.knots[d], false), b = unit(Q.knots[e], f.face_flip[k]);
+    bool same = dp == dq && a.size() == b.size();
+    for (size_t m = 0; same && m < a.size(); ++m) same = std::abs(a[m] - b[m]) <= 1e-12;
+    if (!same)
+      return names + " meet along a face with different " +
+             (dp != dq ? "degrees (" + std::to_string(dp) + " and " + std::to_string(dq) + ")"
+                       : "knots (" + knots_text(a) + " and " + knots_text(b) + ")") +
+             " in one direction: a non-conforming interface; give both faces the same knots and degrees";
+  }
+  return "";
+}
+
+bool is_3d_pair(const std::vector<Patch>& patches, const PatchSide& x, const PatchSide& y) {
+  return patches[x.patch].dim() == 3 || patches[y.patch].dim() == 3;
+}
+
 }  // namespace
 
-bool side_collapsed(const Patch& P, Side s, double tol) { return collapsed(side_points(P, s), tol); }
+std::array<int, 2> face_directions(Side s) {
+  const int d = side_direction(s);
+  return d == 0 ? std::array<int, 2>{1, 2} : d == 1 ? std::array<int, 2>{0, 2} : std::array<int, 2>{0, 1};
+}
+
+int face_mapped_index(const Interface& f, const std::array<int, 2>& nb, int i0, int i1) {
+  int pb[2];
+  const int ia[2] = {i0, i1};
+  for (int k = 0; k < 2; ++k) pb[f.face_map[k]] = f.face_flip[k] ? nb[f.face_map[k]] - 1 - ia[k] : ia[k];
+  return pb[0] + nb[0] * pb[1];
+}
+
+bool face_degenerate(const Patch& P, Side s, double tol) {
+  const auto idx = P.side_indices(s);
+  const auto n = face_counts(P, s);
+  for (int k = 0; k < 2; ++k) {
+    bool all = true;   // every line along direction k collapsed to a point
+    for (int l = 0; l < n[1 - k] && all; ++l)
+      for (int m = 1; m < n[k] && all; ++m) {
+        const int first = k == 0 ? n[0] * l : l, here = k == 0 ? m + n[0] * l : l + n[0] * m;
+        all = dist(P.cp[idx[first]], P.cp[idx[here]]) <= tol;
+      }
+    if (all) return true;
+  }
+  return false;
+}
+
+bool side_collapsed(const Patch& P, Side s, double tol) {
+  return P.dim() == 3 ? face_degenerate(P, s, tol) : collapsed(side_points(P, s), tol);
+}
 
 namespace {
 // Calls f(x, y, a, b) for every pair of distinct sides x < y (the same patch's too) that are
@@ -133,6 +275,13 @@ void for_each_side_pair(const std::vector<Patch>& patches, double tol, F f) {
 std::vector<Interface> find_interfaces(const std::vector<Patch>& patches, double tol) {
   std::vector<Interface> out;
   for_each_side_pair(patches, tol, [&](PatchSide x, PatchSide y, const std::vector<ControlPoint>& a, const std::vector<ControlPoint>& b) {
+    if (is_3d_pair(patches, x, y)) {
+      Interface f;
+      if (patches[x.patch].dim() == 3 && patches[y.patch].dim() == 3 && !face_degenerate(patches[x.patch], x.side, tol) &&
+          !face_degenerate(patches[y.patch], y.side, tol) && match_faces(patches, x, y, tol, f))
+        out.push_back(f);
+      return false;
+    }
     const int m = coincide(a, b, tol);
     if (m) out.push_back({x, y, m == 2});
     return false;
@@ -144,6 +293,13 @@ std::string find_nonconforming(const std::vector<Patch>& patches, const std::vec
   const int np = static_cast<int>(patches.size());
   for (const Interface& f : found) {
     if (f.a.patch < 0 || f.a.patch >= np || f.b.patch < 0 || f.b.patch >= np) continue;
+    if (is_3d_pair(patches, f.a, f.b)) {
+      Interface g;
+      if (patches[f.a.patch].dim() != 3 || patches[f.b.patch].dim() != 3 || !match_faces(patches, f.a, f.b, tol, g)) continue;
+      const std::string err = same_face_basis(patches, g, patch_side_name(f.a) + " and " + patch_side_name(f.b));
+      if (!err.empty()) return err;
+      continue;
+    }
     const std::string err = same_basis(patches[f.a.patch], f.a.side, patches[f.b.patch], f.b.side,
                                        coincide(side_points(patches[f.a.patch], f.a.side), side_points(patches[f.b.patch], f.b.side), tol) == 2,
                                        patch_side_name(f.a) + " and " + patch_side_name(f.b));
@@ -157,6 +313,19 @@ std::string find_nonconforming(const std::vector<Patch>& patches, const std::vec
   std::string msg;
   for_each_side_pair(patches, tol, [&](PatchSide x, PatchSide y, const std::vector<ControlPoint>& a, const std::vector<ControlPoint>& b) {
     if (is_interface(x, y)) return false;
+    if (is_3d_pair(patches, x, y)) {
+      const Patch &P = patches[x.patch], &Q = patches[y.patch];
+      if (P.dim() != 3 || Q.dim() != 3 || face_degenerate(P, x.side, tol) || face_degenerate(Q, y.side, tol)) return false;
+      if (!corners_meet(patches, x, y, tol)) return false;
+      // the same corners: the same face with other control points, or another surface between
+      // the same corners; compare the faces' centres
+      const auto ma = face_centre(P, x.side), mb = face_centre(Q, y.side);
+      if (std::hypot(std::hypot(ma[0] - mb[0], ma[1] - mb[1]), ma[2] - mb[2]) > 1e3 * tol) return false;
+      msg = patch_side_name(x) + " and " + patch_side_name(y) + " meet along a face with different control points (" +
+            counts_text(face_counts(P, x.side)) + " and " + counts_text(face_counts(Q, y.side)) +
+            "): a non-conforming interface; give both faces the same knots and degrees";
+      return true;
+    }
     const bool ends = (dist(a.front(), b.front()) <= tol && dist(a.back(), b.back()) <= tol) ||
                       (dist(a.front(), b.back()) <= tol && dist(a.back(), b.front()) <= tol);
     if (!ends) return false;
@@ -179,6 +348,22 @@ std::string check_interface(const std::vector<Patch>& patches, const Interface& 
   const std::string names = patch_side_name(f.a) + " and " + patch_side_name(f.b);
   if (f.a.patch < 0 || f.a.patch >= np || f.b.patch < 0 || f.b.patch >= np)
     return "interface " + names + " names a patch that does not exist (" + std::to_string(np) + " patches)";
+  if (is_3d_pair(patches, f.a, f.b)) {
+    const Patch &P = patches[f.a.patch], &Q = patches[f.b.patch];
+    if (P.dim() != Q.dim()) return "interface " + names + " joins a 2-D and a 3-D patch";
+    for (const PatchSide& s : {f.a, f.b})
+      if (static_cast<int>(s.side) >= num_sides(3)) return "interface " + names + " names a side that does not exist";
+    const auto na = face_counts(P, f.a.side), nb = face_counts(Q, f.b.side);
+    bool fits = false;
+    for (const Interface& g : orientations(f.a, f.b)) fits = fits || counts_fit(g, na, nb);
+    if (!fits)
+      return "interface " + names + " is not conforming: " + counts_text(na) + " and " + counts_text(nb) +
+             " control points on its faces (refine both patches alike along the interface)";
+    // coincident in some orientation (a wrong orientation in a file is harmless: the geometry decides)
+    Interface g;
+    if (!match_faces(patches, f.a, f.b, tol, g)) return "interface " + names + " is not conforming: the control points on it do not coincide";
+    return "";
+  }
   const auto a = side_points(patches[f.a.patch], f.a.side), b = side_points(patches[f.b.patch], f.b.side);
   if (a.size() != b.size())
     return "interface " + names + " is not conforming: " + std::to_string(a.size()) + " and " + std::to_string(b.size()) +
@@ -200,6 +385,29 @@ std::vector<std::vector<int>> merge_control_points(const std::vector<Patch>& pat
   };
   for (const Interface& f : interfaces) {
     const auto ia = patches[f.a.patch].side_indices(f.a.side), ib = patches[f.b.patch].side_indices(f.b.side);
+    if (is_3d_pair(patches, f.a, f.b)) {
+      // faces: the orientation with matching counts in which the control points lie closest
+      // (f's own first: ties keep it)
+      const auto na = face_counts(patches[f.a.patch], f.a.side), nb = face_counts(patches[f.b.patch], f.b.side);
+      Interface best;
+      double gap = 1e300;
+      std::array<Interface, 9> cand;
+      cand[0] = f;
+      const auto o = orientations(f.a, f.b);
+      std::copy(o.begin(), o.end(), cand.begin() + 1);
+      for (const Interface& g : cand)
+        if (counts_fit(g, na, nb)) {
+          const double d = face_gap(patches, g);
+          if (d < gap) gap = d, best = g;
+        }
+      if (gap == 1e300) continue;   // not conforming (check_interface says so)
+      for (int i1 = 0; i1 < na[1]; ++i1)
+        for (int i0 = 0; i0 < na[0]; ++i0) {
+          const size_t x = find(offset[f.a.patch] + ia[i0 + na[0] * i1]), y = find(offset[f.b.patch] + ib[face_mapped_index(best, nb, i0, i1)]);
+          if (x != y) parent[std::max(x, y)] = std::min(x, y);
+        }
+      continue;
+    }
     // the geometry decides the direction (a wrong flag in a file is harmless)
     const bool rev = dist(patches[f.a.patch].cp[ia.front()], patches[f.b.patch].cp[ib.front()]) >
                      dist(patches[f.a.patch].cp[ia.front()], patches[f.b.patch].cp[ib.back()]);

@@ -2,6 +2,7 @@
 // Multi-patch topology, kept apart from the patches (as G+Smo's gsBoxTopology): which patch
 // sides meet (interfaces) and which lie on the body's boundary, named boundaries, and the
 // control point merging that makes the displacement continuous across conforming interfaces.
+#include <array>
 #include <string>
 #include <utility>
 #include <vector>
@@ -20,11 +21,30 @@ struct PatchSide {
 std::string patch_side_name(const PatchSide& s);   // "patch1.north"
 
 /// A conforming interface: side a of one patch meets side b of another (or of the same patch).
-/// reversed: the two sides' parameters run in opposite directions.
+/// 2-D: reversed: the two sides' parameters run in opposite directions.
+/// 3-D (faces): one of the 8 relative orientations of two faces. A face's own directions are
+/// its patch's free directions in increasing order (k = 0, 1; as Patch::face and
+/// side_indices number them); face a's direction k runs along face b's direction face_map[k],
+/// against it where face_flip[k]. (G+Smo's boundaryInterface holds the same as a map and flags
+/// over all 3 patch directions; model/gismo_xml.cpp converts.) The geometry decides where it
+/// can: find_interfaces sets these from the coinciding control points, merge_control_points
+/// uses the orientation in which they coincide best.
 struct Interface {
   PatchSide a, b;
   bool reversed = false;
+  std::array<int, 2> face_map{0, 1};
+  std::array<bool, 2> face_flip{false, false};
 };
+
+/// The free (in-face) patch directions of face s of a trivariate patch, in increasing order.
+std::array<int, 2> face_directions(Side s);
+/// The position in face b's control point list (Patch::side_indices, first direction fastest)
+/// of face a's control point (i0, i1) under f's orientation; nb: face b's counts per direction.
+int face_mapped_index(const Interface& f, const std::array<int, 2>& nb, int i0, int i1);
+/// 3-D: the face has no area (collapsed onto a curve or a point: along one of its directions
+/// every line of control points lies within tol of its first), as the pole face of a sphere
+/// octant; no boundary and no interface.
+bool face_degenerate(const Patch& P, Side s, double tol);
 
 /// Patches with their topology, as a geometry file holds them.
 struct MultiPatch {
@@ -45,12 +65,15 @@ int corner_index(const Patch& P, Corner c);   // the patch control point at the 
 double patches_diameter(const std::vector<Patch>& patches);
 
 /// The side's control points all lie within tol of its first: a side collapsed to a point
-/// (a degenerate patch), which is no boundary and no interface.
+/// (a degenerate patch), which is no boundary and no interface. 3-D: face_degenerate (a face
+/// collapsed onto a curve, too).
 bool side_collapsed(const Patch& P, Side s, double tol);
 
 /// Interfaces of patches found by coincident control points (within tol, forward or reversed)
 /// along whole sides, any pair of distinct sides (the same patch's two sides close a ring).
-/// Sides collapsed to a point are left out.
+/// Sides collapsed to a point are left out. 3-D: whole faces, in the first of the 8
+/// orientations (face_map {0, 1} before {1, 0}, flips (no, no), (yes, no), (no, yes), (yes,
+/// yes)) in which all control points coincide; degenerate faces left out.
 std::vector<Interface> find_interfaces(const std::vector<Patch>& patches, double tol);
 /// Sides whose end points meet another side's end points but whose control points do not
 /// coincide (a non-conforming interface): "patch0.east and patch1.west ..." or "".
@@ -59,7 +82,9 @@ std::string find_nonconforming(const std::vector<Patch>& patches, const std::vec
 /// tol in its orientation); returns "" or what is wrong, naming both sides.
 std::string check_interface(const std::vector<Patch>& patches, const Interface& f, double tol);
 /// Merges the control points of conforming interfaces: per patch, control point -> merged
-/// index (numbered in patch order, first appearance); n: how many there are.
+/// index (numbered in patch order, first appearance); n: how many there are. 3-D: faces, in
+/// the orientation (of those with matching counts) in which the control points lie closest,
+/// f's own first.
 std::vector<std::vector<int>> merge_control_points(const std::vector<Patch>& patches,
                                                    const std::vector<Interface>& interfaces, int& n);
 

@@ -141,7 +141,7 @@ Problem build(Reader& R, const YAML::Node& root) {
 
   if (root["output"]) {
     const YAML::Node o = root["output"];
-    R.keys(o, "output", {"directory", "samples_per_element", "probes", "steps"});
+    R.keys(o, "output", {"directory", "samples_per_element", "probes", "steps", "cells"});
     if (o["steps"]) {
       const std::string st = R.string(o["steps"], "output.steps");
       if (st == "all") P.output.all_steps = true;
@@ -154,6 +154,13 @@ Problem build(Reader& R, const YAML::Node& root) {
     }
     if (o["samples_per_element"]) {
       P.output.samples_per_element = R.samples(o["samples_per_element"]);
+    }
+    if (o["cells"]) {
+      const std::string c = R.string(o["cells"], "output.cells");
+      if (c == "faces") P.output.volume_cells = false;
+      else if (c == "volume") P.output.volume_cells = true;
+      else R.fail("output.cells", o["cells"], "expected faces or volume");
+      if (P.dim() != 3) R.fail("output.cells", o["cells"], "output.cells is for solids (analysis.type: solid); 2-D writes every element");
     }
     if (o["probes"]) {
       const YAML::Node pr = o["probes"];
@@ -182,6 +189,7 @@ Problem build(Reader& R, const YAML::Node& root) {
     }
   }
 
+  P.linear.dofs_per_node = P.dim();
   choose_linear_method(R, root, P);
 
   check_problem(R, root, P);

@@ -127,6 +127,8 @@ struct LinearOptions {
   /// the tangent is symmetric (no friction): the direct solver factors L D L^T
   bool symmetric = true;
   bool reuse_preconditioner = true;   // keep the preconditioner over a load step's Newton iterations
+  /// interleaved dofs per node for the AMG preconditioners: the problem's dimension (the loader sets it)
+  int dofs_per_node = 2;
   /// solver.linear.forcing: the tolerance of each Newton step's Krylov solve
   Forcing forcing = Forcing::Auto;
   /// solver.linear.muelu_xml, read and checked with the problem: MueLu parameters set over
@@ -144,6 +146,9 @@ struct OutputOptions {
   std::string directory;
   int samples_per_element = 0;   // 1..64; 0: auto (samples())
   bool all_steps = true;   // output.steps: all (a state per converged load step) | last
+  /// output.cells (3-D only): faces (false, the default: the boundary faces of the patches as
+  /// Bezier quadrilaterals) | volume (true: every element as a Bezier hexahedron) in result_<n>.vtu
+  bool volume_cells = false;
   std::vector<Probe> probes;
 
   /// Samples per element and direction of the sampled grid (result_<n>.h5, result.xdmf) of a
@@ -195,8 +200,6 @@ constexpr double kMaxDofs = 1e9;                      // besides the machine's m
 /// Krylov solves keep the fixed tolerance there, no inexact Newton, and MUMPS was still 2x
 /// faster at 55,272 dofs); without, Problem::auto_direct_max_dofs' table per degree.
 constexpr long long kAutoDirectMaxDofsFriction = 200000;
-/// solver.linear.method: auto in 3-D takes the direct solver up to this many dofs.
-constexpr long long kAutoDirectMaxDofs3D = 30000;
 constexpr size_t kMaxInsertedKnots = 1000;            // per direction; subdivide refines uniformly
 constexpr int kMaxLoadSteps = 10000;
 constexpr int kMaxContactQuadrature = 12;             // contact quadrature points per slave span

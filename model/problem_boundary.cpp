@@ -106,6 +106,9 @@ std::vector<std::pair<PatchSide, int>> boundary_places(const Reader& R, const Bo
         for (const PatchSide& ps : list) out.push_back({ps, -1});
         return out;
       }
+  if (solid && parse_corner(part, c))
+    R.fail(key, at, "corner conditions are 2-D; a solid's boundary names faces (" +
+                        std::string(np > 1 ? "patch<k>.west|east|south|north|front|back" : "west, east, south, north, front, back") + ")");
   if (!corners && parse_corner(part, c)) {
     std::string names;
     for (const auto& [nm, list] : b.named) names += (names.empty() ? "" : ", ") + nm;

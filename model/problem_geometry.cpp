@@ -261,9 +261,7 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
   // interfaces: declared ones and those found on the unrefined patches (refinement keeps
   // conforming sides conforming only when both are refined alike: checked after it)
   b.tolerance = 1e-8 * std::max(patches_diameter(b.patches), 1e-300);
-  if (R.dim == 3 && np > 1)
-    R.fail(path + ".geometry", g, "body '" + b.name + "': multi-patch solids are not supported yet (one trivariate patch per body)");
-  if (R.dim == 2) {
+  {
     for (const Interface& f : declared) {
       const std::string err = check_interface(b.patches, f, b.tolerance);
       if (!err.empty()) R.fail(path + ".geometry.file", g["file"], "body '" + b.name + "': " + err);
@@ -392,7 +390,7 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
   b.cp_index = merge_control_points(b.patches, b.interfaces, b.num_cps);
   // a folded or flat patch (det J changing sign or vanishing inside) is bad input, blamed on
   // the control points where they were given
-  for (int k = 0; k < np && b.patches[k].dim() == 2; ++k) {   // TODO(3-D): the trivariate det J check
+  for (int k = 0; k < np; ++k) {
     const std::string bad = check_jacobian(b.patches[k]);
     if (bad.empty()) continue;
     const std::string who = "body '" + b.name + "'" + (np > 1 ? ", patch " + std::to_string(k) : std::string()) + ": ";

@@ -53,8 +53,14 @@ long long Problem::auto_direct_max_dofs() const {
       for (int d = 0; d < pt.dim(); ++d) p = std::max(p, pt.degree[d]);
   const bool linear = contact.empty() && kinematics == Kinematics::Small;
   // 3-D: a sparse factorisation fills far more (separators of n^(2/3) against n^(1/2)
-  // unknowns); provisional bound until benchmarks/auto_crossover.py is run in 3-D
-  if (dim() == 3) return kAutoDirectMaxDofs3D;
+  // unknowns), but BoomerAMG needs more CG iterations as the degree rises (22-26 at p = 1, 2;
+  // 53 at p = 3; ~150 at p = 4 on the unit cube): measured on one linear solve of the cube
+  // (docs/performance.md, "3-D: auto by degree"), the bound per degree
+  if (dim() == 3) {
+    //                                         p = 1     2      3      4      5
+    static constexpr long long kMaxDofs3D[5] = {5000, 5000, 10000, 30000, 30000};
+    return kMaxDofs3D[std::min(p, 5) - 1];
+  }
   //                                                 p = 1      2       3       4       5
   static constexpr long long kMaxDofs[2][5] = {/* nonlinear */ {10000, 10000, 20000, 20000, 30000},
                                                /* linear */ {60000, 60000, 150000, 150000, 240000}};

@@ -121,7 +121,9 @@ void System::assemble_internal(const Vector* u, Vector* f_int, RCP<Matrix>* K, c
         k.tangent = K != nullptr;
         k.sum_factorized = P_.formation == Formation::SumFactorized && pmax >= 3;
         if (k.tangent) k.scatter = scatter(b);
+        k.Kw = element_work_;
         k.run(bd.e_end);
+        element_work_ = k.Kw;
       });
       // finite kinematics: pressures follow the deformed faces (kernels/face_load.hpp)
       if (lp && P_.kinematics == Kinematics::Finite)

@@ -20,10 +20,7 @@ using Operator = Tpetra::Operator<SC, LO, GO, Node>;
 RCP<Operator> make_preconditioner(const LinearOptions& opt, const RCP<Matrix>& A,
                                   const RCP<MultiVector>& nullspace, const RCP<MultiVector>& coords) {
   const int ranks = A->getComm()->getSize();
-  // dofs per node: the columns of the aggregation coordinates (System: one per dimension),
-  // else from the rigid modes (3 in 2-D, 6 in 3-D)
-  const int dim = !coords.is_null() ? static_cast<int>(coords->getNumVectors())
-                  : (!nullspace.is_null() && nullspace->getNumVectors() == 6) ? 3 : 2;
+  const int dim = opt.dofs_per_node;   // interleaved displacement components
   switch (opt.preconditioner) {
     case Preconditioner::None: return Teuchos::null;
     case Preconditioner::BoomerAMG: return make_boomeramg(A, dim);

@@ -180,6 +180,9 @@ class System {
   // solver.formation: sum_factorized: per block, the 1-D tables and work arrays (built once)
   struct SumFactorCache;
   mutable std::vector<std::shared_ptr<SumFactorCache>> sum_factor_;
+  // 3-D: the element loop's batched element-matrix work view, kept from one assembly to the
+  // next (64 MB: allocating and zeroing its pages per Newton iteration costs)
+  mutable Kokkos::View<double**, Kokkos::LayoutRight, MemSpace> element_work_;
   RCP<const Graph> stiffness_graph() const;
 
   struct CouplingRange { std::vector<int> lo, hi; };

@@ -189,6 +189,27 @@ inline Errors l2_errors(const Solved& s, int body, const Exact& ex, int extra_po
   return e;
 }
 
+/// The largest |K v - (f(u + h v) - f(u - h v)) / 2h| and |K v| (all ranks) of the System's
+/// tangent K at a random u (entries in [-amplitude, amplitude]) along a random v, h = 1e-6,
+/// at load point lp: the tangent against central differences of the internal force.
+inline std::pair<double, double> tangent_fd_check(const System& sys, const LoadPoint& lp, double amplitude = 0.05) {
+  Vector u(sys.owned_map()), v(sys.owned_map());
+  u.randomize(-amplitude, amplitude);
+  v.randomize(-1.0, 1.0);
+  RCP<Matrix> K;
+  sys.assemble_internal(&u, nullptr, &K, &lp);
+  Vector Kv(sys.owned_map()), fp(sys.owned_map()), fm(sys.owned_map()), up(sys.owned_map()), um(sys.owned_map());
+  K->apply(v, Kv);
+  const double h = 1e-6;
+  up.update(1.0, u, h, v, 0.0);
+  um.update(1.0, u, -h, v, 0.0);
+  sys.assemble_internal(&up, &fp, nullptr, &lp);
+  sys.assemble_internal(&um, &fm, nullptr, &lp);
+  fp.update(-1.0 / (2 * h), fm, 1.0 / (2 * h));
+  fp.update(-1.0, Kv, 1.0);
+  return {fp.normInf(), Kv.normInf()};
+}
+
 /// Sum of all external loads (x, y) at load factor 1, over all ranks.
 inline std::array<double, 2> total_load(const System& sys) {
   RCP<Vector> f = sys.assemble_loads(1.0);

@@ -11,6 +11,7 @@
 #include "model/geometry_check.hpp"
 #include "model/nurbs.hpp"
 #include "tests/patches.hpp"
+#include "tests/patches3d.hpp"
 #include "model/problem.hpp"
 #include "model/rigid_modes.hpp"
 
@@ -323,5 +324,205 @@ TEST(RigidModes, AreStrainFreeAndIndependentIn2DAnd3D) {
         for (int j = k; j < nm; ++j) A[i][j] -= f * A[k][j];
       }
     }
+  }
+}
+
+// ---- 3-D: trivariate patches ----
+namespace {
+
+// A model Patch (pdim = 3) of a kernel-side block of tests/patches3d.hpp.
+Patch patch_of_block(const iga::test3d::Block3& b) {
+  Patch P;
+  P.pdim = 3;
+  for (int d = 0; d < 3; ++d) {
+    P.degree[d] = b.p[d];
+    P.knots[d] = b.U[d];
+  }
+  for (const auto& c : b.cp) P.cp.push_back(ControlPoint({c[0], c[1], c[2]}, c[3]));
+  return P;
+}
+
+// Sphere octant, radii a (zeta = 0) and b (zeta = 1), degree (2, 2, 1) rational: a surface of
+// revolution of a quarter circle. xi: the revolution about z (from +x to +y), eta: the meridian
+// (from the equator to the pole), zeta: the radius. The north face (eta = 1) collapses onto the
+// z axis. Right-handed: at (a, 0, 0) x_xi ~ +y, x_eta ~ +z, x_zeta ~ +x.
+Patch sphere_octant(double a, double b) {
+  Patch P;
+  P.pdim = 3;
+  P.degree = {2, 2, 1};
+  P.knots = {std::vector<double>{0, 0, 0, 1, 1, 1}, std::vector<double>{0, 0, 0, 1, 1, 1}, std::vector<double>{0, 0, 1, 1}};
+  const double s = std::sqrt(0.5);
+  const double rev[3][3] = {{1, 0, 1}, {1, 1, s}, {0, 1, 1}};   // (cos-like, sin-like, weight) of the revolution arc
+  const double mer[3][3] = {{1, 0, 1}, {1, 1, s}, {0, 1, 1}};   // (distance from the axis, z, weight) of the meridian
+  for (double R : {a, b})
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i)
+        P.cp.push_back(ControlPoint({R * mer[j][0] * rev[i][0], R * mer[j][0] * rev[i][1], R * mer[j][1]}, mer[j][2] * rev[i][2]));
+  return P;
+}
+
+void transform(Patch& P, const double A[3][3]) {
+  for (auto& c : P.cp) {
+    const auto x = c.x;
+    for (int r = 0; r < 3; ++r) c.x[r] = A[r][0] * x[0] + A[r][1] * x[1] + A[r][2] * x[2];
+  }
+}
+
+}  // namespace
+
+TEST(GeometryCheck3D, AcceptsBoxesShellsAndTransformedBoxes) {
+  EXPECT_EQ(check_jacobian(patch_of_block(iga::test3d::box({1, 1, 1}, {1, 1, 1}))), "");
+  EXPECT_EQ(check_jacobian(patch_of_block(iga::test3d::box({2, 3, 1}, {3, 2, 4}))), "");
+  EXPECT_EQ(check_jacobian(patch_of_block(iga::test3d::box({4, 2, 3}, {2, 2, 2}))), "");
+  // rotated (about an oblique axis) and sheared
+  Patch P = patch_of_block(iga::test3d::box({2, 2, 2}, {2, 3, 2}));
+  const double c = std::cos(0.7), s = std::sin(0.7);
+  const double rot[3][3] = {{c, -s, 0}, {s * 0.6, c * 0.6, -0.8}, {s * 0.8, c * 0.8, 0.6}};
+  const double shear[3][3] = {{1, 0.9, -0.4}, {0, 1, 0.7}, {0, 0, 1}};
+  transform(P, rot);
+  transform(P, shear);
+  EXPECT_EQ(P.orientation(), 1);
+  EXPECT_EQ(check_jacobian(P), "");
+  EXPECT_EQ(check_jacobian(P, 1), "");
+  // mirrored: left-handed, valid with its own orientation, refused where +1 is required
+  const double mirror[3][3] = {{-1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  transform(P, mirror);
+  EXPECT_EQ(P.orientation(), -1);
+  EXPECT_EQ(check_jacobian(P), "");
+  EXPECT_TRUE(contains(check_jacobian(P, 1), "changes sign")) << check_jacobian(P, 1);
+  // the quarter thick cylinder shell (rational in the angle), degrees 2 and 3
+  EXPECT_EQ(check_jacobian(patch_of_block(iga::test3d::shell(2, {3, 2, 2}, 1))), "");
+  EXPECT_EQ(check_jacobian(patch_of_block(iga::test3d::shell(3, {2, 2, 2}, 2))), "");
+}
+
+TEST(GeometryCheck3D, SphereOctantWithDegeneratePoleFace) {
+  const double a = 1.0, b = 1.6;
+  Patch P = sphere_octant(a, b);
+  ASSERT_EQ(P.validate(), "");
+  EXPECT_EQ(P.orientation(), 1);
+  // the geometry: on the spheres r = a and r = b, linear in zeta between them, in the octant
+  for (int k = 0; k <= 4; ++k)
+    for (int j = 0; j <= 8; ++j)
+      for (int i = 0; i <= 8; ++i) {
+        const double t[3] = {i / 8.0, j / 8.0, k / 4.0};
+        const auto x = P.point(t);
+        EXPECT_NEAR(std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]), a + t[2] * (b - a), 1e-12 * b);
+        EXPECT_GE(x[0], -1e-14); EXPECT_GE(x[1], -1e-14); EXPECT_GE(x[2], -1e-14);
+      }
+  // the pole face collapses onto the z axis
+  for (int a_ : P.side_indices(Side::North)) {
+    EXPECT_EQ(P.cp[a_].x[0], 0.0);
+    EXPECT_EQ(P.cp[a_].x[1], 0.0);
+  }
+  EXPECT_EQ(check_jacobian(P), "");
+  EXPECT_EQ(check_jacobian(P, 1), "");
+  // refined in all directions and elevated: still exact, still accepted
+  Patch Q = P;
+  Q.elevate(2, 1);
+  Q.subdivide(0, 2);
+  Q.subdivide(1, 3);
+  Q.subdivide(2, 2);
+  EXPECT_EQ(check_jacobian(Q), "");
+  // degree 5 in every direction (the largest), 3 x 3 x 2 elements: D of degree 19, the pole
+  // elements divided and subdivided
+  Patch H = P;
+  H.elevate(0, 3);
+  H.elevate(1, 3);
+  H.elevate(2, 4);
+  H.subdivide(0, 3);
+  H.subdivide(1, 3);
+  H.subdivide(2, 2);
+  EXPECT_EQ(check_jacobian(H), "");   // (36 ms here)
+  // left-handed (zeta reversed): accepted with its own orientation
+  Patch R = P;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) std::swap(R.cp[R.index(i, j, 0)], R.cp[R.index(i, j, 1)]);
+  EXPECT_EQ(R.orientation(), -1);
+  EXPECT_EQ(check_jacobian(R), "");
+}
+
+TEST(GeometryCheck3D, WedgeWithAFaceCollapsedOntoAnEdgeIsAccepted) {
+  // trilinear box whose east face (x = 1) collapses onto the edge y = 0: det J = 0 there only
+  Patch P = patch_of_block(iga::test3d::box({1, 1, 1}, {1, 1, 1}, {1.0, 1.0, 1.0}));
+  for (int a : P.side_indices(Side::East)) P.cp[a].x[1] = 0.0;
+  EXPECT_EQ(check_jacobian(P), "");
+  // the same at degree 2 with 2 x 2 x 2 elements (the collapsed face in the last elements)
+  Patch Q = patch_of_block(iga::test3d::box({2, 2, 2}, {2, 2, 2}, {1.0, 1.0, 1.0}));
+  for (auto& c : Q.cp) c.x[1] *= 1.0 - c.x[0];   // y -> y (1 - x): the face x = 1 onto y = 0
+  EXPECT_EQ(check_jacobian(Q), "");
+  // pinched inside (the middle plane x = 1/2 collapsed onto a line): refused
+  Patch R = patch_of_block(iga::test3d::box({1, 1, 1}, {2, 1, 1}, {1.0, 1.0, 1.0}));
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 2; ++j) R.cp[R.index(1, j, k)].x[1] = 0.0;
+  const std::string m = check_jacobian(R);
+  EXPECT_TRUE(contains(m, "vanishes inside the patch")) << m;
+}
+
+TEST(GeometryCheck3D, StraightDihedralAngleAlongAnEdgeIsAccepted) {
+  // a prism: the trilinear block whose corner (xi, eta) = (1, 1) goes to (2, 0), so that the
+  // faces eta = 0 and xi = 1 are coplanar at the edge (xi, eta) = (1, 0): det J = 0 along that
+  // patch edge only (not a whole face: no factor to divide out; subdivision ends on it)
+  Patch P = patch_of_block(iga::test3d::box({1, 1, 1}, {1, 1, 1}, {1.0, 1.0, 1.0}));
+  for (int k = 0; k < 2; ++k) {
+    P.cp[P.index(1, 1, k)].x[0] = 2.0;
+    P.cp[P.index(1, 1, k)].x[1] = 0.0;
+  }
+  EXPECT_EQ(check_jacobian(P), "");
+  // degree 2 (elevated) and 2 x 2 x 2 elements: the same geometry, the same answer
+  Patch Q = P;
+  for (int d = 0; d < 3; ++d) Q.elevate(d, 1), Q.subdivide(d, 2);
+  EXPECT_EQ(check_jacobian(Q), "");
+  // past the straight angle (a reflex corner): det J < 0 near that edge
+  Patch R = P;
+  for (int k = 0; k < 2; ++k) R.cp[R.index(1, 1, k)].x[1] = -0.3;
+  const std::string m = check_jacobian(R);
+  EXPECT_TRUE(contains(m, "det J changes sign")) << m;
+}
+
+TEST(GeometryCheck3D, FoldedBoxesAreRefused) {
+  // trilinear 2 x 2 x 2 elements: the middle control point moved through the east face
+  Patch P = patch_of_block(iga::test3d::box({1, 1, 1}, {2, 2, 2}, {1.0, 1.0, 1.0}));
+  ASSERT_EQ(check_jacobian(P), "");
+  P.cp[P.index(1, 1, 1)].x[0] = 1.5;
+  std::string m = check_jacobian(P);
+  EXPECT_TRUE(contains(m, "det J changes sign in element [0.5, 1] x ")) << m;
+  EXPECT_TRUE(contains(m, "the control net folds over")) << m;
+  // triquadratic, one element: the interior control point far through the east face; det J
+  // < 0 near the middle of that face only
+  Patch Q = patch_of_block(iga::test3d::box({2, 2, 2}, {1, 1, 1}, {1.0, 1.0, 1.0}));
+  Q.cp[Q.index(1, 1, 1)].x[0] = 4.0;
+  m = check_jacobian(Q);
+  EXPECT_TRUE(contains(m, "det J changes sign in element [0, 1] x [0, 1] x [0, 1]")) << m;
+  // barely through: x_xi < 0 only for xi > 0.988 near the middle of the east face (at s = r =
+  // 1/2, x_xi = 2 (1 - xi) a - 2 xi (a - 1), a = 0.375 + X / 4 = 1.0125), where no sample point
+  // of step 2 lies (the last: xi = 0.917): found by the Bernstein coefficients and subdivision
+  Q.cp[Q.index(1, 1, 1)].x[0] = 2.55;
+  m = check_jacobian(Q);
+  EXPECT_TRUE(contains(m, "det J changes sign in element [0, 1] x [0, 1] x [0, 1]")) << m;
+  // the same at X = 2.45 (a < 1): x_xi > 0 everywhere, accepted
+  Q.cp[Q.index(1, 1, 1)].x[0] = 2.45;
+  EXPECT_EQ(check_jacobian(Q), "");
+  // a flat element: zero volume
+  Patch F = patch_of_block(iga::test3d::box({1, 1, 1}, {1, 1, 1}, {1.0, 1.0, 1.0}));
+  for (auto& c : F.cp) c.x[2] = 0.0;
+  m = check_jacobian(F);
+  EXPECT_TRUE(contains(m, "zero volume")) << m;
+  // the sphere octant with the inner middle control point pushed out so far that the inner
+  // surface crosses the outer one (x3 would not: the inner point at the centre reaches r = 1.59)
+  Patch S = sphere_octant(1.0, 1.6);
+  for (int c = 0; c < 3; ++c) S.cp[S.index(1, 1, 0)].x[c] *= 5.0;
+  m = check_jacobian(S);
+  EXPECT_TRUE(contains(m, "det J changes sign")) << m;
+}
+
+// Cost of the 3-D check (run by hand: --gtest_also_run_disabled_tests): the quarter cylinder
+// shell (rational) and a box (equal weights) of 20^3 elements at degree 2.
+TEST(GeometryCheck3D, DISABLED_Time8000Elements) {
+  for (const bool curved : {true, false}) {
+    const Patch P = patch_of_block(curved ? iga::test3d::shell(2, {20, 20, 20}, 2) : iga::test3d::box({2, 2, 2}, {20, 20, 20}));
+    const auto t0 = std::chrono::steady_clock::now();
+    EXPECT_EQ(check_jacobian(P), "");
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::printf("%s: %d elements, %.3f s, %.1f us per element\n", curved ? "shell" : "box", P.num_elements(), s, 1e6 * s / P.num_elements());
   }
 }

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "io/files.hpp"
+#include "model/geometry_check.hpp"
 #include "model/geometry_file.hpp"
 
 using namespace iga;
@@ -465,8 +466,12 @@ TEST(GeometryFile, BadInputsGiveOneLineMessages) {
       {"unknown_extension.igs", "{dir}/unknown_extension.igs: unknown extension \".igs\": a geometry file is .xml (G+Smo) or .txt (GeoPDEs)"},
       {"xml_syntax.xml", "{dir}/xml_syntax.xml:20: XML syntax error: document not well-formed: end element tag = 'coef' did not match start element 'coefs' from line 15"},
       {"root_not_xml.xml", "{dir}/root_not_xml.xml: the root element is <gismo>, a G+Smo file has <xml>"},
-      {"geometry_3d.xml", "{dir}/geometry_3d.xml: <Geometry id=\"0\">: unsupported type=\"TensorNurbs3\" (igacontact reads 2-D tensor patches: TensorBSpline2, TensorNurbs2)"},
-      {"pardim_3.xml", "{dir}/pardim_3.xml: <MultiPatch id=\"2\">: parDim=\"3\": igacontact reads 2-D multipatches (parDim=\"2\")"},
+      {"geometry_3d.xml", "{dir}/geometry_3d.xml: <Geometry id=\"0\"> <Basis>: type=\"TensorNurbsBasis2\", a TensorNurbs3 needs \"TensorNurbsBasis3\""},
+      {"pardim_3.xml", "{dir}/pardim_3.xml: <Geometry id=\"0\">: a 2-D patch in <MultiPatch id=\"2\"> of parDim=\"3\""},
+      {"geodim_3d.xml", "{dir}/geodim_3d.xml: <Geometry id=\"0\"> <coefs>: geoDim=\"2\": a TensorBSpline3 needs geoDim 3 (x y z)"},
+      {"interface_3d_count.xml", "{dir}/interface_3d_count.xml: <MultiPatch id=\"2\"> <interfaces>: has 9 numbers; each 3-D interface takes 10 (patch side patch side, direction map (3), orientation (3))"},
+      {"interface_3d_map.xml", "{dir}/interface_3d_map.xml: <MultiPatch id=\"2\"> <interfaces>: interface 1 (0 2 1 1 1 0 2 0 1 1): the direction map (1 0 2) does not take the direction across patch0.east (0) to the one across patch1.west (0)"},
+      {"side_3d.xml", "{dir}/side_3d.xml: <MultiPatch id=\"2\"> <boundary>: entry 2 (1 7): side 7 is out of range 1..6 (west, east, south, north, front, back)"},
       {"knots_decreasing.xml", "{dir}/knots_decreasing.xml: <Geometry id=\"0\"> <Basis> <Basis> <Basis index=\"1\"> <KnotVector>: the knots decrease at knot 4 (1 then 0.5)"},
       {"knots_not_open.xml", "{dir}/knots_not_open.xml: <Geometry id=\"1\"> <Basis> <Basis index=\"0\"> <KnotVector>: the knot vector is not open: degree 2 needs its first 3 and its last 3 knots equal"},
       {"degree_missing.xml", "{dir}/degree_missing.xml: <Geometry id=\"1\"> <Basis> <Basis index=\"0\"> <KnotVector>: missing the degree attribute"},
@@ -486,7 +491,7 @@ TEST(GeometryFile, BadInputsGiveOneLineMessages) {
       {"geopdes_version.txt", "{dir}/geopdes_version.txt:1: GeoPDEs format version 0.7 is not supported: igacontact reads v.2.1 (nrbexport's default)"},
       {"geopdes_no_header.txt", "{dir}/geopdes_no_header.txt:1: no version header before the first data line; a GeoPDEs v2.1 file starts with '# nurbs mesh v.2.1'"},
       {"geopdes_truncated.txt", "{dir}/geopdes_truncated.txt:17: the file ends before the patch 2 knots in v (truncated?)"},
-      {"geopdes_3d.txt", "{dir}/geopdes_3d.txt:5: ndim = 3: igacontact reads 2-D parametric patches (ndim = 2), not volumes"},
+      {"geopdes_3d.txt", "{dir}/geopdes_3d.txt:7: patch 1 degrees: 2 values, expected 3"},
       {"geopdes_degree.txt", "{dir}/geopdes_degree.txt:15: patch 2: degree 0 in u: the degree must be at least 1"},
       {"geopdes_count.txt", "{dir}/geopdes_count.txt:11: patch 1 x coordinates (w x): 3 values, expected 4"},
       {"geopdes_knots.txt", "{dir}/geopdes_knots.txt:9: patch 1 knots in u: the knots decrease at knot 4 (1 then 0.5)"},
@@ -518,4 +523,249 @@ TEST(GeometryFile, BadInputsGiveOneLineMessages) {
       EXPECT_EQ(msg, want) << name;
     }
   }
+}
+
+// ---------------------------------------------------------------------------------------------
+// 3-D: trivariate patches (TensorNurbs3 / TensorBSpline3), faces 1..6, interfaces with their
+// orientation maps.
+
+namespace {
+
+void expect_same_patches_3d(const MultiPatch& a, const MultiPatch& b, const std::string& what) {
+  ASSERT_EQ(a.patches.size(), b.patches.size()) << what;
+  for (size_t k = 0; k < a.patches.size(); ++k) {
+    const Patch &P = a.patches[k], &Q = b.patches[k];
+    EXPECT_EQ(P.dim(), Q.dim()) << what;
+    EXPECT_EQ(P.degree, Q.degree) << what << " patch " << k;
+    EXPECT_EQ(P.knots, Q.knots) << what << " patch " << k;
+    EXPECT_EQ(P.cp, Q.cp) << what << " patch " << k;   // x, y, z and w bit for bit
+  }
+}
+
+void expect_same_topology_3d(const MultiPatch& a, const MultiPatch& b, const std::string& what) {
+  ASSERT_EQ(a.interfaces.size(), b.interfaces.size()) << what;
+  for (size_t k = 0; k < a.interfaces.size(); ++k) {
+    const Interface &f = a.interfaces[k], &g = b.interfaces[k];
+    EXPECT_EQ(f.a, g.a) << what;
+    EXPECT_EQ(f.b, g.b) << what;
+    EXPECT_EQ(f.face_map, g.face_map) << what << " interface " << k;
+    EXPECT_EQ(f.face_flip, g.face_flip) << what << " interface " << k;
+  }
+  EXPECT_EQ(a.boundary, b.boundary) << what;
+  ASSERT_EQ(a.named.size(), b.named.size()) << what;
+  for (size_t k = 0; k < a.named.size(); ++k) {
+    EXPECT_EQ(a.named[k].first, b.named[k].first) << what;
+    EXPECT_EQ(a.named[k].second, b.named[k].second) << what;
+  }
+}
+
+// Box [o, o + L] of degree 1 x 2 x 1 (one element), then its directions relabelled: direction
+// d of the result is direction perm[d] of the box, reversed where rev[d].
+Patch box_relabelled(std::array<double, 3> o, std::array<double, 3> L, std::array<int, 3> perm, std::array<bool, 3> rev) {
+  const int p[3] = {1, 2, 1};
+  Patch B;
+  B.pdim = 3;
+  for (int d = 0; d < 3; ++d) B.degree[d] = p[d], B.knots[d] = uniform_open_knots(p[d], 1);
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 2; ++i) B.cp.push_back(ControlPoint({o[0] + L[0] * i, o[1] + L[1] * 0.5 * j, o[2] + L[2] * k}, 1.0));
+  Patch Q;
+  Q.pdim = 3;
+  for (int d = 0; d < 3; ++d) Q.degree[d] = B.degree[perm[d]], Q.knots[d] = B.knots[perm[d]];
+  Q.cp.resize(B.cp.size());
+  for (int k = 0; k < Q.ncp(2); ++k)
+    for (int j = 0; j < Q.ncp(1); ++j)
+      for (int i = 0; i < Q.ncp(0); ++i) {
+        const int q[3] = {i, j, k};
+        int src[3];
+        for (int d = 0; d < 3; ++d) src[perm[d]] = rev[d] ? Q.ncp(d) - 1 - q[d] : q[d];
+        Q.cp[Q.index(i, j, k)] = B.cp[B.index(src[0], src[1], src[2])];
+      }
+  return Q;
+}
+
+}  // namespace
+
+TEST(GeometryFile3D, SphereOctantInTwoPatches) {
+  const MultiPatch mp = read_geometry_file(kExamples + "/sphere_octant2.xml");
+  ASSERT_EQ(mp.patches.size(), 2u);
+  const int radial[2] = {2, 0};   // the radius direction of each patch
+  for (int k = 0; k < 2; ++k) {
+    const Patch& P = mp.patches[k];
+    ASSERT_EQ(P.dim(), 3);
+    EXPECT_EQ(P.orientation(), 1);
+    EXPECT_EQ(check_jacobian(P), "") << "patch " << k;
+    // exact spheres: |x| = 1 + t along the radius, the octant x, y, z >= 0, patch 0 at
+    // angles 0..45 about z, patch 1 at 45..90
+    for (int a = 0; a <= 6; ++a)
+      for (int b = 0; b <= 6; ++b)
+        for (int c = 0; c <= 6; ++c) {
+          const double t[3] = {a / 6.0, b / 6.0, c / 6.0};
+          const auto x = P.point(t);
+          EXPECT_NEAR(std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]), 1.0 + t[radial[k]], 1e-14);
+          for (int d = 0; d < 3; ++d) EXPECT_GE(x[d], -1e-15);
+          EXPECT_TRUE(k == 0 ? x[1] <= x[0] + 1e-14 : x[0] <= x[1] + 1e-14);
+        }
+  }
+  EXPECT_EQ(mp.patches[0].degree, (std::array<int, 3>{2, 2, 1}));
+  EXPECT_EQ(mp.patches[1].degree, (std::array<int, 3>{1, 2, 2}));
+  // the interface as the file declares it (G+Smo's 0 2 1 3 1 2 0 0 1 1): patch 0's eta along
+  // patch 1's zeta, zeta along xi; the geometry finds the same
+  ASSERT_EQ(mp.interfaces.size(), 1u);
+  const Interface& f = mp.interfaces[0];
+  EXPECT_EQ(f.a, (PatchSide{0, Side::East}));
+  EXPECT_EQ(f.b, (PatchSide{1, Side::South}));
+  EXPECT_EQ(f.face_map, (std::array<int, 2>{1, 0}));
+  EXPECT_EQ(f.face_flip, (std::array<bool, 2>{false, false}));
+  const double tol = 1e-8 * patches_diameter(mp.patches);
+  const auto found = find_interfaces(mp.patches, tol);
+  ASSERT_EQ(found.size(), 1u);   // the pole faces (on the z axis) are no interface
+  EXPECT_EQ(found[0].a, f.a);
+  EXPECT_EQ(found[0].b, f.b);
+  EXPECT_EQ(found[0].face_map, f.face_map);
+  EXPECT_EQ(found[0].face_flip, f.face_flip);
+  EXPECT_EQ(check_interface(mp.patches, f, tol), "");
+  EXPECT_EQ(find_nonconforming(mp.patches, mp.interfaces, tol), "");
+  int n = 0;
+  merge_control_points(mp.patches, mp.interfaces, n);
+  EXPECT_EQ(n, 18 + 18 - 6);
+  EXPECT_TRUE(side_collapsed(mp.patches[0], Side::North, tol));
+  EXPECT_TRUE(side_collapsed(mp.patches[1], Side::Back, tol));
+  // boundaries: sides 5 and 6 are front and back
+  EXPECT_EQ(mp.boundary.size(), 8u);
+  ASSERT_EQ(mp.named.size(), 5u);
+  EXPECT_EQ(mp.named[0].first, "inner");
+  EXPECT_TRUE((mp.named[0].second == std::vector<PatchSide>{{0, Side::Front}, {1, Side::West}}));
+  EXPECT_EQ(mp.named[4].first, "z0");
+  EXPECT_TRUE((mp.named[4].second == std::vector<PatchSide>{{0, Side::South}, {1, Side::Front}}));
+}
+
+TEST(GeometryFile3D, WriteThenReadGivesIdenticalPatchesAndTopology) {
+  const Scratch dir("roundtrip3d");
+  const MultiPatch a = read_geometry_file(kExamples + "/sphere_octant2.xml");
+  const std::string out = (dir / "out.xml").string();
+  write_gismo_xml(out, {&a});
+  const MultiPatch b = read_gismo_xml(out);
+  expect_same_patches_3d(a, b, "sphere_octant2");
+  expect_same_topology_3d(a, b, "sphere_octant2");
+  write_gismo_xml((dir / "again.xml").string(), {&b});
+  const std::string text = read_text(out);
+  EXPECT_EQ(text, read_text((dir / "again.xml").string()));
+  EXPECT_NE(text.find("<Geometry type=\"TensorNurbs3\" id=\"0\">"), std::string::npos);
+  EXPECT_NE(text.find("<Basis type=\"TensorNurbsBasis3\">"), std::string::npos);
+  EXPECT_NE(text.find("<coefs geoDim=\"3\">"), std::string::npos);
+  EXPECT_NE(text.find("<MultiPatch parDim=\"3\" id=\"2\">"), std::string::npos);
+  EXPECT_NE(text.find("\n0 2 1 3 1 2 0 0 1 1\n"), std::string::npos);   // as G+Smo writes it
+  // a 3-D and a 2-D multipatch in one file: each its parDim
+  const MultiPatch ring = read_geometry_file(kExamples + "/ring4.xml");
+  const std::string both = gismo_xml_text({&ring, &a});
+  EXPECT_NE(both.find("<MultiPatch parDim=\"2\" id=\"6\">"), std::string::npos);
+  EXPECT_NE(both.find("<MultiPatch parDim=\"3\" id=\"7\">"), std::string::npos);
+  // mixed dimensions in one multipatch cannot be written
+  MultiPatch mixed = a;
+  mixed.patches.push_back(ring.patches[0]);
+  EXPECT_THROW(gismo_xml_text({&mixed}), std::runtime_error);
+}
+
+TEST(GeometryFile3D, InterfacesInEveryOrientationSurviveTheRoundTrip) {
+  // box A = [0, 1]^3, box B = [1, 2] x [0, 1]^2 in all 48 parametrisations: the interface the
+  // geometry finds is written as G+Smo's 10 numbers and read back the same; TensorBSpline3
+  const Scratch dir("orient3d");
+  const std::array<std::array<int, 3>, 6> perms{{{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}}};
+  int cases = 0;
+  for (const auto& perm : perms)
+    for (int r = 0; r < 8; ++r) {
+      MultiPatch mp;
+      mp.patches = {box_relabelled({0, 0, 0}, {1, 1, 1}, {0, 1, 2}, {false, false, false}),
+                    box_relabelled({1, 0, 0}, {1, 1, 1}, perm, {(r & 1) != 0, (r & 2) != 0, (r & 4) != 0})};
+      mp.interfaces = find_interfaces(mp.patches, 1e-12);
+      ASSERT_EQ(mp.interfaces.size(), 1u);
+      const Side far = side_of(side_direction(mp.interfaces[0].b.side), 1 - side_end(mp.interfaces[0].b.side));
+      mp.boundary = {{0, Side::West}, {1, far}};   // the faces opposite the interface
+      mp.named = {{"ends", mp.boundary}};
+      const std::string out = (dir / "o.xml").string();
+      write_gismo_xml(out, {&mp});
+      const MultiPatch b = read_gismo_xml(out);
+      expect_same_patches_3d(mp, b, "orientation");
+      expect_same_topology_3d(mp, b, "perm " + std::to_string(perm[0]) + std::to_string(perm[1]) + std::to_string(perm[2]) +
+                                         " rev " + std::to_string(r));
+      EXPECT_NE(read_text(out).find("TensorBSpline3"), std::string::npos);
+      int n = 0;
+      merge_control_points(b.patches, b.interfaces, n);
+      EXPECT_EQ(n, 12 + 12 - 6);
+      // the same through GeoPDEs text
+      const MultiPatch g = read_geopdes((write_file_atomic((dir / "o.txt").string(), geopdes_text(mp)), (dir / "o.txt").string()));
+      expect_same_topology_3d(mp, g, "geopdes");
+      ++cases;
+    }
+  EXPECT_EQ(cases, 48);
+}
+
+TEST(GeometryFile3D, GeoPdesWriteThenReadAndItsInterfaceFlags) {
+  const Scratch dir("geopdes3d");
+  // the example through GeoPDEs text: homogeneous rows (w x may move the last bit)
+  const MultiPatch a = read_geometry_file(kExamples + "/sphere_octant2.xml");
+  const std::string out = (dir / "octant.txt").string();
+  write_file_atomic(out, geopdes_text(a));
+  const MultiPatch b = read_geopdes(out);
+  ASSERT_EQ(b.patches.size(), 2u);
+  for (size_t k = 0; k < 2; ++k) {
+    EXPECT_EQ(b.patches[k].dim(), 3);
+    EXPECT_EQ(b.patches[k].degree, a.patches[k].degree);
+    EXPECT_EQ(b.patches[k].knots, a.patches[k].knots);
+    ASSERT_EQ(b.patches[k].cp.size(), a.patches[k].cp.size());
+    for (size_t i = 0; i < a.patches[k].cp.size(); ++i) {
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(b.patches[k].cp[i].x[c], a.patches[k].cp[i].x[c], 1e-15 * 2);
+      EXPECT_EQ(b.patches[k].cp[i].w, a.patches[k].cp[i].w);
+    }
+  }
+  expect_same_topology_3d(a, b, "octant.txt");
+  EXPECT_NE(read_text(out).find("\n3 3 2 1 0\n"), std::string::npos);
+  EXPECT_NE(read_text(out).find("INTERFACE 1\n1 2\n2 3\n-1 1 1\n"), std::string::npos);   // swapped face directions
+
+  // GeoPDEs' flag ornt1 ornt2 (mp_interface_3d: flag -1 swaps the face directions, ornt k -1
+  // reverses side1's direction k) against the geometry: box 1 = [0, 1]^3 (x = u, y = v,
+  // z = w); box 2 = [1, 2] x [0, 1]^2 with x = 1 + w, y = 1 - v, z = u. Box 1's east face
+  // (y, z) meets box 2's front face (w = 0; its u = z, v = 1 - y): y runs along v reversed,
+  // z along u: flag -1, ornt1 -1, ornt2 1.
+  std::ofstream(dir / "boxes.txt") << "# nurbs mesh v.2.1\n3 3 2 1 0\nPATCH 1\n1 1 1\n2 2 2\n0 0 1 1\n0 0 1 1\n0 0 1 1\n"
+                                    << "0 1 0 1 0 1 0 1\n0 0 1 1 0 0 1 1\n0 0 0 0 1 1 1 1\n1 1 1 1 1 1 1 1\n"
+                                    << "PATCH 2\n1 1 1\n2 2 2\n0 0 1 1\n0 0 1 1\n0 0 1 1\n"
+                                    // (u, v, w) in the order u fastest: x = 1 + w, y = 1 - v, z = u
+                                    << "1 1 1 1 2 2 2 2\n1 1 0 0 1 1 0 0\n0 1 0 1 0 1 0 1\n1 1 1 1 1 1 1 1\n"
+                                    << "INTERFACE 1\n1 2\n2 5\n-1 -1 1\nBOUNDARY 1\n2\n1 1\n2 6\n";
+  const MultiPatch c = read_geopdes((dir / "boxes.txt").string());
+  ASSERT_EQ(c.interfaces.size(), 1u);
+  const auto found = find_interfaces(c.patches, 1e-12);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_EQ(found[0].a, (PatchSide{0, Side::East}));
+  EXPECT_EQ(found[0].b, (PatchSide{1, Side::Front}));
+  EXPECT_EQ(c.interfaces[0].face_map, found[0].face_map);
+  EXPECT_EQ(c.interfaces[0].face_flip, found[0].face_flip);
+  EXPECT_EQ(found[0].face_map, (std::array<int, 2>{1, 0}));
+  EXPECT_EQ(found[0].face_flip, (std::array<bool, 2>{true, false}));
+  EXPECT_EQ(c.boundary, (std::vector<PatchSide>{{0, Side::West}, {1, Side::Back}}));
+  // and G+Smo's 10 numbers for the same interface, read back the same
+  const MultiPatch d = read_gismo_xml((write_gismo_xml((dir / "boxes.xml").string(), {&c}), (dir / "boxes.xml").string()));
+  expect_same_topology_3d(c, d, "boxes.xml");
+}
+
+TEST(GeometryFile3D, ExampleReadsTheSameFromGismoAndGeoPDEs) {
+  // examples/geometry/make_geometry_3d.py writes both files on its own (not through our writers)
+  const MultiPatch x = read_geometry_file(kExamples + "/sphere_octant2.xml");
+  const MultiPatch t = read_geometry_file(kExamples + "/sphere_octant2.txt");
+  ASSERT_EQ(x.patches.size(), t.patches.size());
+  for (size_t k = 0; k < x.patches.size(); ++k) {
+    const Patch &P = x.patches[k], &Q = t.patches[k];
+    EXPECT_EQ(Q.dim(), 3);
+    EXPECT_EQ(P.degree, Q.degree);
+    EXPECT_EQ(P.knots, Q.knots);
+    ASSERT_EQ(P.cp.size(), Q.cp.size());
+    for (size_t a = 0; a < P.cp.size(); ++a) {
+      EXPECT_EQ(P.cp[a].w, Q.cp[a].w);
+      // GeoPDEs stores w x: dividing by w may move the last bit
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(P.cp[a].x[c], Q.cp[a].x[c], 1e-15 * (1 + std::abs(P.cp[a].x[c])));
+    }
+  }
+  expect_same_topology_3d(x, t, "sphere_octant2");
 }

@@ -64,3 +64,18 @@ TEST(OneVersusTwoRanks, CattaneoMindlinFriction) {
   compare_one_and_many(read(IGACONTACT_SOURCE_DIR "/examples/cattaneo_mindlin.yaml"),
                        {"solver.linear.tolerance=1e-13", "solver.linear.max_iterations=5000"}, 1e-10);
 }
+
+// 3-D: a neo-Hookean block (degree 2, 3 x 2 x 2 elements split over the ranks) clamped on its
+// west face, a follower pressure on its top and a dead shear traction on its east face, by
+// GMRES + BoomerAMG and by MUMPS.
+TEST(OneVersusTwoRanks, SolidFiniteStrain) {
+  const std::string yaml =
+      "analysis: {type: solid, kinematics: finite, load_steps: 2}\n"
+      "bodies:\n  - name: block\n    material: {model: neo_hookean, youngs_modulus: 1000.0, poisson_ratio: 0.3}\n"
+      "    geometry: {box: {origin: [0, 0, 0], size: [3, 1, 1]}}\n"
+      "    refine: {degree_elevate: 1, subdivide: [6, 2, 2]}\n"
+      "    boundary:\n      west: {displacement: {x: 0, y: 0, z: 0}}\n      back: {pressure: 20.0}\n"
+      "      east: {traction: [0, 15.0, 0]}\n";
+  compare_one_and_many(yaml, {"solver.linear.method=gmres", "solver.linear.tolerance=1e-13", "solver.linear.forcing=fixed"}, 1e-10);
+  compare_one_and_many(yaml, {"solver.linear.method=direct"}, 1e-10);
+}

@@ -356,3 +356,227 @@ TEST(KirschFromGeometryFile, TwoPatchPlateConvergesAtOptimalRates) {
     EXPECT_GT(rs, 2 + e - 0.3);
   }
 }
+
+// ---- 3-D: trivariate patches sharing faces ----
+namespace {
+
+std::vector<double> greville_of(const std::vector<double>& U, int p) {
+  std::vector<double> g;
+  for (size_t i = 0; i + p + 1 < U.size(); ++i) {
+    double s = 0;
+    for (int k = 1; k <= p; ++k) s += U[i + k];
+    g.push_back(s / p);
+  }
+  return g;
+}
+
+// Box [o, o + L] with knot vectors U (x, y, z directions), control points at the Greville
+// abscissae (the map is affine).
+Patch box3(std::array<double, 3> o, std::array<double, 3> L, std::array<int, 3> p, std::array<std::vector<double>, 3> U) {
+  Patch P;
+  P.pdim = 3;
+  for (int d = 0; d < 3; ++d) P.degree[d] = p[d], P.knots[d] = U[d];
+  const auto g0 = greville_of(U[0], p[0]), g1 = greville_of(U[1], p[1]), g2 = greville_of(U[2], p[2]);
+  for (double z : g2)
+    for (double y : g1)
+      for (double x : g0) P.cp.push_back(ControlPoint({o[0] + L[0] * x, o[1] + L[1] * y, o[2] + L[2] * z}, 1.0));
+  return P;
+}
+
+// P with its parametric directions relabelled: direction d of the result is direction perm[d]
+// of P, reversed where rev[d]. Same geometry, another parametrisation.
+Patch relabel(const Patch& P, std::array<int, 3> perm, std::array<bool, 3> rev) {
+  Patch Q;
+  Q.pdim = 3;
+  for (int d = 0; d < 3; ++d) {
+    Q.degree[d] = P.degree[perm[d]];
+    Q.knots[d] = P.knots[perm[d]];
+    if (rev[d]) {
+      const auto& U = P.knots[perm[d]];
+      for (size_t m = 0; m < U.size(); ++m) Q.knots[d][m] = U.front() + U.back() - U[U.size() - 1 - m];
+    }
+  }
+  Q.cp.resize(P.cp.size());
+  for (int k = 0; k < Q.ncp(2); ++k)
+    for (int j = 0; j < Q.ncp(1); ++j)
+      for (int i = 0; i < Q.ncp(0); ++i) {
+        const int q[3] = {i, j, k};
+        int src[3];
+        for (int d = 0; d < 3; ++d) src[perm[d]] = rev[d] ? Q.ncp(d) - 1 - q[d] : q[d];
+        Q.cp[Q.index(i, j, k)] = P.cp[P.index(src[0], src[1], src[2])];
+      }
+  return Q;
+}
+
+// Every merged id has one position, and distinct ids distinct positions (the boxes' control
+// points lie on a grid with spacing >= 0.1).
+void expect_merged_by_position(const std::vector<Patch>& patches, const std::vector<std::vector<int>>& id, int n) {
+  std::vector<std::array<double, 3>> at(n, {1e300, 1e300, 1e300});
+  for (size_t p = 0; p < patches.size(); ++p)
+    for (size_t a = 0; a < patches[p].cp.size(); ++a) {
+      auto& x = at[id[p][a]];
+      const auto& y = patches[p].cp[a].x;
+      if (x[0] == 1e300) x = y;
+      else
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(x[c], y[c], 1e-14) << "id " << id[p][a];
+    }
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; ++j)
+      EXPECT_GT(std::hypot(std::hypot(at[i][0] - at[j][0], at[i][1] - at[j][1]), at[i][2] - at[j][2]), 1e-3);
+}
+
+}  // namespace
+
+TEST(MultiPatch3D, TwoBoxesShareAFaceInEveryOrientation) {
+  // A: [0, 1] x [0, 1] x [0, 1], degrees (2, 1, 3), 3 x 2 x 4 control points; B: [1, 2.5] x
+  // [0, 1] x [0, 1] with the same y and z bases, 4 x 2 x 4; shared face x = 1 of 2 x 4 points
+  const std::vector<double> Ux = uniform_open_knots(2, 1), Uy = uniform_open_knots(1, 1), Uz = uniform_open_knots(3, 1),
+                            Ubx = uniform_open_knots(2, 2);
+  const Patch A = box3({0, 0, 0}, {1, 1, 1}, {2, 1, 3}, {Ux, Uy, Uz});
+  const Patch B0 = box3({1, 0, 0}, {1.5, 1, 1}, {2, 1, 3}, {Ubx, Uy, Uz});
+  const int nA = static_cast<int>(A.cp.size()), nB = static_cast<int>(B0.cp.size());
+  ASSERT_EQ(nA, 24);
+  ASSERT_EQ(nB, 32);
+  const double tol = 1e-10;
+  int cases = 0;
+  const std::array<std::array<int, 3>, 6> perms{{{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}}};
+  for (const auto& perm : perms)
+    for (int r = 0; r < 8; ++r) {
+      const std::array<bool, 3> rev{(r & 1) != 0, (r & 2) != 0, (r & 4) != 0};
+      const std::vector<Patch> patches{A, relabel(B0, perm, rev)};
+      ASSERT_EQ(patches[1].validate(), "");
+      // which side of B is the face x = 1: B0's west, wherever relabel put that direction
+      int d0 = 0;
+      while (perm[d0] != 0) ++d0;
+      const Side sb = side_of(d0, rev[d0] ? 1 : 0);
+      const auto found = find_interfaces(patches, tol);
+      ASSERT_EQ(found.size(), 1u) << "perm " << perm[0] << perm[1] << perm[2] << " rev " << r;
+      const Interface& f = found[0];
+      EXPECT_EQ(f.a, (PatchSide{0, Side::East}));
+      EXPECT_EQ(f.b, (PatchSide{1, sb}));
+      EXPECT_EQ(check_interface(patches, f, tol), "");
+      EXPECT_EQ(find_nonconforming(patches, found, tol), "");
+      int n = 0;
+      auto id = merge_control_points(patches, found, n);
+      EXPECT_EQ(n, nA + nB - 8);
+      expect_merged_by_position(patches, id, n);
+      // a declared interface with the default (often wrong) orientation: the geometry decides
+      Interface g{f.a, f.b};
+      EXPECT_EQ(check_interface(patches, g, tol), "");
+      int n2 = 0;
+      const auto id2 = merge_control_points(patches, {g}, n2);
+      EXPECT_EQ(n2, n);
+      EXPECT_EQ(id2, id);
+      // the same with the patches' order swapped: the interface's roles swap
+      const std::vector<Patch> swapped{patches[1], patches[0]};
+      const auto found2 = find_interfaces(swapped, tol);
+      ASSERT_EQ(found2.size(), 1u);
+      int n3 = 0;
+      merge_control_points(swapped, found2, n3);
+      EXPECT_EQ(n3, n);
+      ++cases;
+    }
+  EXPECT_EQ(cases, 48);
+}
+
+TEST(MultiPatch3D, StackedBoxes) {
+  // three boxes stacked along z: back of k meets front of k + 1
+  const auto U1 = uniform_open_knots(1, 1), U2 = uniform_open_knots(2, 1);
+  std::vector<Patch> patches;
+  for (int k = 0; k < 3; ++k) patches.push_back(box3({0, 0, double(k)}, {1, 1, 1}, {1, 2, 1}, {U1, U2, U1}));
+  const double tol = 1e-10;
+  const auto found = find_interfaces(patches, tol);
+  ASSERT_EQ(found.size(), 2u);
+  EXPECT_EQ(found[0].a, (PatchSide{0, Side::Back}));
+  EXPECT_EQ(found[0].b, (PatchSide{1, Side::Front}));
+  EXPECT_EQ(found[1].a, (PatchSide{1, Side::Back}));
+  EXPECT_EQ(found[1].b, (PatchSide{2, Side::Front}));
+  int n = 0;
+  const auto id = merge_control_points(patches, found, n);
+  EXPECT_EQ(n, 3 * 12 - 2 * 6);
+  expect_merged_by_position(patches, id, n);
+}
+
+TEST(MultiPatch3D, NonconformingFacesAreNamed) {
+  const double tol = 1e-10;
+  const auto U1 = uniform_open_knots(1, 1), U2 = uniform_open_knots(2, 1), U2b = uniform_open_knots(2, 2);
+  // B has one more element in y on the shared face x = 1: other counts
+  std::vector<Patch> patches{box3({0, 0, 0}, {1, 1, 1}, {1, 2, 1}, {U1, U2, U1}), box3({1, 0, 0}, {1, 1, 1}, {1, 2, 1}, {U1, U2b, U1})};
+  EXPECT_TRUE(find_interfaces(patches, tol).empty());
+  std::string m = find_nonconforming(patches, {}, tol);
+  EXPECT_EQ(m, "patch0.east and patch1.west meet along a face with different control points (3 x 2 and 4 x 2): a non-conforming "
+               "interface; give both faces the same knots and degrees");
+  m = check_interface(patches, Interface{{0, Side::East}, {1, Side::West}}, tol);
+  EXPECT_EQ(m, "interface patch0.east and patch1.west is not conforming: 3 x 2 and 4 x 2 control points on its faces (refine both "
+               "patches alike along the interface)");
+  // the same control points on the face but other knots: the same net, another surface basis
+  std::vector<double> Uq{0, 0, 0, 0.3, 1, 1, 1}, Ur{0, 0, 0, 0.5, 1, 1, 1};
+  patches = {box3({0, 0, 0}, {1, 1, 1}, {1, 2, 1}, {U1, Ur, U1}), box3({1, 0, 0}, {1, 1, 1}, {1, 2, 1}, {U1, Ur, U1})};
+  patches[1].knots[1] = Uq;
+  const auto found = find_interfaces(patches, tol);
+  ASSERT_EQ(found.size(), 1u);
+  m = find_nonconforming(patches, found, tol);
+  EXPECT_EQ(m, "patch0.east and patch1.west meet along a face with different knots ([0, 0, 0, 0.5, 1, 1, 1] and [0, 0, 0, 0.3, 1, 1, 1]) "
+               "in one direction: a non-conforming interface; give both faces the same knots and degrees");
+}
+
+TEST(MultiPatch3D, SphereOctantsShareAMeridianFaceNotTheirPoleFaces) {
+  // two sphere octants (degree (2, 2, 1), xi: the revolution, eta: the meridian to the pole,
+  // zeta: the radius), the second turned by 90 degrees about z: they share the face xi = 1 /
+  // xi = 0; their pole faces (eta = 1) both collapse onto the z axis and are no interface
+  const double s2 = std::sqrt(0.5);
+  auto octant = [&](double turn) {
+    Patch P;
+    P.pdim = 3;
+    P.degree = {2, 2, 1};
+    P.knots = {std::vector<double>{0, 0, 0, 1, 1, 1}, std::vector<double>{0, 0, 0, 1, 1, 1}, std::vector<double>{0, 0, 1, 1}};
+    const double rev[3][3] = {{1, 0, 1}, {1, 1, s2}, {0, 1, 1}}, mer[3][3] = {{1, 0, 1}, {1, 1, s2}, {0, 1, 1}};
+    const double c = std::cos(turn), s = std::sin(turn);
+    for (double R : {1.0, 1.5})
+      for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) {
+          const double x = R * mer[j][0] * rev[i][0], y = R * mer[j][0] * rev[i][1];
+          P.cp.push_back(ControlPoint({c * x - s * y, s * x + c * y, R * mer[j][1]}, mer[j][2] * rev[i][2]));
+        }
+    return P;
+  };
+  const std::vector<Patch> patches{octant(0), octant(M_PI / 2)};
+  const double tol = 1e-10;
+  EXPECT_TRUE(face_degenerate(patches[0], Side::North, tol));
+  EXPECT_TRUE(side_collapsed(patches[0], Side::North, tol));
+  EXPECT_FALSE(face_degenerate(patches[0], Side::East, tol));
+  const auto found = find_interfaces(patches, tol);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_EQ(found[0].a, (PatchSide{0, Side::East}));
+  EXPECT_EQ(found[0].b, (PatchSide{1, Side::West}));
+  EXPECT_EQ(find_nonconforming(patches, found, tol), "");
+  int n = 0;
+  merge_control_points(patches, found, n);
+  EXPECT_EQ(n, 2 * 18 - 6);   // the shared face: 3 (meridian) x 2 (radius)
+}
+
+TEST(MultiPatch3D, EightBoxesAroundAPointMergeToOneGrid) {
+  // 2 x 2 x 2 trilinear unit boxes, each in its own parametrisation (directions permuted and
+  // reversed, chosen by a fixed pseudo-random sequence): 12 interfaces; points shared by 2, 4
+  // or 8 boxes (on faces, edges, the middle) get one id: the 3 x 3 x 3 vertices
+  const std::array<std::array<int, 3>, 6> perms{{{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}}};
+  const auto U1 = uniform_open_knots(1, 1);
+  std::mt19937 rng(12345);
+  for (int trial = 0; trial < 20; ++trial) {
+    std::vector<Patch> patches;
+    for (int k = 0; k < 2; ++k)
+      for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < 2; ++i) {
+          const Patch B = box3({double(i), double(j), double(k)}, {1, 1, 1}, {1, 1, 1}, {U1, U1, U1});
+          const int r = static_cast<int>(rng() % 48);
+          patches.push_back(relabel(B, perms[r / 8], {(r & 1) != 0, (r & 2) != 0, (r & 4) != 0}));
+        }
+    const auto found = find_interfaces(patches, 1e-12);
+    EXPECT_EQ(found.size(), 12u);
+    EXPECT_EQ(find_nonconforming(patches, found, 1e-12), "");
+    int n = 0;
+    const auto id = merge_control_points(patches, found, n);
+    EXPECT_EQ(n, 27);   // the 3 x 3 x 3 vertices
+    expect_merged_by_position(patches, id, n);
+  }
+}

@@ -1,5 +1,7 @@
 // VTK rational Bezier output (io/vtk): the point order, the cells' geometry against the
 // NURBS patch, the displacement coefficients, the per-element stress fit, the .vtu/.pvd text.
+// 3-D (issue 35): BodyField on trivariate patches (Field3D), the face and hexahedron cells
+// (VtkBezier3D), a 3-D state's control net and probe entry (Output3D).
 // With IGACONTACT_VTU_OUT set, WritesQuarterAnnulusFiles leaves its .vtu files there for the
 // ParaView check (tests/paraview/check_bezier.py, run by tests/paraview_bezier.sh).
 #include <gtest/gtest.h>
@@ -12,6 +14,8 @@
 #include <random>
 #include <set>
 
+#include "io/fields.hpp"
+#include "io/output.hpp"
 #include "io/vtk.hpp"
 #include "kernels/nurbs_basis.hpp"
 #include "model/bezier.hpp"
@@ -382,4 +386,595 @@ TEST(VtkBezier, WritesQuarterAnnulusFiles) {
   EXPECT_NE(pvd.find("timestep=\"0.5\""), std::string::npos);
   EXPECT_NE(pvd.find("file=\"annulus_ascii.vtu\""), std::string::npos);
   std::ofstream(dir / "annulus.pvd") << pvd;
+}
+
+// ------------------------------------------------------------------ 3-D (issue 35)
+
+namespace {
+
+// A one-body solid (Analysis::Solid) of the given patches, built in C++ (no reader needed):
+// control points not merged (cp_index the identity per patch), the given interfaces.
+Problem solid_problem(const std::vector<Patch>& patches, Kinematics kin = Kinematics::Small,
+                      MaterialModel model = MaterialModel::Linear, std::vector<Interface> interfaces = {}) {
+  Problem P;
+  P.analysis = Analysis::Solid;
+  P.kinematics = kin;
+  Body b;
+  b.name = "solid";
+  b.E = 1000.0;
+  b.nu = 0.3;
+  b.model = model;
+  b.patches = patches;
+  b.sides.resize(patches.size());
+  b.corners.resize(patches.size());
+  b.interfaces = std::move(interfaces);
+  b.tolerance = 1e-8 * patches_diameter(patches);   // as the loader sets it
+  for (const Patch& pt : patches) {
+    std::vector<int> idx(pt.cp.size());
+    for (size_t a = 0; a < idx.size(); ++a) idx[a] = b.num_cps + static_cast<int>(a);
+    b.cp_index.push_back(idx);
+    b.num_cps += static_cast<int>(pt.cp.size());
+  }
+  P.bodies.push_back(b);
+  return P;
+}
+
+// A quarter of a thick cylinder shell (radii 1, 2, height 0.8; xi around from the x axis, eta
+// radial, zeta along z: a left-handed map, orientation -1), rational quadratic in xi, degrees
+// (2, 2, 2), 3 x 2 x 2 elements; `distort`: control points moved and weights changed inside
+// (a rational patch of no special form, det J still positive).
+Patch shell_patch(bool distort) {
+  const double w = std::sqrt(0.5), H = 0.8;
+  Patch a;
+  a.pdim = 3;
+  a.degree = {2, 1, 1};
+  a.knots[0] = {0, 0, 0, 1, 1, 1};
+  a.knots[1] = {0, 0, 1, 1};
+  a.knots[2] = {0, 0, 1, 1};
+  for (double z : {0.0, H})
+    for (double r : {1.0, 2.0}) {
+      a.cp.push_back(ControlPoint({r, 0, z}, 1));
+      a.cp.push_back(ControlPoint({r, r, z}, w));
+      a.cp.push_back(ControlPoint({0, r, z}, 1));
+    }
+  a.elevate(1, 1);
+  a.elevate(2, 1);
+  a.subdivide(0, 3);
+  a.subdivide(1, 2);
+  a.subdivide(2, 2);
+  if (distort)
+    for (size_t q = 0; q < a.cp.size(); ++q) {
+      ControlPoint& c = a.cp[q];
+      const double s = std::sin(1.7 * q);
+      c.x[0] += 0.04 * s;
+      c.x[1] += 0.03 * std::cos(2.3 * q);
+      c.x[2] += 0.02 * s;
+      c.w *= 1.0 + 0.15 * std::cos(0.9 * q);
+    }
+  return a;
+}
+
+// The box [x0, x0 + L0] x [0, L1] x [0, L2] as a patch of degrees p, ne elements per direction.
+Patch box_patch(std::array<int, 3> p, std::array<int, 3> ne, std::array<double, 3> L, double x0 = 0) {
+  Patch a;
+  a.pdim = 3;
+  a.degree = {1, 1, 1};
+  for (int d = 0; d < 3; ++d) a.knots[d] = {0, 0, 1, 1};
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i) a.cp.push_back(ControlPoint({x0 + i * L[0], j * L[1], k * L[2]}, 1));
+  for (int d = 0; d < 3; ++d) {
+    if (p[d] > 1) a.elevate(d, p[d] - 1);
+    a.subdivide(d, ne[d]);
+  }
+  return a;
+}
+
+// Control displacements of the affine field u = A x + c (reproduced exactly by the NURBS space).
+std::vector<double> affine_u(const Patch& pt, const double A[3][3], const double c[3]) {
+  std::vector<double> u;
+  for (const ControlPoint& q : pt.cp)
+    for (int i = 0; i < 3; ++i) u.push_back(c[i] + A[i][0] * q.x[0] + A[i][1] * q.x[1] + A[i][2] * q.x[2]);
+  return u;
+}
+
+// Rational Bezier evaluation of a cell's point array at the cell parameters tc (2 for a
+// quadrilateral, 3 for a hexahedron), through the connectivity in VTK's point order.
+void eval_cell3(const BezierMesh& m, size_t cell, const std::vector<double>& a, int ncomp, const double* tc,
+                double* out) {
+  const bool hex = m.types[cell] == 79;
+  const int p0 = m.degrees[3 * cell], p1 = m.degrees[3 * cell + 1], p2 = hex ? m.degrees[3 * cell + 2] : 0;
+  const size_t first = cell == 0 ? 0 : static_cast<size_t>(m.offsets[cell - 1]);
+  double b0[kMaxBasis1D], b1[kMaxBasis1D], b2[kMaxBasis1D] = {1.0}, W = 0;
+  bernstein(p0, tc[0], b0);
+  bernstein(p1, tc[1], b1);
+  if (hex) bernstein(p2, tc[2], b2);
+  for (int c = 0; c < ncomp; ++c) out[c] = 0;
+  for (int k = 0; k <= p2; ++k)
+    for (int j = 0; j <= p1; ++j)
+      for (int i = 0; i <= p0; ++i) {
+        const int at = hex ? vtk_hex_point_index(i, j, k, p0, p1, p2) : vtk_quad_point_index(i, j, p0, p1);
+        const size_t q = static_cast<size_t>(m.connectivity[first + at]);
+        const double r = b0[i] * b1[j] * b2[k] * m.weights[q];
+        W += r;
+        for (int c = 0; c < ncomp; ++c) out[c] += r * a[q * ncomp + c];
+      }
+  for (int c = 0; c < ncomp; ++c) out[c] /= W;
+}
+
+// The volume parameters of cell point tc. A face cell's parameters are those of the face's
+// free directions in increasing order, transposed where the writer transposed the cell for
+// an outward normal (the rule is checked geometrically by OutwardFaceNormals).
+void cell_params(const BezierMesh& m, size_t c, const Patch& pt, const double* tc, double* t) {
+  const double* r = &m.range[6 * c];
+  if (m.types[c] == 79) {
+    for (int d = 0; d < 3; ++d) t[d] = r[2 * d] + tc[d] * (r[2 * d + 1] - r[2 * d]);
+    return;
+  }
+  const int f = m.face[c], fd = f / 2;
+  const bool flip = side_normal_sign(static_cast<Side>(f)) * pt.orientation() < 0;
+  const double tf[2] = {flip ? tc[1] : tc[0], flip ? tc[0] : tc[1]};
+  for (int d = 0, a = 0; d < 3; ++d) t[d] = d == fd ? r[2 * d] : r[2 * d] + tf[a++] * (r[2 * d + 1] - r[2 * d]);
+}
+
+// The 3 x 3 Cauchy stress of BodyField's point, symmetric.
+void stress_tensor(const FieldPoint& f, double s[3][3]) {
+  s[0][0] = f.sxx; s[1][1] = f.syy; s[2][2] = f.szz;
+  s[1][2] = s[2][1] = f.syz; s[0][2] = s[2][0] = f.sxz; s[0][1] = s[1][0] = f.sxy;
+}
+
+double det3(const double F[3][3]) {
+  return F[0][0] * (F[1][1] * F[2][2] - F[1][2] * F[2][1]) - F[0][1] * (F[1][0] * F[2][2] - F[1][2] * F[2][0]) +
+         F[0][2] * (F[1][0] * F[2][1] - F[1][1] * F[2][0]);
+}
+
+}  // namespace
+
+// A hand-computed value: the unit box, small strain, E = 1000, nu = 0.3 (lambda = 576.923..,
+// mu = 384.615..), u = (0.01 x + 0.02 z, 0, 0): eps_xx = 0.01, gamma_xz = 0.02, so
+// sxx = (lambda + 2 mu) 0.01, syy = szz = lambda 0.01, sxz = mu 0.02, the rest 0.
+TEST(Field3D, HandComputedUniaxialStretchAndShear) {
+  const Patch box = box_patch({2, 2, 1}, {2, 1, 1}, {1, 1, 1});
+  const Problem P = solid_problem({box});
+  const double A[3][3] = {{0.01, 0, 0.02}, {0, 0, 0}, {0, 0, 0}}, c[3] = {0.1, -0.2, 0.3};
+  const BodyField f(P, 0, affine_u(box, A, c));
+  const double lam = 1000.0 * 0.3 / (1.3 * 0.4), mu = 1000.0 / 2.6;
+  const double t[3] = {0.3, 0.6, 0.9};
+  const FieldPoint q = f.eval(t);
+  EXPECT_NEAR(q.x, 0.3, 1e-15);
+  EXPECT_NEAR(q.y, 0.6, 1e-15);
+  EXPECT_NEAR(q.z, 0.9, 1e-15);
+  EXPECT_NEAR(q.detJ, 1.0, 1e-14);
+  EXPECT_NEAR(q.ux, 0.1 + 0.003 + 0.018, 1e-15);
+  EXPECT_NEAR(q.uy, -0.2, 1e-15);
+  EXPECT_NEAR(q.uz, 0.3, 1e-15);
+  EXPECT_NEAR(q.sxx, (lam + 2 * mu) * 0.01, 1e-12);
+  EXPECT_NEAR(q.syy, lam * 0.01, 1e-12);
+  EXPECT_NEAR(q.szz, lam * 0.01, 1e-12);
+  EXPECT_NEAR(q.sxz, mu * 0.02, 1e-12);
+  EXPECT_NEAR(q.syz, 0.0, 1e-12);
+  EXPECT_NEAR(q.sxy, 0.0, 1e-12);
+  // von Mises of (2 mu e, 0, 0 deviatoric part ...): sqrt(((2 mu e)^2 + (2 mu e)^2) / 2 + 3 (mu g)^2)
+  EXPECT_NEAR(q.von_mises(), std::sqrt(4 * mu * mu * 1e-4 + 3 * mu * mu * 4e-4), 1e-11);
+}
+
+// An affine displacement u = A x + c on a distorted rational patch: the field is affine
+// everywhere (x and u agree with Patch::point and A x + c), the stress constant and equal to
+// the law's value at H = A, to round-off: small strain, Saint Venant-Kirchhoff and
+// neo-Hookean (Cauchy stress on the deformed configuration, computed here by hand).
+TEST(Field3D, AffineFieldOnADistortedRationalPatch) {
+  const Patch pt = shell_patch(true);
+  const double A[3][3] = {{0.02, -0.01, 0.03}, {0.015, -0.025, 0.01}, {-0.02, 0.005, 0.04}}, c[3] = {0.01, 0.02, -0.03};
+  const double E = 1000.0, nu = 0.3, lam = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
+  double F[3][3], eps[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      F[i][j] = (i == j) + A[i][j];
+      eps[i][j] = 0.5 * (A[i][j] + A[j][i]);
+    }
+  const double J = det3(F), tre = eps[0][0] + eps[1][1] + eps[2][2];
+  double C[3][3], B[3][3];   // C = F^T F, B = F F^T
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      C[i][j] = B[i][j] = 0;
+      for (int k = 0; k < 3; ++k) {
+        C[i][j] += F[k][i] * F[k][j];
+        B[i][j] += F[i][k] * F[j][k];
+      }
+    }
+  const double trEg = 0.5 * (C[0][0] + C[1][1] + C[2][2] - 3);
+  for (auto [kin, model] : {std::pair{Kinematics::Small, MaterialModel::Linear},
+                            std::pair{Kinematics::Finite, MaterialModel::SaintVenantKirchhoff},
+                            std::pair{Kinematics::Finite, MaterialModel::NeoHookean}}) {
+    double expect[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        if (kin == Kinematics::Small) {
+          expect[i][j] = 2 * mu * eps[i][j] + (i == j ? lam * tre : 0.0);
+        } else if (model == MaterialModel::NeoHookean) {
+          expect[i][j] = (mu * (B[i][j] - (i == j)) + (i == j ? lam * std::log(J) : 0.0)) / J;
+        } else {   // sigma = F S F^T / J, S = lambda tr E I + 2 mu E
+          double s = 0;
+          for (int k = 0; k < 3; ++k)
+            for (int l = 0; l < 3; ++l) {
+              const double S = 2 * mu * 0.5 * (C[k][l] - (k == l)) + (k == l ? lam * trEg : 0.0);
+              s += F[i][k] * S * F[j][l];
+            }
+          expect[i][j] = s / J;
+        }
+      }
+    const Problem P = solid_problem({pt}, kin, model);
+    const BodyField f(P, 0, affine_u(pt, A, c));
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> U(0, 1);
+    double worst = 0, smax = 0;
+    for (int q = 0; q < 40; ++q) {
+      const double t[3] = {q == 0 ? 0.0 : q == 1 ? 1.0 : U(rng), q == 0 ? 0.0 : q == 1 ? 1.0 : U(rng), U(rng)};
+      const FieldPoint p = f.eval(t);
+      const auto x = pt.point(t);
+      EXPECT_LT(p.detJ, 0.0);   // the shell's map is left-handed (orientation -1): the distortion kept the sign
+      EXPECT_NEAR(p.x, x[0], 1e-13);
+      EXPECT_NEAR(p.y, x[1], 1e-13);
+      EXPECT_NEAR(p.z, x[2], 1e-13);
+      const double u[3] = {p.ux, p.uy, p.uz};
+      for (int i = 0; i < 3; ++i) EXPECT_NEAR(u[i], c[i] + A[i][0] * x[0] + A[i][1] * x[1] + A[i][2] * x[2], 1e-14);
+      double s[3][3];
+      stress_tensor(p, s);
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          worst = std::max(worst, std::abs(s[i][j] - expect[i][j]));
+          smax = std::max(smax, std::abs(expect[i][j]));
+        }
+    }
+    ASSERT_GT(smax, 1.0);
+    EXPECT_LT(worst, 1e-11 * smax) << "model " << static_cast<int>(model);
+  }
+}
+
+namespace {
+
+// A non-affine displacement of a patch's control points (smooth in the index).
+std::vector<double> wavy_u(const Patch& pt, double amp) {
+  std::vector<double> u;
+  for (size_t a = 0; a < pt.cp.size(); ++a) {
+    const ControlPoint& q = pt.cp[a];
+    u.push_back(amp * (0.3 * q.x[0] * q.x[1] + 0.1 * std::sin(q.x[2] + a)));
+    u.push_back(amp * (-0.2 * q.x[0] * q.x[2] + 0.05 * q.x[1] * q.x[1]));
+    u.push_back(amp * (0.1 * q.x[0] + 0.2 * q.x[1] * q.x[2] + 0.03 * std::cos(2.0 * a)));
+  }
+  return u;
+}
+
+// The cells of a 3-D mesh reproduce the patch: points of each cell (Bezier evaluation from its
+// points, weights and connectivity) equal Patch::point at the cell's volume parameters, the
+// displacement BodyField's, and the stress at the cell corners (which the fit interpolates and
+// the clamp keeps) BodyField's stress. Returns the number of cells checked.
+int check_cells_reproduce(const Problem& P, const std::vector<double>& u, const BezierMesh& m) {
+  const Patch& pt = P.bodies[0].patches[0];
+  const BodyField field(P, 0, u);
+  double umax = 0, smax = 0;
+  for (double v : u) umax = std::max(umax, std::abs(v));
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> U(0, 1);
+  int checked = 0;
+  for (size_t c = 0; c < m.num_cells(); ++c) {
+    const bool hex = m.types[c] == 79;
+    for (int q = 0; q < 10; ++q) {
+      double tc[3] = {q < 4 ? static_cast<double>(q & 1) : U(rng), q < 4 ? static_cast<double>(q >> 1) : U(rng), U(rng)};
+      if (hex && q < 4) tc[2] = q & 1;
+      double t[3], X[3], D[3], S[6];
+      cell_params(m, c, pt, tc, t);
+      eval_cell3(m, c, m.points, 3, tc, X);
+      eval_cell3(m, c, m.displacement, 3, tc, D);
+      const auto x = pt.point(t);
+      const FieldPoint f = field.eval(t);
+      for (int d = 0; d < 3; ++d) EXPECT_NEAR(X[d], x[d], 1e-13) << "cell " << c;
+      EXPECT_NEAR(D[0], f.ux, 1e-13 * umax);
+      EXPECT_NEAR(D[1], f.uy, 1e-13 * umax);
+      EXPECT_NEAR(D[2], f.uz, 1e-13 * umax);
+      if (q < 4) {   // a corner of a face cell, or of the bottom/top of a hexahedron
+        eval_cell3(m, c, m.stress, 6, tc, S);
+        const double s[6] = {f.sxx, f.syy, f.szz, f.sxy, f.syz, f.sxz};   // VTK order
+        for (int k = 0; k < 6; ++k) {
+          smax = std::max(smax, std::abs(s[k]));
+          EXPECT_NEAR(S[k], s[k], 1e-9 * (1 + std::abs(s[k]))) << "cell " << c << " component " << k;
+        }
+      }
+    }
+    ++checked;
+  }
+  EXPECT_GT(smax, 0.0);
+  return checked;
+}
+
+}  // namespace
+
+// Faces (the default in 3-D): every boundary face of the patch, one Bezier quadrilateral per
+// face element, 3-D points; they interpolate the patch, the displacement and the stress.
+TEST(VtkBezier3D, FaceCellsReproduceThePatchAndTheField) {
+  const Patch pt = shell_patch(true);
+  const Problem P = solid_problem({pt});
+  const std::vector<double> u = wavy_u(pt, 0.01);
+  const BezierMesh m = bezier_mesh(P, {u});
+  EXPECT_EQ(m.dim, 3);
+  const int ne[3] = {pt.num_elements(0), pt.num_elements(1), pt.num_elements(2)};
+  ASSERT_EQ(static_cast<int>(m.num_cells()), 2 * (ne[0] * ne[1] + ne[0] * ne[2] + ne[1] * ne[2]));
+  std::vector<int> per_face(6, 0);
+  for (size_t c = 0; c < m.num_cells(); ++c) {
+    EXPECT_EQ(m.types[c], 77);
+    EXPECT_EQ(m.degrees[3 * c + 2], 0);
+    ASSERT_GE(m.face[c], 0);
+    ++per_face[m.face[c]];
+    EXPECT_EQ(m.element[c], m.element_ij[3 * c] + ne[0] * (m.element_ij[3 * c + 1] + ne[1] * m.element_ij[3 * c + 2]));
+    const int fd = m.face[c] / 2;   // the fixed direction: its end value, a = b
+    EXPECT_EQ(m.range[6 * c + 2 * fd], m.range[6 * c + 2 * fd + 1]);
+    EXPECT_EQ(m.range[6 * c + 2 * fd], (m.face[c] % 2) ? 1.0 : 0.0);
+  }
+  for (int s = 0; s < 6; ++s) EXPECT_EQ(per_face[s], ne[(s / 2 + 1) % 3] * ne[(s / 2 + 2) % 3]) << "face " << s;
+  EXPECT_EQ(check_cells_reproduce(P, u, m), static_cast<int>(m.num_cells()));
+  // the largest |u| reported is a field value no larger than the control net's bound
+  double ucp = 0;
+  for (size_t a = 0; a < u.size(); a += 3) ucp = std::max(ucp, std::sqrt(u[a] * u[a] + u[a + 1] * u[a + 1] + u[a + 2] * u[a + 2]));
+  EXPECT_GT(m.max_displacement, 0.5 * ucp);
+  EXPECT_LE(m.max_displacement, ucp * (1 + 1e-12));
+}
+
+// Volume (output.cells: volume): every element a Bezier hexahedron, shared points.
+TEST(VtkBezier3D, HexahedraReproduceThePatchAndTheField) {
+  const Patch pt = shell_patch(true);
+  Problem P = solid_problem({pt});
+  P.output.volume_cells = true;
+  const std::vector<double> u = wavy_u(pt, 0.01);
+  const BezierMesh m = bezier_mesh(P, {u});
+  ASSERT_EQ(static_cast<int>(m.num_cells()), pt.num_elements());
+  for (size_t c = 0; c < m.num_cells(); ++c) {
+    EXPECT_EQ(m.types[c], 79);
+    EXPECT_EQ(m.face[c], -1);
+    for (int d = 0; d < 3; ++d) EXPECT_EQ(m.degrees[3 * c + d], pt.degree[d]);
+  }
+  // degree 2 with simple knots: neighbours share points, (2 ne + 1) per direction
+  size_t expect = 1;
+  for (int d = 0; d < 3; ++d) expect *= static_cast<size_t>(2 * pt.num_elements(d) + 1);
+  EXPECT_EQ(m.num_points(), expect);
+  EXPECT_EQ(check_cells_reproduce(P, u, m), pt.num_elements());
+}
+
+// An affine displacement: the stress is constant, so every stress and von Mises coefficient of
+// every cell (faces and hexahedra) is that constant to round-off.
+TEST(VtkBezier3D, ConstantStressOfAnAffineFieldIsDrawnConstant) {
+  const Patch pt = shell_patch(true);
+  const double A[3][3] = {{0.02, -0.01, 0.03}, {0.015, -0.025, 0.01}, {-0.02, 0.005, 0.04}}, c[3] = {0, 0, 0};
+  for (bool volume : {false, true}) {
+    Problem P = solid_problem({pt});
+    P.output.volume_cells = volume;
+    const std::vector<double> u = affine_u(pt, A, c);
+    const BezierMesh m = bezier_mesh(P, {u});
+    const double t[3] = {0.5, 0.5, 0.5};
+    const FieldPoint f = BodyField(P, 0, u).eval(t);
+    const double s[6] = {f.sxx, f.syy, f.szz, f.sxy, f.syz, f.sxz};
+    const double scale = std::abs(f.von_mises());
+    ASSERT_GT(scale, 1.0);
+    double worst = 0;
+    for (size_t q = 0; q < m.num_points(); ++q) {
+      for (int k = 0; k < 6; ++k) worst = std::max(worst, std::abs(m.stress[6 * q + k] - s[k]));
+      worst = std::max(worst, std::abs(m.von_mises[q] - f.von_mises()));
+    }
+    EXPECT_LT(worst, 1e-10 * scale) << (volume ? "hexahedra" : "faces");
+  }
+}
+
+// The face cells' VTK normal (d/dt0 x d/dt1 of the cell) points out of the body, on a
+// right-handed box (orientation +1) and on the left-handed shell (-1).
+TEST(VtkBezier3D, OutwardFaceNormals) {
+  for (bool shell : {false, true}) {
+    const Patch pt = shell ? shell_patch(false) : box_patch({2, 1, 2}, {2, 2, 1}, {2.0, 1.0, 0.5});
+    ASSERT_EQ(pt.orientation(), shell ? -1 : 1);
+    const Problem P = solid_problem({pt});
+    const BezierMesh m = bezier_mesh(P, {std::vector<double>(3 * pt.cp.size(), 0.0)});
+    for (size_t c = 0; c < m.num_cells(); ++c) {
+      const double h = 1e-6, t0[2] = {0.5, 0.5}, ta[2] = {0.5 + h, 0.5}, tb[2] = {0.5, 0.5 + h};
+      double X[3], Xa[3], Xb[3];
+      eval_cell3(m, c, m.points, 3, t0, X);
+      eval_cell3(m, c, m.points, 3, ta, Xa);
+      eval_cell3(m, c, m.points, 3, tb, Xb);
+      const double a[3] = {Xa[0] - X[0], Xa[1] - X[1], Xa[2] - X[2]}, b[3] = {Xb[0] - X[0], Xb[1] - X[1], Xb[2] - X[2]};
+      const double n[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+      double out[3];   // the outward direction of the face the cell lies on
+      if (!shell) {   // west, east, south, north, front, back: -x, +x, -y, +y, -z, +z
+        for (int d = 0; d < 3; ++d) out[d] = d == m.face[c] / 2 ? (m.face[c] % 2 ? 1.0 : -1.0) : 0.0;
+      } else {
+        const double r = std::hypot(X[0], X[1]);
+        const double radial[3] = {X[0] / r, X[1] / r, 0};
+        const double dirs[6][3] = {{0, -1, 0}, {-1, 0, 0}, {-radial[0], -radial[1], 0}, {radial[0], radial[1], 0},
+                                   {0, 0, -1}, {0, 0, 1}};
+        std::copy(dirs[m.face[c]], dirs[m.face[c]] + 3, out);
+      }
+      const double dot = n[0] * out[0] + n[1] * out[1] + n[2] * out[2];
+      const double nn = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]),
+                   no = std::sqrt(out[0] * out[0] + out[1] * out[1] + out[2] * out[2]);
+      EXPECT_GT(dot, 0.5 * nn * no) << (shell ? "shell" : "box") << " face " << m.face[c] << " cell " << c;
+    }
+  }
+}
+
+// A two-patch body: the faces shared by the interface are inside the body and not drawn.
+TEST(VtkBezier3D, InterfacesAreNotDrawn) {
+  const Patch a = box_patch({2, 2, 2}, {2, 1, 1}, {1, 1, 1}), b = box_patch({2, 2, 2}, {1, 1, 1}, {1, 1, 1}, 1.0);
+  const Problem P = solid_problem({a, b}, Kinematics::Small, MaterialModel::Linear,
+                                  {Interface{PatchSide{0, Side::East}, PatchSide{1, Side::West}}});
+  std::vector<double> u(3 * P.bodies[0].num_cps, 0.0);
+  const BezierMesh m = bezier_mesh(P, {u});
+  // patch 0: 2 x 1 x 1 elements, 5 faces (no east): 2 + 2 + 2 + 2 + 1 (west); patch 1: 5 x 1
+  EXPECT_EQ(m.num_cells(), 9u + 5u);
+  for (size_t c = 0; c < m.num_cells(); ++c) {
+    EXPECT_FALSE(m.patch[c] == 0 && m.face[c] == static_cast<int>(Side::East));
+    EXPECT_FALSE(m.patch[c] == 1 && m.face[c] == static_cast<int>(Side::West));
+  }
+  // the bounds of the drawn points: the two boxes
+  double lo[3] = {1e9, 1e9, 1e9}, hi[3] = {-1e9, -1e9, -1e9};
+  for (size_t q = 0; q < m.num_points(); ++q)
+    for (int d = 0; d < 3; ++d) {
+      lo[d] = std::min(lo[d], m.points[3 * q + d]);
+      hi[d] = std::max(hi[d], m.points[3 * q + d]);
+    }
+  const double expect_hi[3] = {2.0, 1.0, 1.0};
+  for (int d = 0; d < 3; ++d) {
+    EXPECT_NEAR(lo[d], 0.0, 1e-14);
+    EXPECT_NEAR(hi[d], expect_hi[d], 1e-14);
+  }
+}
+
+// The 3-D .vtu text, and the files tests/paraview/check_bezier3d.py opens (IGACONTACT_VTU_OUT):
+// the undistorted shell (exact quarter cylinders) with a non-affine displacement, faces and
+// hexahedra, binary and ascii.
+TEST(VtkBezier3D, WritesShellFiles) {
+  const Patch pt = shell_patch(false);
+  const char* env = std::getenv("IGACONTACT_VTU_OUT");
+  const std::filesystem::path dir =
+      env ? std::filesystem::path(env) : std::filesystem::temp_directory_path() / "igacontact_test_vtk";
+  std::filesystem::create_directories(dir);
+  for (bool volume : {false, true}) {
+    Problem P = solid_problem({pt});
+    P.output.volume_cells = volume;
+    const std::vector<double> u = wavy_u(pt, 0.05);
+    const std::string bin = bezier_vtu(P, {u}, 1.0, "test-3d");
+    const std::string asc = bezier_vtu(P, {u}, 1.0, "test-3d", VtkEncoding::Ascii);
+    EXPECT_NE(asc.find("Name=\"element_ij\" NumberOfComponents=\"3\""), std::string::npos);
+    EXPECT_NE(asc.find("Name=\"parametric_range\" NumberOfComponents=\"6\""), std::string::npos);
+    EXPECT_NE(asc.find("Name=\"face\""), std::string::npos);
+    // VTK >= 9.1 reads hexahedra of files before version 2.2 in the legacy point order
+    EXPECT_NE(bin.find("<VTKFile type=\"UnstructuredGrid\" version=\"2.2\""), std::string::npos);
+    EXPECT_NE(asc.find(volume ? "\n     79 79" : "\n     77 77"), std::string::npos);
+    const std::string stem = volume ? "shell_volume" : "shell_faces";
+    std::ofstream(dir / (stem + ".vtu"), std::ios::binary) << bin;
+    std::ofstream(dir / (stem + "_ascii.vtu"), std::ios::binary) << asc;
+  }
+}
+
+// A 3-D state's files without a System (ResultWriter's pieces): the control net in the HDF5
+// image (Float64, hexahedra), no sampled grid, and a probe with three coordinates, three
+// displacements and six stresses. With IGACONTACT_VTU_OUT set, writes an output directory
+// as a 3-D run writes it (result_0001.h5, result_control_nets.xdmf, result_contact.xdmf,
+// result_0001.vtu, result.pvd, summary.json) for tests/paraview/check_results.py
+// (tests/paraview_output3d.sh).
+TEST(Output3D, ControlNetAndProbe) {
+  const Patch pt = shell_patch(false);
+  const Problem P = solid_problem({pt});
+  const double A[3][3] = {{0.02, -0.01, 0.03}, {0.015, -0.025, 0.01}, {-0.02, 0.005, 0.04}}, c[3] = {0.01, 0.02, -0.03};
+  const std::vector<double> u = affine_u(pt, A, c);
+  H5Memory f("result_0001.h5");
+  f.group("/bodies");
+  std::ostringstream grids, nets;
+  EXPECT_EQ(write_bodies(f, "result_0001.h5", P, {u}, grids, nets), 0.0);
+  EXPECT_TRUE(grids.str().empty());   // no sampled grid in 3-D
+  const int m0 = pt.ncp(0), m1 = pt.ncp(1), m2 = pt.ncp(2);
+  const std::string net = nets.str();
+  EXPECT_NE(net.find("TopologyType=\"Hexahedron\" NumberOfElements=\"" + std::to_string((m0 - 1) * (m1 - 1) * (m2 - 1)) +
+                     "\" NodesPerElement=\"8\""),
+            std::string::npos);
+  EXPECT_NE(net.find("result_0001.h5:/bodies/solid/control_xyz"), std::string::npos);
+  EXPECT_NE(net.find("result_0001.h5:/bodies/solid/control_displacement"), std::string::npos);
+  const std::string h5 = f.image();
+
+  Probe pr;
+  pr.body = 0;
+  pr.at = {0.25, 0.5, 0.75};
+  const nlohmann::json j = probe_json(P, pr, u);
+  const double t[3] = {0.25, 0.5, 0.75};
+  const FieldPoint fp = BodyField(P, 0, u).eval(t);
+  const auto x = pt.point(t);
+  EXPECT_EQ(j["body"], "solid");
+  EXPECT_EQ(j["at"].size(), 3u);
+  EXPECT_EQ(j["at"][2].get<double>(), 0.75);
+  EXPECT_NEAR(j["x"].get<double>(), x[0], 1e-14);
+  EXPECT_NEAR(j["y"].get<double>(), x[1], 1e-14);
+  EXPECT_NEAR(j["z"].get<double>(), x[2], 1e-14);
+  ASSERT_EQ(j["displacement"].size(), 3u);
+  for (int i = 0; i < 3; ++i)
+    EXPECT_NEAR(j["displacement"][i].get<double>(), c[i] + A[i][0] * x[0] + A[i][1] * x[1] + A[i][2] * x[2], 1e-14);
+  ASSERT_EQ(j["stress"].size(), 6u);   // sxx, syy, szz, syz, sxz, sxy
+  const double s[6] = {fp.sxx, fp.syy, fp.szz, fp.syz, fp.sxz, fp.sxy};
+  for (int k = 0; k < 6; ++k) EXPECT_EQ(j["stress"][k].get<double>(), s[k]);
+  const double mu = 1000.0 / 2.6;   // sxy of the affine field: mu (A01 + A10)
+  EXPECT_NEAR(j["stress"][5].get<double>(), mu * (A[0][1] + A[1][0]), 1e-10);
+
+  if (const char* env = std::getenv("IGACONTACT_VTU_OUT")) {
+    const std::filesystem::path dir(env);
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir / "result_0001.h5", std::ios::binary) << h5;
+    const std::string state = "  <Grid Name=\"step_0001\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
+                              "   <Time Value=\"1\"/>\n" + net + "  </Grid>\n";
+    std::ofstream(dir / "result_control_nets.xdmf") << xdmf_file("test-3d", {state});
+    const BezierMesh mesh = bezier_mesh(P, {u});
+    std::ofstream(dir / "result_0001.vtu", std::ios::binary) << vtu_text(mesh, 1.0, "test-3d");
+    std::ofstream(dir / "result.pvd") << pvd_collection({{1.0, "result_0001.vtu"}});
+    // no contact: an empty spatial collection per state, as ResultWriter writes it
+    std::ofstream(dir / "result_contact.xdmf")
+        << xdmf_file("test-3d", {"  <Grid Name=\"step_0001\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
+                                 "   <Time Value=\"1\"/>\n  </Grid>\n"});
+    // what tests/paraview/check_results.py reads of summary.json
+    nlohmann::json s = {{"load_factor", 1.0}, {"max_displacement", mesh.max_displacement}, {"contact", nlohmann::json::array()}};
+    for (const char* name : {"result_0001.h5", "result_0001.vtu", "result_control_nets.xdmf", "result_contact.xdmf", "result.pvd"})
+      s["files"][name] = nlohmann::json::object();
+    std::ofstream(dir / "summary.json") << s.dump(1);
+  }
+}
+
+namespace {
+
+// The octant of a thick sphere, radii 1 and 2 (as tests/test_solid.cpp builds it): degree
+// (2, 2, 1), xi the longitude, eta the latitude up to the pole, zeta the radius; the north face
+// (eta = 1) collapses onto the z axis, where det J = 0. Refined to degrees (2, 2, 2), n elements
+// per direction.
+Patch sphere_octant(int n) {
+  const double w = std::sqrt(0.5), c[3][2] = {{1, 0}, {1, 1}, {0, 1}}, cw[3] = {1, w, 1};
+  Patch a;
+  a.pdim = 3;
+  a.degree = {2, 2, 1};
+  a.knots[0] = {0, 0, 0, 1, 1, 1};
+  a.knots[1] = {0, 0, 0, 1, 1, 1};
+  a.knots[2] = {0, 0, 1, 1};
+  for (double r : {1.0, 2.0})
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i) {
+        const double rho = r * c[j][0], z = r * c[j][1];
+        a.cp.push_back(ControlPoint({rho * c[i][0], rho * c[i][1], z}, cw[i] * cw[j]));
+      }
+  a.elevate(2, 1);
+  for (int d = 0; d < 3; ++d) a.subdivide(d, n);
+  return a;
+}
+
+}  // namespace
+
+// A patch with a degenerate face (the sphere octant's pole, det J = 0 on it): the stress there
+// is taken 1 % of the way inside the element (BodyField::eval3), so an affine displacement's constant stress is drawn constant on
+// every cell, those touching the pole included (faces and hexahedra), and the probe at the
+// pole gives it; the collapsed face itself is not drawn.
+TEST(VtkBezier3D, DegeneratePoleFace) {
+  const Patch pt = sphere_octant(2);
+  const double A[3][3] = {{0.02, -0.01, 0.03}, {0.015, -0.025, 0.01}, {-0.02, 0.005, 0.04}}, c[3] = {0, 0, 0};
+  const std::vector<double> u = affine_u(pt, A, c);
+  Problem P = solid_problem({pt});
+  const double tin[3] = {0.3, 0.4, 0.5}, tpole[3] = {0.3, 1.0, 0.5};
+  const FieldPoint in = BodyField(P, 0, u).eval(tin), pole = BodyField(P, 0, u).eval(tpole);
+  EXPECT_NEAR(std::hypot(pole.x, pole.y), 0.0, 1e-14);   // on the z axis
+  const double s_in[6] = {in.sxx, in.syy, in.szz, in.sxy, in.syz, in.sxz}, s_pole[6] = {pole.sxx, pole.syy, pole.szz, pole.sxy, pole.syz, pole.sxz};
+  const double scale = in.von_mises();
+  for (int k = 0; k < 6; ++k) EXPECT_NEAR(s_pole[k], s_in[k], 1e-6 * scale) << "component " << k;
+  for (bool volume : {false, true}) {
+    P.output.volume_cells = volume;
+    const BezierMesh m = bezier_mesh(P, {u});
+    // faces: the pole face (north, collapsed onto the z axis) has no area and is not drawn
+    const int ne = 2 * 2;
+    EXPECT_EQ(m.num_cells(), volume ? 8u : 5u * ne);
+    for (size_t q = 0; q < m.num_cells(); ++q) EXPECT_NE(m.face[q], static_cast<int>(Side::North));
+    double worst = 0;
+    auto take = [&](double d) { worst = std::isfinite(d) ? std::max(worst, d) : HUGE_VAL; };
+    for (size_t q = 0; q < m.num_points(); ++q) {
+      for (int k = 0; k < 6; ++k) take(std::abs(m.stress[6 * q + k] - s_in[k]));
+      take(std::abs(m.von_mises[q] - scale));
+    }
+    EXPECT_LT(worst, 1e-6 * scale) << (volume ? "hexahedra" : "faces");
+  }
 }

@@ -22,6 +22,10 @@
 #     array holds Bezier coefficients: the cell corners interpolate (largest at corners <= the
 #     summary's value) and the coefficients bound the field (largest >= the summary's value).
 #     Command-line values replace the summary's.
+# 3-D (a run whose summary lists no result.xdmf): no result.xdmf; the control nets are hexahedra
+# (VTK_HEXAHEDRON); result.pvd holds Bezier faces (77) or hexahedra (79) with the 3-D cell arrays
+# face, element_ij 3, knot_span 3, parametric_range 6; the summary's largest displacement (at the
+# cells' evaluation points) between the cell corners' and the coefficients' largest.
 # Exit status 0 when all pass, 1 otherwise (each failure printed).
 import argparse
 import json
@@ -85,15 +89,16 @@ def child(kind, path):
         for name, ds in leaves(sm.Fetch(reader)):
             b = {"name": re.sub(r"\[\d+\]$", "", name) if name else None, "raw_name": name,
                  "class": ds.GetClassName(), "points": ds.GetNumberOfPoints(), "cells": ds.GetNumberOfCells(),
-                 "point_arrays": arrays(ds.GetPointData()), "cell_arrays": arrays(ds.GetCellData())}
+                 "point_arrays": arrays(ds.GetPointData()), "cell_arrays": arrays(ds.GetCellData()),
+                 "cell_types": sorted({ds.GetCellType(c) for c in range(ds.GetNumberOfCells())})}
             pd = ds.GetPointData()
             if pd.GetArray("displacement") is not None:
                 b["max_displacement"] = max_norm(pd.GetArray("displacement"))
-                if ds.GetNumberOfCells() and ds.GetCellType(0) == 77:   # Bezier: corners interpolate
+                if ds.GetNumberOfCells() and ds.GetCellType(0) in (77, 79):   # Bezier: corners interpolate
                     corners = set()
                     for c in range(ds.GetNumberOfCells()):
                         ids = ds.GetCell(c).GetPointIds()
-                        corners.update(ids.GetId(k) for k in range(4))
+                        corners.update(ids.GetId(k) for k in range(4 if ds.GetCellType(c) == 77 else 8))
                     b["max_displacement_corners"] = max_norm(pd.GetArray("displacement"), sorted(corners))
             if pd.GetArray("pressure") is not None:
                 b["max_pressure"] = max(pd.GetArray("pressure").GetTuple1(i) for i in range(ds.GetNumberOfPoints()))
@@ -134,10 +139,16 @@ def main():
     ncontact = len(want_p)
     friction_fields = any("tangential_force" in c for c in summary.get("contact", []))
 
+    # 3-D (issue 35, docs/paraview.md): no sampled grid (no result.xdmf); the control nets are
+    # hexahedra; result.pvd holds Bezier faces (77) or hexahedra (79) with 3-D cell arrays
+    three_d = "result.xdmf" not in summary.get("files", {}) and "result.pvd" in summary.get("files", {})
     pvpython = shutil.which("pvpython") or sys.executable
     close = lambda a, b: abs(a - b) <= args.rtol * max(abs(a), abs(b), 1e-300)
     all_times = {}
     xdmfs = ("result.xdmf", "result_control_nets.xdmf", "result_contact.xdmf")
+    if three_d:
+        xdmfs = xdmfs[1:]
+        check(not os.path.exists(os.path.join(args.outdir, "result.xdmf")), "3-D: no result.xdmf (no sampled grid)")
     for kind, fnames in (("Xdmf3ReaderS", xdmfs), ("Xdmf3ReaderT", xdmfs), ("XDMFReader", xdmfs), ("PVDReader", ("result.pvd",))):
         # the files of one reader (one pvpython): their steps merged (the same times in each)
         r, tag = None, "%s(%s)" % (kind, ", ".join(fnames))
@@ -179,7 +190,7 @@ def main():
             bodies = [b for b in st["blocks"] if "stress" in b["point_arrays"]]
             nets = [b for b in st["blocks"] if "control_displacement" in b["point_arrays"]]
             contacts = [b for b in st["blocks"] if "pressure" in b["point_arrays"]]
-            check(len(bodies) >= 1, "%s t=%r: at least one body" % (tag, t))
+            check(len(bodies) >= 1 or (three_d and kind != "PVDReader"), "%s t=%r: at least one body" % (tag, t))
             for b in bodies:
                 pa, ca = b["point_arrays"], b["cell_arrays"]
                 what = "%s t=%r block %s" % (tag, t, b["raw_name"])
@@ -189,6 +200,12 @@ def main():
                     for a, n in (("RationalWeights", 1), ("stress", 6), ("von_mises", 1)):
                         check(pa.get(a) == n, what + ": %s with %d components (%s)" % (a, n, pa.get(a)))
                     check(ca.get("HigherOrderDegrees") == 3, what + ": HigherOrderDegrees (3)")
+                    if three_d:
+                        check(set(b["cell_types"]) <= {77, 79} and b["cell_types"], what + ": 3-D Bezier cells (%s)" % b["cell_types"])
+                        for a, n in (("face", 1), ("element_ij", 3), ("knot_span", 3), ("parametric_range", 6)):
+                            check(ca.get(a) == n, what + ": 3-D cell array %s with %d components (%s)" % (a, n, ca.get(a)))
+                    else:
+                        check(b["cell_types"] == [77], what + ": Bezier quadrilaterals (%s)" % b["cell_types"])
                 else:
                     check(pa.get("stress") == (9 if kind == "XDMFReader" else 6), what + ": stress tensor (%s)" % pa.get("stress"))
                     check(pa.get("von_mises") == 1, what + ": scalar von_mises")
@@ -198,9 +215,14 @@ def main():
                     if named:
                         check(b["name"] is not None, what + ": named")
             if kind != "PVDReader":
-                check(len(nets) == len(bodies), "%s t=%r: one control net per body (%d, %d)" % (tag, t, len(nets), len(bodies)))
+                if three_d:
+                    check(len(nets) >= 1, "%s t=%r: control nets (%d)" % (tag, t, len(nets)))
+                else:
+                    check(len(nets) == len(bodies), "%s t=%r: one control net per body (%d, %d)" % (tag, t, len(nets), len(bodies)))
                 for b in nets:
                     check(b["points"] > 0 and b["cells"] > 0, "%s t=%r control net %s: points and cells" % (tag, t, b["raw_name"]))
+                    check(b["cell_types"] == ([12] if three_d else [9]),
+                          "%s t=%r control net %s: %s (%s)" % (tag, t, b["raw_name"], "hexahedra" if three_d else "quadrilaterals", b["cell_types"]))
                 check(len(contacts) == ncontact, "%s t=%r: %d contact pairs (found %d)" % (tag, t, ncontact, len(contacts)))
                 for b in contacts:
                     what = "%s t=%r block %s" % (tag, t, b["raw_name"])
