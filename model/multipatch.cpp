@@ -374,7 +374,7 @@ std::string check_interface(const std::vector<Patch>& patches, const Interface& 
 }
 
 std::vector<std::vector<int>> merge_control_points(const std::vector<Patch>& patches,
-                                                   const std::vector<Interface>& interfaces, int& n) {
+                                                   const std::vector<Interface>& interfaces, int& n, double tol) {
   std::vector<size_t> offset(patches.size() + 1, 0);
   for (size_t p = 0; p < patches.size(); ++p) offset[p + 1] = offset[p] + patches[p].cp.size();
   std::vector<size_t> parent(offset.back());
@@ -416,6 +416,21 @@ std::vector<std::vector<int>> merge_control_points(const std::vector<Patch>& pat
       if (x != y) parent[std::max(x, y)] = std::min(x, y);   // the root: the first appearance
     }
   }
+  // a side collapsed to a point, or a face collapsed onto a curve or a point (a degenerate
+  // patch: a sphere's pole): its coinciding control points are one material point, one set of
+  // dofs (else they could move apart and open or fold the collapsed side)
+  if (tol >= 0)
+    for (size_t p = 0; p < patches.size(); ++p)
+      for (int sd = 0; sd < num_sides(patches[p].dim()); ++sd) {
+        if (!side_collapsed(patches[p], static_cast<Side>(sd), tol)) continue;
+        const auto idx = patches[p].side_indices(static_cast<Side>(sd));
+        for (size_t i = 0; i < idx.size(); ++i)
+          for (size_t j = i + 1; j < idx.size(); ++j)
+            if (dist(patches[p].cp[idx[i]], patches[p].cp[idx[j]]) <= tol) {
+              const size_t x = find(offset[p] + idx[i]), y = find(offset[p] + idx[j]);
+              if (x != y) parent[std::max(x, y)] = std::min(x, y);
+            }
+      }
   std::vector<int> number(parent.size(), -1);
   std::vector<std::vector<int>> out(patches.size());
   n = 0;

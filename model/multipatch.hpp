@@ -84,9 +84,10 @@ std::string check_interface(const std::vector<Patch>& patches, const Interface& 
 /// Merges the control points of conforming interfaces: per patch, control point -> merged
 /// index (numbered in patch order, first appearance); n: how many there are. 3-D: faces, in
 /// the orientation (of those with matching counts) in which the control points lie closest,
-/// f's own first.
+/// f's own first. With tol >= 0 also the coinciding control points (within tol) of every
+/// collapsed side or face (side_collapsed: a degenerate patch) are merged: one material point.
 std::vector<std::vector<int>> merge_control_points(const std::vector<Patch>& patches,
-                                                   const std::vector<Interface>& interfaces, int& n);
+                                                   const std::vector<Interface>& interfaces, int& n, double tol = -1);
 
 /// A contact surface or loaded boundary made of several patch sides joined end to end (a
 /// chain): one NURBS curve with a C0 joint (a p-fold knot) where two sides meet. A single

@@ -91,7 +91,16 @@ void check_problem(const Reader& R, const YAML::Node& root, Problem& P) {
       dofs += static_cast<double>(P.dim()) * b.num_cps;
       for (const Patch& q : b.patches) {
         for (int d = 0; d < q.dim(); ++d) degree = std::max(degree, q.degree[d]);
-        out_bytes += R.sample_bytes(static_cast<double>(q.element_spans(0).size()), static_cast<double>(q.element_spans(1).size()));
+        if (q.dim() == 2) {
+          out_bytes += R.sample_bytes(static_cast<double>(q.element_spans(0).size()), static_cast<double>(q.element_spans(1).size()));
+          continue;
+        }
+        // 3-D: the Bezier points of the .vtu on rank 0, about 112 bytes each (io/vtk): the
+        // boundary faces, or every element's hexahedron with output.cells: volume
+        double pts[3];
+        for (int d = 0; d < 3; ++d) pts[d] = q.degree[d] * static_cast<double>(q.num_elements(d)) + 1;
+        out_bytes += 112.0 * (P.output.volume_cells ? pts[0] * pts[1] * pts[2]
+                                                    : 2 * (pts[0] * pts[1] + pts[1] * pts[2] + pts[0] * pts[2]));
       }
     }
     const bool output_dominates = out_bytes > 0.5 * dofs * bytes_per_dof_estimate(degree, P.dim());

@@ -387,7 +387,7 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
       if (!err.empty()) R.fail(path + ".refine", r, "body '" + b.name + "': " + err);
     }
   }
-  b.cp_index = merge_control_points(b.patches, b.interfaces, b.num_cps);
+  b.cp_index = merge_control_points(b.patches, b.interfaces, b.num_cps, b.tolerance);
   // a folded or flat patch (det J changing sign or vanishing inside) is bad input, blamed on
   // the control points where they were given
   for (int k = 0; k < np; ++k) {

@@ -32,13 +32,15 @@ struct Override {
 
 bool contains_node(const YAML::Node& tree, const YAML::Node& n);
 
-// Memory per dof of a run at degree p in dim dimensions: the measured 2575 bytes per dof of a
-// degree-2 run in 2-D (docs/performance.md), scaled with the number of control points each
-// one couples with, (2p + 1)^dim (in 3-D the same bytes per coupled point, not yet measured).
+// Memory per dof of a run at degree p in dim dimensions: about 51.5 bytes per matrix entry of
+// its row, dim (2p + 1)^dim entries (the tangent, the preconditioner's copy and hierarchy,
+// the solver's vectors). Measured: 2575 bytes per dof at p = 2 in 2-D (50 entries a row,
+// docs/performance.md), 18.4 kB at p = 2 in 3-D (375 entries; the 98,304-dof cube with CG +
+// BoomerAMG, 1.96 GB peak).
 inline double bytes_per_dof_estimate(int degree, int dim) {
   double coupled = 1;
   for (int d = 0; d < dim; ++d) coupled *= 2.0 * degree + 1;
-  return 103.0 * coupled;
+  return 51.5 * dim * coupled;
 }
 
 // Reads one YAML node tree with the file name and key path at hand for messages.

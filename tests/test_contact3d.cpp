@@ -1,0 +1,157 @@
+// 3-D contact geometry kernels (kernels/contact_surface.hpp): closest-point projection onto a
+// NURBS surface and the bin search over its elements.
+//   SurfaceProjection  points around the outer face of a sphere octant (an exact rational
+//                      surface with a degenerate pole edge) project onto the sphere: distance
+//                      |r - R| and foot R x / |x| to 1e-10, through the search (a Kokkos
+//                      parallel_for) and against projecting on every element
+//   SurfaceDerivatives the first and second derivatives of the rational surface against
+//                      central differences
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "kernels/contact_surface.hpp"
+#include "model/nurbs.hpp"
+
+using namespace iga;
+
+namespace {
+
+// The octant of the sphere of radius R as one patch (xi the longitude, eta the latitude, zeta
+// the radius from R / 2 to R), refined; its back face (zeta = 1) is the sphere of radius R.
+Patch sphere_octant(double R, int n) {
+  Patch P;
+  P.pdim = 3;
+  P.degree = {2, 2, 1};
+  P.knots = {uniform_open_knots(2, 1), uniform_open_knots(2, 1), uniform_open_knots(1, 1)};
+  const double w = std::sqrt(0.5), c[3][2] = {{1, 0}, {1, 1}, {0, 1}}, cw[3] = {1, w, 1};
+  for (double r : {0.5 * R, R})
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i)
+        P.cp.push_back(ControlPoint({r * c[j][0] * c[i][0], r * c[j][0] * c[i][1], r * c[j][1]}, cw[i] * cw[j]));
+  P.subdivide(0, n);
+  P.subdivide(1, n);
+  return P;
+}
+
+SurfaceData surface_of(const Patch& F) {
+  SurfaceData sd;
+  for (int d = 0; d < 2; ++d) {
+    sd.p[d] = F.degree[d];
+    sd.n[d] = F.ncp(d);
+    sd.ne[d] = F.num_elements(d);
+    Kokkos::View<double*, MemSpace> U("U", F.knots[d].size());
+    auto hU = Kokkos::create_mirror_view(U);
+    for (size_t k = 0; k < F.knots[d].size(); ++k) hU(k) = F.knots[d][k];
+    Kokkos::deep_copy(U, hU);
+    sd.U[d] = U;
+    const auto spans = F.element_spans(d);
+    Kokkos::View<int*, MemSpace> sp("span", spans.size());
+    auto hs = Kokkos::create_mirror_view(sp);
+    for (size_t k = 0; k < spans.size(); ++k) hs(k) = spans[k];
+    Kokkos::deep_copy(sp, hs);
+    sd.span[d] = sp;
+  }
+  Kokkos::View<double* [4], MemSpace> cp("cp", F.cp.size());
+  auto h = Kokkos::create_mirror_view(cp);
+  for (size_t a = 0; a < F.cp.size(); ++a) {
+    for (int c = 0; c < 3; ++c) h(a, c) = F.cp[a].x[c];
+    h(a, 3) = F.cp[a].w;
+  }
+  Kokkos::deep_copy(cp, h);
+  sd.cp = cp;
+  return sd;
+}
+
+}  // namespace
+
+TEST(SurfaceDerivatives, AgainstCentralDifferences) {
+  const Patch F = sphere_octant(2.0, 3).face(Side::Back);
+  const SurfaceData sd = surface_of(F);
+  // host copies: the kernels read the device views, which are host views on this build
+  std::mt19937 gen(5);
+  std::uniform_real_distribution<double> U(0.02, 0.98);
+  double worst1 = 0, worst2 = 0;
+  for (int k = 0; k < 20; ++k) {
+    const double u = U(gen), v = U(gen), h = 1e-5;
+    const int s[2] = {find_span(sd.n[0], sd.p[0], u, F.knots[0].data()), find_span(sd.n[1], sd.p[1], v, F.knots[1].data())};
+    double d[6][3], dp[6][3], dm[6][3], ep[6][3], em[6][3];
+    surface_derivatives(sd, s, u, v, d);
+    surface_derivatives(sd, s, u + h, v, dp);
+    surface_derivatives(sd, s, u - h, v, dm);
+    surface_derivatives(sd, s, u, v + h, ep);
+    surface_derivatives(sd, s, u, v - h, em);
+    for (int c = 0; c < 3; ++c) {
+      worst1 = std::max({worst1, std::abs((dp[0][c] - dm[0][c]) / (2 * h) - d[1][c]), std::abs((ep[0][c] - em[0][c]) / (2 * h) - d[2][c])});
+      worst2 = std::max({worst2, std::abs((dp[1][c] - dm[1][c]) / (2 * h) - d[3][c]), std::abs((ep[1][c] - em[1][c]) / (2 * h) - d[4][c]),
+                         std::abs((ep[2][c] - em[2][c]) / (2 * h) - d[5][c])});
+    }
+  }
+  // central differences: O(h^2) ~ 1e-10 times the third derivatives (~ R per unit parameter cubed)
+  EXPECT_LT(worst1, 1e-7);
+  EXPECT_LT(worst2, 1e-6);
+}
+
+TEST(SurfaceProjection, PointsAroundASphereFaceFindTheirRadialFoot) {
+  const double R = 2.0;
+  const Patch F = sphere_octant(R, 6).face(Side::Back);
+  const SurfaceData sd = surface_of(F);
+  const SurfaceSearch g = SurfaceSearch::build(sd);
+  // points at radii R - 0.3 .. R + 0.3 inside the octant's cone (longitude and latitude in
+  // [0.05, 0.95] x 90 degrees: their foot is inside the face)
+  const int n = 2000;
+  Kokkos::View<double* [3], MemSpace> X("X", n);
+  auto hX = Kokkos::create_mirror_view(X);
+  std::mt19937 gen(11);
+  std::uniform_real_distribution<double> A(0.05 * M_PI / 2, 0.95 * M_PI / 2), Rr(R - 0.3, R + 0.3);
+  for (int k = 0; k < n; ++k) {
+    const double lon = A(gen), lat = A(gen), r = Rr(gen);
+    hX(k, 0) = r * std::cos(lat) * std::cos(lon);
+    hX(k, 1) = r * std::cos(lat) * std::sin(lon);
+    hX(k, 2) = r * std::sin(lat);
+  }
+  Kokkos::deep_copy(X, hX);
+  Kokkos::View<double* [5], MemSpace> out("out", n);   // element, distance, foot
+  Kokkos::parallel_for("test::ProjectOnSphere", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(const int k) {
+    const double x[3] = {X(k, 0), X(k, 1), X(k, 2)};
+    double uv[2], foot[3], d2;
+    bool inside = false;
+    const int e = closest_on_surface(sd, g, x, 0.5, uv, foot, d2, inside);
+    out(k, 0) = inside ? e : -2;
+    out(k, 1) = kmath::sqrt(d2);
+    for (int c = 0; c < 3; ++c) out(k, 2 + c) = foot[c];
+  });
+  auto ho = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), out);
+  double worst_d = 0, worst_f = 0;
+  int brute_checked = 0;
+  for (int k = 0; k < n; ++k) {
+    ASSERT_GE(ho(k, 0), 0) << "point " << k << " found no foot inside an element";
+    const double x[3] = {hX(k, 0), hX(k, 1), hX(k, 2)};
+    const double r = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+    worst_d = std::max(worst_d, std::abs(ho(k, 1) - std::abs(r - R)));
+    for (int c = 0; c < 3; ++c) worst_f = std::max(worst_f, std::abs(ho(k, 2 + c) - R * x[c] / r));
+    // every 50th point: the search's answer is the best over all elements
+    if (k % 50 == 0) {
+      double best = 1e300;
+      for (int e = 0; e < sd.ne[0] * sd.ne[1]; ++e) {
+        double uv[2], foot[3];
+        bool in;
+        best = std::min(best, project_on_surface_element(sd, e, x, uv, foot, in));
+      }
+      EXPECT_NEAR(std::sqrt(best), ho(k, 1), 1e-12);
+      ++brute_checked;
+    }
+  }
+  std::printf("  sphere face, %d x %d elements: %d points, max |distance - |r - R|| %.1e, max |foot - R x/|x|| %.1e (%d checked against all elements)\n",
+              sd.ne[0], sd.ne[1], n, worst_d, worst_f, brute_checked);
+  EXPECT_LT(worst_d, 1e-10 * R);
+  EXPECT_LT(worst_f, 1e-10 * R);
+  // a point farther than the radius from the surface finds nothing
+  {
+    const double x[3] = {0.1, 0.1, 0.1};
+    double uv[2], foot[3], d2;
+    bool inside;
+    EXPECT_EQ(closest_on_surface(sd, g, x, 0.5, uv, foot, d2, inside), -1);
+  }
+}
