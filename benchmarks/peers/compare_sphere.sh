@@ -12,9 +12,9 @@
 #               (benchmarks/peers/iga_sphere.cpp: the app's load_problem / System / solve, then
 #               the L2 error as tests/test_solid.cpp integrates it), run once outside the
 #               timings; the app's dofs are checked against it. Exit status 5 of the app (a
-#               converged step that failed a physical check) is accepted: on main (6a725ef) the
-#               inverted-element check reports det J ~ -1e-11 at the octant's degenerate pole
-#               after every solve, after the output is written
+#               converged step that failed a physical check) is accepted: at 6a725ef the
+#               inverted-element check fired at the octant's degenerate pole after the output
+#               (fixed on main by 35a88b1, the pole's control points merged)
 #   deal.II:    build-peers/dealii_sphere P K SOLVER (benchmarks/peers/dealii_sphere.cpp:
 #               quarter_hyper_shell refined K times, FE_Q(P) x 3, MappingQ(P), one thread;
 #               SOLVER umfpack, mumps (PETSc's) or amg (CG + Trilinos ML))
