@@ -13,13 +13,13 @@
 #               MappingQ(P) on a polar manifold, UMFPACK, one thread; its JSON line has the error);
 #               default P = 4 and 47,000 dofs (47,306: error 4.2e-11, the fewest dofs at P = 4
 #               below 5e-11 in steps of a few thousand; P = 6 reaches it with about 9,000)
-# Both are whole processes timed from outside by farm-bench, in turn (igacontact, deal.II,
+# Both are whole processes timed from outside by benchmarks/peers/time_pairs.py, in turn (igacontact, deal.II,
 # igacontact, ...: --pairs pairs), so the ratio is taken pair by pair on the same machine state.
 #
 # Usage: benchmarks/peers/compare_lame.sh [--pairs N] [--iga-subdivide 126x42|192x64] [--dealii-degree P]
 #            [--dealii-dofs N]
 # Needs build/bin/igacontact and build/bin/test_solver_choice (the main build), deal.II 9.4
-# (Debian libdeal.ii-dev; builds build-peers/ when dealii_lame is missing) and farm-bench.
+# (Debian libdeal.ii-dev; builds build-peers/ when dealii_lame is missing).
 set -euo pipefail
 
 PAIRS=5
@@ -61,7 +61,6 @@ for name, e in (("igacontact", iga), ("deal.II", deal)):
 PY
 
 # the whole processes, in turn: A = igacontact, B = deal.II
-farm-bench -n "$PAIRS" --warmup 1 --timeout 900 --vs "$DEAL $DEAL_P $DEAL_DOFS" -- \
-  "$IGA" run "$ROOT/examples/lame_cylinder.yaml" --quiet --output "$TMP/out" \
-  --set 'bodies.0.refine.degree_elevate=[2,3]' --set "bodies.0.refine.subdivide=[${IGA_MESH/x/,}]" \
-  --set output.samples_per_element=1
+"$ROOT/benchmarks/peers/time_pairs.py" --pairs "$PAIRS" \
+  "$IGA run $ROOT/examples/lame_cylinder.yaml --quiet --output $TMP/out --set bodies.0.refine.degree_elevate=[2,3] --set bodies.0.refine.subdivide=[${IGA_MESH/x/,}] --set output.samples_per_element=1" \
+  "$DEAL $DEAL_P $DEAL_DOFS"
