@@ -155,34 +155,8 @@ PY
 
   wait_for_load
   echo "  load before: $(cut -d' ' -f1-3 /proc/loadavg)"
-  # the whole processes in turn, A = igacontact, B = deal.II, wall (monotonic clock from the
-  # start to the reaping) and CPU (user + system of the finished child)
-  /usr/bin/python3 - "$PAIRS" "$(app_cmd "$P" "$N")" "$(deal_cmd "$P" "$K")" <<'PY'
-import os, resource, statistics, subprocess, sys, time
-pairs, a, b = int(sys.argv[1]), sys.argv[2].split(), sys.argv[3].split()
-def run(cmd, ok=(0,), tries=3):
-    # a failed run (Open MPI's singleton start-up of the deal.II program failed now and then
-    # under load: "Unable to start a daemon on the local node") is said and run again
-    for k in range(tries):
-        r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
-        t0 = time.monotonic()
-        p = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        t = time.monotonic() - t0
-        r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
-        if p.returncode in ok:
-            return t, (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
-        print("  (exit %d after %.2f s, run again: %s)" % (p.returncode, t, cmd[0]))
-    sys.exit("%d failures in a row: %s" % (tries, " ".join(cmd)))
-run(a, (0, 5)); run(b)   # one warm-up each (page cache), not counted
-wa, wb, ca, cb = [], [], [], []
-for i in range(pairs):
-    t, c = run(a, (0, 5)); wa.append(t); ca.append(c)
-    t, c = run(b); wb.append(t); cb.append(c)
-    print("  pair %d: igacontact %.2f s (cpu %.2f), deal.II %.2f s (cpu %.2f), ratio %.3f" % (i + 1, wa[-1], ca[-1], wb[-1], cb[-1], wa[-1] / wb[-1]))
-med = statistics.median
-print("  median wall: igacontact %.2f s, deal.II %.2f s; median ratio (pair by pair) wall %.3f, cpu %.3f (1/%.1f)" %
-      (med(wa), med(wb), med([x / y for x, y in zip(wa, wb)]), med([x / y for x, y in zip(ca, cb)]),
-       1 / med([x / y for x, y in zip(wa, wb)])))
-PY
+  # the whole processes in turn, A = igacontact, B = deal.II (benchmarks/peers/time_pairs.py:
+  # wall from a monotonic clock, CPU of the finished child, ratios pair by pair)
+  "$ROOT/benchmarks/peers/time_pairs.py" --pairs "$PAIRS" "$(app_cmd "$P" "$N")" "$(deal_cmd "$P" "$K")"
   echo "  load after:  $(cut -d' ' -f1-3 /proc/loadavg)"
 done
