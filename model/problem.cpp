@@ -27,6 +27,7 @@ const char* preconditioner_name(Preconditioner p) {
     case Preconditioner::ILUT: return "ilut";
     case Preconditioner::Relaxation: return "relaxation";
     case Preconditioner::None: return "none";
+    case Preconditioner::ControlNet: return "control_net";
   }
   return "?";
 }

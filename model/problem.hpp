@@ -27,7 +27,9 @@ const char* material_model_name(MaterialModel m);   // linear, saint_venant_kirc
 enum class LoadKind { None, Pressure, LinearPressure, Traction };
 enum class ContactMethod { KtsPenalty, KtsAlm, MortarPenalty, MortarAlm };
 enum class LinearMethod { CG, GMRES, Direct };
-enum class Preconditioner { MueLu, BoomerAMG, ILUT, Relaxation, None };
+/// solver.linear.preconditioner; ControlNet: BoomerAMG of the stiffness of the degree-1 patches
+/// on the same control nets (System::control_net_stiffness), without contact
+enum class Preconditioner { MueLu, BoomerAMG, ILUT, Relaxation, None, ControlNet };
 /// solver.quadrature: the element rule of the stiffness and internal force. Spline (the
 /// default): per patch direction the generalised Gaussian rule of the spline space
 /// (model/quadrature.hpp), about (p + 2) / 2 points per element; exact where Gauss is exact for

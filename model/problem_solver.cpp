@@ -149,7 +149,11 @@ void read_solver(const Reader& R, const YAML::Node& root, Problem& P) {
         else if (m == "ilut") P.linear.preconditioner = Preconditioner::ILUT;
         else if (m == "relaxation") P.linear.preconditioner = Preconditioner::Relaxation;
         else if (m == "none") P.linear.preconditioner = Preconditioner::None;
-        else R.fail("solver.linear.preconditioner", l["preconditioner"], "expected boomeramg, muelu, ilut, relaxation or none");
+        else if (m == "control_net") P.linear.preconditioner = Preconditioner::ControlNet;
+        else R.fail("solver.linear.preconditioner", l["preconditioner"], "expected boomeramg, muelu, ilut, relaxation, control_net or none");
+        if (P.linear.preconditioner == Preconditioner::ControlNet && root["contact"])
+          R.fail("solver.linear.preconditioner", l["preconditioner"],
+                 "control_net preconditions the bodies' elasticity only: not with contact pairs (use boomeramg)");
       }
       if (l["tolerance"]) P.linear.tolerance = R.positive(l["tolerance"], "solver.linear.tolerance");
       if (l["max_iterations"]) {
@@ -192,6 +196,12 @@ void choose_linear_method(const Reader& R, const YAML::Node& root, Problem& P) {
                       : P.contact.empty() && P.kinematics == Kinematics::Small ? LinearMethod::CG
                                                                                : LinearMethod::GMRES;
   }
+  // solids without contact: BoomerAMG of the control nets' degree-1 stiffness unless a
+  // preconditioner is named (2.1x faster than BoomerAMG of the tangent at p = 2 on the cube,
+  // 1.2-1.4x at p = 3, 4: docs/performance.md, "3-D: the control-net preconditioner")
+  const bool named = root["solver"] && root["solver"]["linear"] &&
+                     (root["solver"]["linear"]["preconditioner"] || root["solver"]["linear"]["muelu_xml"]);
+  if (!named && P.dim() == 3 && P.contact.empty()) P.linear.preconditioner = Preconditioner::ControlNet;
   for (const ContactPair& c : P.contact)
     if (c.friction > 0) P.linear.symmetric = false;
   // a pressure following the deformed surface has a non-symmetric tangent

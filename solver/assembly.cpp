@@ -23,6 +23,26 @@ RCP<Matrix> System::assemble_stiffness() const {
   return K;
 }
 
+RCP<Matrix> System::control_net_stiffness() const {
+  Problem low = P_;
+  low.kinematics = Kinematics::Small;
+  low.quadrature = Quadrature::Gauss;
+  for (Body& b : low.bodies)
+    for (Patch& q : b.patches)
+      for (int d = 0; d < q.dim(); ++d) {
+        const int n = q.ncp(d);
+        const double a = q.knots[d].front(), c = q.knots[d].back();
+        std::vector<double> U = uniform_open_knots(1, n - 1);
+        for (double& u : U) u = a + (c - a) * u;
+        q.knots[d] = U;
+        q.degree[d] = 1;
+      }
+  System s(low, comm_);
+  RCP<Matrix> K = s.assemble_stiffness();
+  s.apply_dirichlet(*K);
+  return K;
+}
+
 bool System::constant_tangent() const {
   for (const Material& m : materials_)
     if (!m.constant_tangent()) return false;

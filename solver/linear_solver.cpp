@@ -18,12 +18,14 @@ namespace {
 using Operator = Tpetra::Operator<SC, LO, GO, Node>;
 
 RCP<Operator> make_preconditioner(const LinearOptions& opt, const RCP<Matrix>& A,
-                                  const RCP<MultiVector>& nullspace, const RCP<MultiVector>& coords) {
+                                  const RCP<MultiVector>& nullspace, const RCP<MultiVector>& coords,
+                                  const RCP<Matrix>& low_order) {
   const int ranks = A->getComm()->getSize();
   const int dim = opt.dofs_per_node;   // interleaved displacement components
   switch (opt.preconditioner) {
     case Preconditioner::None: return Teuchos::null;
     case Preconditioner::BoomerAMG: return make_boomeramg(A, dim);
+    case Preconditioner::ControlNet: return make_boomeramg(low_order.is_null() ? A : low_order, dim);
     case Preconditioner::Relaxation: {
       auto prec = Ifpack2::Factory::create<Tpetra::RowMatrix<SC, LO, GO, Node>>("RELAXATION", A);
       Teuchos::ParameterList p;
@@ -240,7 +242,7 @@ LinearSolveResult solve_linear(const LinearOptions& opt, const RCP<Matrix>& A, c
   const bool kept = !cache->M.is_null();
   if (!kept) {
     Teuchos::TimeMonitor t(*Teuchos::TimeMonitor::getNewTimer("4) Preconditioner setup"));
-    cache->M = make_preconditioner(opt, A, nullspace, coords);
+    cache->M = make_preconditioner(opt, A, nullspace, coords, cache->low_order);
     ++cache->builds;
   }
   // A kept preconditioner gets the iterations a fresh one needed, 1.5 x + 5, and no more: a

@@ -34,6 +34,9 @@ struct PreconditionerCache {
   /// clear() leaves it alone
   std::shared_ptr<DirectSolver> direct;
   bool refactorise = false;   // the last solve with kept factors cost more than a factorisation
+  /// solver.linear.preconditioner: control_net: the matrix BoomerAMG is built of (the control
+  /// nets' degree-1 stiffness, Dirichlet rows eliminated; set by the caller, kept by clear())
+  RCP<Matrix> low_order;
   void clear() { M = Teuchos::null; }
 };
 

@@ -112,6 +112,10 @@ NewtonCore::NewtonCore(const System& sys, const std::function<void(const Iterati
     f_prev_ = rcp(new Vector(sys_.owned_map()));
     f_end_ = sys_.assemble_loads(1.0, 0);
   }
+  if (P_.linear.preconditioner == Preconditioner::ControlNet && P_.linear.method != LinearMethod::Direct) {
+    Teuchos::TimeMonitor t(timer("4) Preconditioner setup"));
+    prec_.low_order = sys_.control_net_stiffness();
+  }
   if (P_.linear.preconditioner == Preconditioner::MueLu && P_.linear.method != LinearMethod::Direct) {
     Z_ = sys_.rigid_body_modes();
     X_ = sys_.aggregation_coordinates();

@@ -121,6 +121,11 @@ class System {
   /// original diagonal kept, so CG still applies.
   void apply_dirichlet(Matrix& A) const;
 
+  /// The small-strain stiffness of the degree-1 patches on the same control nets (the same
+  /// dofs; 3^dim control points couple instead of (2p + 1)^dim), Dirichlet rows and columns
+  /// eliminated: the matrix of solver.linear.preconditioner: control_net.
+  RCP<Matrix> control_net_stiffness() const;
+
   /// Rigid-body modes (x, y translation, rotation) on the owned dofs: MueLu's nullspace.
   RCP<MultiVector> rigid_body_modes() const;
   /// MueLu's "Coordinates" for distance-Laplacian dropping, one row per owned control point:
