@@ -16,6 +16,10 @@
 //                           element-wise sum factorisation (kernels/elasticity_sf3.hpp). dofs/s,
 //                           elements/s and GFLOP/s (the element loop's flop count, kernels/elasticity.hpp)
 //   BM_ContactProjection/M  projections/s on a degree-2 master curve of M elements
+//   BM_SurfaceProjection/n  3-D contact geometry (kernels/contact_surface.hpp): n points around the
+//                           face of a sphere octant of 32 x 32 degree-2 elements, each its closest
+//                           point through the bin search (a Kokkos parallel_for); projections/s,
+//                           and the search grid's build time per call (search:1) or not (0)
 //   BM_SpMV / BM_StreamCopy GB/s of the assembled elasticity matrix, and the copy limit
 // Rates are per wall-clock second (UseRealTime), so that threaded runs count every thread.
 // Run: build/bin/bench_kernels [--benchmark_filter=...]; with the OpenMP Trilinos,
@@ -28,6 +32,7 @@
 #include "kernels/basis.hpp"
 #include "kernels/elasticity.hpp"
 #include "solver/contact.hpp"
+#include "tests/surfaces3d.hpp"
 #include "solver/system.hpp"
 #include "tests/patches3d.hpp"
 
@@ -264,6 +269,42 @@ void BM_ContactProjection(benchmark::State& st) {
   st.counters["master elements"] = M;
 }
 
+void BM_SurfaceProjection(benchmark::State& st) {
+  const int n = static_cast<int>(st.range(0));
+  const bool rebuild = st.range(1) != 0;
+  const double R = 2.0;
+  const SurfaceData sd = test3d::surface_of(test3d::sphere_octant(R, 32).face(Side::Back));
+  SurfaceSearch g = SurfaceSearch::build(sd);
+  Kokkos::View<double* [3], MemSpace> X("X", n);
+  auto hX = Kokkos::create_mirror_view(X);
+  for (int k = 0; k < n; ++k) {   // a deterministic spread over the octant's cone, radii R +- 0.05
+    const double lon = (0.05 + 0.9 * ((k * 0.618034) - std::floor(k * 0.618034))) * M_PI / 2;
+    const double lat = (0.05 + 0.9 * ((k * 0.414214) - std::floor(k * 0.414214))) * M_PI / 2;
+    const double r = R + 0.05 * std::sin(1.0 + k);
+    hX(k, 0) = r * std::cos(lat) * std::cos(lon);
+    hX(k, 1) = r * std::cos(lat) * std::sin(lon);
+    hX(k, 2) = r * std::sin(lat);
+  }
+  Kokkos::deep_copy(X, hX);
+  Kokkos::View<int*, MemSpace> found("found", n);
+  for (auto _ : st) {
+    if (rebuild) g = SurfaceSearch::build(sd);
+    const SurfaceSearch gg = g;
+    Kokkos::parallel_for("bench::SurfaceProjection", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(const int k) {
+      const double x[3] = {X(k, 0), X(k, 1), X(k, 2)};
+      double uv[2], foot[3], d2;
+      bool inside = false;
+      found(k) = closest_on_surface(sd, gg, x, 0.2, uv, foot, d2, inside) >= 0 && inside;
+    });
+    Kokkos::fence();
+  }
+  int ok = 0;
+  Kokkos::parallel_reduce("bench::Count", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(const int k, int& s) { s += found(k); }, ok);
+  if (ok != n) st.SkipWithError("not every point found its foot inside an element");
+  st.counters["projections/s"] = benchmark::Counter(static_cast<double>(n) * st.iterations(), benchmark::Counter::kIsRate);
+  st.counters["surface elements"] = sd.ne[0] * sd.ne[1];
+}
+
 void BM_SpMV(benchmark::State& st) {
   const Problem prob = block_problem(2, static_cast<int>(st.range(0)));
   System sys(prob, Tpetra::getDefaultComm());
@@ -292,6 +333,7 @@ void BM_StreamCopy(benchmark::State& st) {
 
 }  // namespace
 
+BENCHMARK(BM_SurfaceProjection)->ArgNames({"points", "search"})->Args({1000, 0})->Args({10000, 0})->Args({100000, 0})->Args({10000, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_TEMPLATE(BM_Basis, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_TEMPLATE(BM_Basis, 2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_TEMPLATE(BM_Basis, 3)->Unit(benchmark::kMillisecond)->UseRealTime();

@@ -80,7 +80,10 @@ KOKKOS_INLINE_FUNCTION double dot3(const double* a, const double* b) { return a[
 /// Closest point to x on element e = e0 + ne0 e1 of the surface (Newton on F from the best of
 /// a 3 x 3 sample, iterates clamped to the element). Returns the squared distance; uv the foot's
 /// parameters, foot its position; `inside` false where the foot is clamped on an edge of the
-/// element with F pointing out of it (the true foot lies in a neighbour, or beyond the surface).
+/// surface itself with F pointing out of it (the closest point lies beyond the surface). A foot
+/// clamped on an edge between elements stays inside: the neighbour's own projection is then
+/// as near or nearer, and the search takes the nearest (a foot on an element corner, which all
+/// four elements reach clamped, is found as such).
 /// Stops when a Newton step is below 1e-12 of the element's parameter size (quadratic
 /// convergence: the error after it is ~ 1e-24) or after 30 steps.
 KOKKOS_INLINE_FUNCTION double project_on_surface_element(const SurfaceData& sd, int e, const double x[3], double uv[2],
@@ -152,7 +155,9 @@ KOKKOS_INLINE_FUNCTION double project_on_surface_element(const SurfaceData& sd, 
   inside = true;
   for (int k = 0; k < 2; ++k) {
     const double scale = kmath::sqrt(dot3(d[1 + k], d[1 + k]) * dot3(r, r)) + 1e-300;
-    if ((uv[k] <= lo[k] && F[k] < -1e-10 * scale) || (uv[k] >= hi[k] && F[k] > 1e-10 * scale)) inside = false;
+    const double first = sd.U[k](sd.p[k]), last = sd.U[k](sd.n[k]);   // the surface's parameter range
+    if ((uv[k] <= lo[k] && lo[k] <= first && F[k] < -1e-10 * scale) || (uv[k] >= hi[k] && hi[k] >= last && F[k] > 1e-10 * scale))
+      inside = false;
   }
   return dot3(r, r);
 }
