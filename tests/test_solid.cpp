@@ -12,10 +12,12 @@
 #include <cmath>
 #include <sstream>
 
+#include "tests/solid_errors.hpp"
 #include "tests/support.hpp"
 
 using namespace iga;
 using namespace iga::test;
+using iga::test3d::l2_error3;
 
 namespace {
 
@@ -110,86 +112,6 @@ TEST(PatchTest3D, PressureOnADistortedBlockGivesUniaxialStress) {
 
 namespace {
 
-// Host evaluation of a trivariate patch and a field given per control point (3 values each):
-// x and u at the parameters t.
-void eval3(const Patch& P, const std::vector<double>& u, const double t[3], double x[3], double uh[3]) {
-  int s[3];
-  double N[3][3][kMaxBasis1D];
-  for (int d = 0; d < 3; ++d) {
-    s[d] = find_span(P.ncp(d), P.degree[d], t[d], P.knots[d].data());
-    bspline_ders(s[d], t[d], P.degree[d], P.knots[d].data(), 0, N[d]);
-  }
-  double W = 0;
-  for (int c = 0; c < 3; ++c) x[c] = uh[c] = 0;
-  for (int k = 0; k <= P.degree[2]; ++k)
-    for (int j = 0; j <= P.degree[1]; ++j)
-      for (int i = 0; i <= P.degree[0]; ++i) {
-        const int a = P.index(s[0] - P.degree[0] + i, s[1] - P.degree[1] + j, s[2] - P.degree[2] + k);
-        const double b = N[0][0][i] * N[1][0][j] * N[2][0][k] * P.cp[a].w;
-        W += b;
-        for (int c = 0; c < 3; ++c) {
-          x[c] += b * P.cp[a].x[c];
-          uh[c] += b * u[3 * a + c];
-        }
-      }
-  for (int c = 0; c < 3; ++c) {
-    x[c] /= W;
-    uh[c] /= W;
-  }
-}
-
-// The L2 norms of u_h - u and of u over body 0 (all its patches), u(x) given: Gauss rule of p + 2
-// points per element and direction, det J by central differences of the map (relative error
-// ~ 1e-10, far below the discretisation errors measured).
-template <class Exact>
-std::pair<double, double> l2_error3(const Solved& s, Exact exact) {
-  double err = 0, norm = 0;
-  for (size_t pk = 0; pk < s.P.bodies[0].patches.size(); ++pk) {
-  const Patch& P = s.P.bodies[0].patches[pk];
-  const auto u = s.P.bodies[0].patch_values(static_cast<int>(pk), s.disp[0]);
-  std::vector<int> sp[3];
-  for (int d = 0; d < 3; ++d) sp[d] = P.element_spans(d);
-  for (int e2 : sp[2])
-    for (int e1 : sp[1])
-      for (int e0 : sp[0]) {
-        const int es[3] = {e0, e1, e2};
-        GaussRule g[3];
-        for (int d = 0; d < 3; ++d) g[d] = gauss_rule(P.degree[d] + 2);
-        for (int q2 = 0; q2 < g[2].n; ++q2)
-          for (int q1 = 0; q1 < g[1].n; ++q1)
-            for (int q0 = 0; q0 < g[0].n; ++q0) {
-              const int q[3] = {q0, q1, q2};
-              double t[3], w = 1, h[3];
-              for (int d = 0; d < 3; ++d) {
-                const double a = P.knots[d][es[d]], b = P.knots[d][es[d] + 1];
-                h[d] = 0.5 * (b - a);
-                t[d] = a + h[d] * (g[d].x[q[d]] + 1);
-                w *= g[d].w[q[d]] * h[d];
-              }
-              double J[3][3];
-              for (int d = 0; d < 3; ++d) {
-                double tp[3] = {t[0], t[1], t[2]}, tm[3] = {t[0], t[1], t[2]};
-                const double dt = 1e-6 * h[d];
-                tp[d] += dt;
-                tm[d] -= dt;
-                const auto xp = P.point(tp), xm = P.point(tm);
-                for (int c = 0; c < 3; ++c) J[c][d] = (xp[c] - xm[c]) / (2 * dt);
-              }
-              const double det = J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) - J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
-                                 J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
-              double x[3], uh[3];
-              eval3(P, u, t, x, uh);
-              const std::array<double, 3> ue = exact(x);
-              for (int c = 0; c < 3; ++c) {
-                err += (uh[c] - ue[c]) * (uh[c] - ue[c]) * std::abs(det) * w;
-                norm += ue[c] * ue[c] * std::abs(det) * w;
-              }
-            }
-      }
-  }
-  return {std::sqrt(err), std::sqrt(norm)};
-}
-
 // The octant of a thick sphere, radii a < b: degree (2, 2, 1), xi the angle about z from x to y,
 // eta the latitude from the equator (z = 0) to the pole, zeta the radius; the pole face
 // (north, eta = 1) collapses onto the z axis. Control points: the quarter circle's
@@ -243,7 +165,7 @@ TEST(ThickSphere, OctantWithDegeneratePoleConvergesAtOptimalRate) {
     EXPECT_EQ(find_inverted_elements(*s.sys, *s.res.u), "");
     EXPECT_EQ(s.sys->num_dofs(), 3LL * (n + 2) * (n + 2) * (n + 2) - 3LL * (n + 1) * (n + 2));
     if (Tpetra::getDefaultComm()->getRank() != 0) continue;
-    const auto [err, norm] = l2_error3(s, exact);
+    const auto [err, norm] = l2_error3(s.P, s.disp[0], exact);
     rel.push_back(err / norm);
     std::printf("  thick sphere, p = 2, n = %d: %lld dofs, L2 error of u %.3e (relative)\n", n,
                 static_cast<long long>(s.sys->num_dofs()), err / norm);
@@ -278,7 +200,7 @@ TEST(ThickSphere, TwoPatchOctantFromAGismoFileConverges) {
     ASSERT_EQ(s.P.bodies[0].interfaces.size(), 1u);
     EXPECT_EQ(find_inverted_elements(*s.sys, *s.res.u), "");
     if (Tpetra::getDefaultComm()->getRank() != 0) continue;
-    const auto [err, norm] = l2_error3(s, exact);
+    const auto [err, norm] = l2_error3(s.P, s.disp[0], exact);
     rel.push_back(err / norm);
     std::printf("  thick sphere, 2 patches, n = %d: %lld dofs, L2 error of u %.3e (relative)\n", n,
                 static_cast<long long>(s.sys->num_dofs()), err / norm);
