@@ -127,6 +127,16 @@ void System::assemble_internal(const Vector* u, Vector* f_int, RCP<Matrix>* K, c
   for (size_t b = 0; b < blocks_.size(); ++b) {
     const PatchBlock& bd = blocks_[b];
     if (bd.e_end <= bd.e_begin) continue;
+    // a follower pressure kernel (2-D sides, 3-D faces): this rank's elements, u, and what to form
+    const auto follower_io = [&](auto& k) {
+      k.e_begin = bd.e_begin;
+      k.e_end = bd.e_end;
+      k.u = uv;
+      k.f = fv;
+      k.force = f_int != nullptr;
+      k.tangent = K != nullptr;
+      if (K) k.scatter = scatter(b);
+    };
     if (dim() == 3) {
       // 3-D: the element loop (kernels/elasticity.hpp, AssembleInternalT<3>), the tangent by
       // element-wise sum factorisation from p = 3 (kernels/elasticity_sf3.hpp: 2x faster at
@@ -161,13 +171,7 @@ void System::assemble_internal(const Vector* u, Vector* f_int, RCP<Matrix>* K, c
             k.load.p = (1.0 - lp->s) * (lp->stage > 0 ? sc.p0[lp->stage - 1] : 0.0) + lp->s * sc.p0[lp->stage];
             k.load.orientation = bd.orientation;
             for (int i = 0; i < 2; ++i) k.g[i] = gauss_rule(bd.pd3.p[fd[i]] + 1);
-            k.e_begin = bd.e_begin;
-            k.e_end = bd.e_end;
-            k.u = uv;
-            k.f = fv;
-            k.force = f_int != nullptr;
-            k.tangent = K != nullptr;
-            if (K) k.scatter = scatter(b);
+            follower_io(k);
             Kokkos::parallel_for("iga::AssembleFollowerFacePressure", Kokkos::RangePolicy<ExecSpace>(0, k.num_face_elements()), k);
           });
         }
@@ -225,13 +229,7 @@ void System::assemble_internal(const Vector* u, Vector* f_int, RCP<Matrix>* K, c
         k.load.orientation = bd.orientation;
         const int d = side_tangent_direction(side);
         k.g = gauss_rule(bd.pd.p[d] + 1);
-        k.e_begin = bd.e_begin;
-        k.e_end = bd.e_end;
-        k.u = uv;
-        k.f = fv;
-        k.force = f_int != nullptr;
-        k.tangent = K != nullptr;
-        if (K) k.scatter = scatter(b);
+        follower_io(k);
         Kokkos::parallel_for("iga::AssembleFollowerPressure", Kokkos::RangePolicy<ExecSpace>(0, bd.pd.ne[d]), k);
       }
   }
