@@ -150,12 +150,7 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
   p_end = static_cast<int>(r.second);
   force = ForceSum3("contact_force3");
   // every rank holds the displacements of both surfaces (boundary-sized)
-  std::vector<GO> cps;
-  for (const auto* hf : {&hs_, &hm_})
-    for (const HostFace& h : *hf) cps.insert(cps.end(), h.gid.begin(), h.gid.end());
-  std::sort(cps.begin(), cps.end());
-  cps.erase(std::unique(cps.begin(), cps.end()), cps.end());
-  replicated_ = sys.cp_dof_map(cps);
+  replicated_ = sys.cp_dof_map(surface_gids());
   importer_ = rcp(new Import(sys.owned_map(), replicated_));
   for (int which = 0; which < 2; ++which) {
     const auto& hf = which == 0 ? hs_ : hm_;
@@ -170,6 +165,15 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
     }
   }
   refresh();
+}
+
+std::vector<GO> ContactSurfaces3::surface_gids() const {
+  std::vector<GO> cps;
+  for (const auto* hf : {&hs_, &hm_})
+    for (const HostFace& h : *hf) cps.insert(cps.end(), h.gid.begin(), h.gid.end());
+  std::sort(cps.begin(), cps.end());
+  cps.erase(std::unique(cps.begin(), cps.end()), cps.end());
+  return cps;
 }
 
 void ContactSurfaces3::update(const Vector& u) {
