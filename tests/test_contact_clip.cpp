@@ -140,7 +140,15 @@ TEST(Orient2d, MatchesExactIntegerArithmeticOnNearlyCollinearTriples) {
   std::uniform_int_distribution<int> pert(-3, 3);
   std::uniform_real_distribution<double> T(-0.5, 1.5);
   const double scale = std::ldexp(1.0, -50);
-  int wrong = 0, naive_wrong = 0, zero = 0;
+  int wrong = 0, naive_wrong = 0, zero = 0, tested = 0, naive_tested = 0;
+  auto check = [&](double o, int expect) {
+    ++tested;
+    wrong += sgn(o) != expect;
+  };
+  auto check_naive = [&](double o, int expect) {
+    ++naive_tested;
+    naive_wrong += sgn(o) != expect;
+  };
   for (int k = 0; k < 200000; ++k) {
     const long long ax = I(gen), ay = I(gen), bx = I(gen), by = I(gen);
     const double t = T(gen);
@@ -152,11 +160,11 @@ TEST(Orient2d, MatchesExactIntegerArithmeticOnNearlyCollinearTriples) {
     const int exact = (det > 0) - (det < 0);
     zero += exact == 0;
     const double a[2] = {ax * scale, ay * scale}, b[2] = {bx * scale, by * scale}, c[2] = {cx * scale, cy * scale};
-    wrong += sgn(orient2d(a, b, c)) != exact;
-    naive_wrong += sgn((a[0] - c[0]) * (b[1] - c[1]) - (a[1] - c[1]) * (b[0] - c[0])) != exact;
+    check(orient2d(a, b, c), exact);
+    check_naive((a[0] - c[0]) * (b[1] - c[1]) - (a[1] - c[1]) * (b[0] - c[0]), exact);
     // the orientation of the same triple in the other orders
-    wrong += sgn(orient2d(b, c, a)) != exact;
-    wrong += sgn(orient2d(b, a, c)) != -exact;
+    check(orient2d(b, c, a), exact);
+    check(orient2d(b, a, c), -exact);
   }
   // exactly collinear triples a, a + i d, a + j d, and the third moved by one unit
   std::uniform_int_distribution<long long> D(-(1LL << 30), 1LL << 30), J(-2000, 2000), A(1LL << 48, 1LL << 49);
@@ -170,13 +178,43 @@ TEST(Orient2d, MatchesExactIntegerArithmeticOnNearlyCollinearTriples) {
     const int exact = (det > 0) - (det < 0);
     collinear += exact == 0;
     const double a[2] = {ax * scale, ay * scale}, b[2] = {bx * scale, by * scale}, c[2] = {cx * scale, cy * scale};
-    wrong += sgn(orient2d(a, b, c)) != exact;
-    naive_wrong += sgn((a[0] - c[0]) * (b[1] - c[1]) - (a[1] - c[1]) * (b[0] - c[0])) != exact;
-    wrong += sgn(orient2d(c, a, b)) != exact;
+    check(orient2d(a, b, c), exact);
+    check_naive((a[0] - c[0]) * (b[1] - c[1]) - (a[1] - c[1]) * (b[0] - c[0]), exact);
+    check(orient2d(c, a, b), exact);
   }
   zero += collinear;
-  std::printf("orient2d: %d wrong signs of 800000; the plain determinant: %d wrong of 300000 (%d exactly collinear)\n",
-              wrong, naive_wrong, zero);
+  // full 53-bit coordinates in [0.5, 2) (integers in units of 2^-53 below 2^54): their
+  // differences are often inexact, which takes the six-product path of the exact stage
+  std::uniform_real_distribution<double> C(0.5, 2.0);
+  int inexact_differences = 0;
+  for (int k = 0; k < 200000; ++k) {
+    const double a[2] = {C(gen), C(gen)}, b[2] = {C(gen), C(gen)};
+    const double t = T(gen);
+    double c[2] = {a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])};
+    if (c[0] < 0.5 || c[0] >= 2 || c[1] < 0.5 || c[1] >= 2) continue;
+    if (k % 3 == 1) c[0] = std::nextafter(c[0], 3.0);
+    auto units = [](double x) { return static_cast<long long>(std::ldexp(x, 53)); };   // exact: x in [0.5, 2)
+    const int128 det = static_cast<int128>(units(a[0]) - units(c[0])) * (units(b[1]) - units(c[1])) -
+                       static_cast<int128>(units(a[1]) - units(c[1])) * (units(b[0]) - units(c[0]));
+    const int exact = (det > 0) - (det < 0);
+    zero += exact == 0;
+    bool inexact_difference = false;
+    for (const double* p : {a, b})
+      for (int d = 0; d < 2; ++d) {
+        double diff, tail;
+        clip_detail::two_sum(p[d], -c[d], diff, tail);
+        inexact_difference = inexact_difference || tail != 0;
+      }
+    inexact_differences += inexact_difference;
+    check(orient2d(a, b, c), exact);
+    check_naive((a[0] - c[0]) * (b[1] - c[1]) - (a[1] - c[1]) * (b[0] - c[0]), exact);
+    check(orient2d(c, a, b), exact);
+    check(orient2d(b, a, c), -exact);
+  }
+  EXPECT_GT(inexact_differences, 5000);
+  std::printf("orient2d: %d wrong signs of %d; the plain determinant: %d wrong of %d (%d exactly collinear, %d "
+              "triples with an inexact difference)\n",
+              wrong, tested, naive_wrong, naive_tested, zero, inexact_differences);
   EXPECT_EQ(wrong, 0);
   EXPECT_GT(naive_wrong, 0);   // the triples are near enough to collinear to need the fallback
 }
