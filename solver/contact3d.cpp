@@ -7,6 +7,8 @@
 #include "kernels/sides.hpp"
 
 #include <algorithm>
+#include <array>
+#include <set>
 #include <cmath>
 #include <stdexcept>
 
@@ -232,9 +234,13 @@ void ContactSurfaces3::groups(std::vector<std::vector<GO>>& out, int& active) co
     for (int j = std::max(0, s1 - h.p[1] - w); j <= std::min(h.n[1] - 1, s1 + w); ++j)
       for (int i = std::max(0, s0 - h.p[0] - w); i <= std::min(h.n[0] - 1, s0 + w); ++i) g.push_back(h.gid[i + h.n[0] * j]);
   };
+  // one group per (slave element, master element) pair: the points of a slave element mostly
+  // share a few master elements
+  std::set<std::array<int, 4>> seen;
   for (int i = p_begin; i < p_end; ++i) {
     if (!valid(i)) continue;
     if (kts_active(lam(i), pair.penalty, gap(i), sp.touch)) ++active;
+    if (!seen.insert({face(i), elem(i), mface(i), melem(i)}).second) continue;
     std::vector<GO> g;
     element_cps(hs_[face(i)], elem(i), 0, g);
     element_cps(hm_[mface(i)], melem(i), 1, g);
