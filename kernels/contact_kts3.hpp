@@ -135,6 +135,11 @@ struct ProjectSlavePoints3 {
   double eps = 0;
 
   KOKKOS_INLINE_FUNCTION void operator()(const int i) const {
+    if (sp.face(i) < 0) {   // an unused mortar slot
+      sp.valid(i) = 0;
+      sp.pressure(i) = 0;
+      return;
+    }
     const int prev_face = sp.mface(i), prev_elem = sp.melem(i);
     sp.valid(i) = 0;
     sp.gap(i) = 1e300;
@@ -207,23 +212,27 @@ struct ProjectSlavePoints3 {
 };
 
 /// Residual and consistent tangent of the active slave points [p_begin, p_end) (see header).
+/// `mortar`: the pressure is the mortar field already in sp.pressure (contact_mortar3.hpp) and
+/// the eps N N^T part is assembled per slave control point instead (AssembleMortarGap3).
 template <class LocalMatrix, class FView>
 struct AssembleKts3 {
   ContactFaces s, m;
   SlavePoints3 sp;
   double eps = 0;
   int p_begin = 0;
+  bool mortar = false;
   LocalMatrix K;
   FView f;
   ForceSum3 force;
 
   KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
     const int i = p_begin + k;
-    if (!sp.valid(i)) return;
+    if (sp.face(i) < 0 || !sp.valid(i)) return;
     const double g = sp.gap(i);
-    if (!kts_active(sp.lambda(i), eps, g, sp.touch)) return;
+    if (mortar ? !(sp.pressure(i) > 0) : !kts_active(sp.lambda(i), eps, g, sp.touch)) return;
     const double pl = sp.lambda(i) - eps * g;
-    const double pr = pl > 0 ? pl : 0.0;
+    const double pr = mortar ? sp.pressure(i) : (pl > 0 ? pl : 0.0);
+    const double epsN = mortar ? 0.0 : eps;
     const double w = sp.weight(i);
     const ContactFace& sf = s.f[sp.face(i)];
     const ContactFace& mf = m.f[sp.mface(i)];
@@ -298,7 +307,7 @@ struct AssembleKts3 {
           dof(3 * cb + cc, Nc, tc, nbc, cols[cc]);
           const double G = -(Ctr[0] * tc[0] + Ctr[1] * tc[1]) - g * (Hnbr[0] * nbc[0] + Hnbr[1] * nbc[1]) -
                            (Hnbr[0] * tc[0] + Hnbr[1] * tc[1]) - (Htr[0] * nbc[0] + Htr[1] * nbc[1]);
-          vals[cc] = w * (eps * Nr * Nc - pr * G);
+          vals[cc] = w * (epsN * Nr * Nc - pr * G);
         }
         K.sumIntoValues(lr, cols, 3, vals, true, true);   // rows sorted (assemble_contact): binary search
       }

@@ -285,12 +285,7 @@ void ContactPairData::update_friction() {
 
 double ContactPairData::max_active_gap_ratio() const {
   double r = 0;
-  if (s3_) {
-    const auto st = state();
-    for (size_t i = 0; i < st.gap.size(); ++i)
-      if (st.active[i]) r = std::max(r, std::abs(st.gap[i]));
-    return r / h_min_;
-  }
+  if (s3_) return s3_->max_active_gap() / h_min_;
   if (mortar_) {
     const auto g = weighted_gaps(), w = mortar_weights();
     auto act = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms_.active);
@@ -318,7 +313,8 @@ double ContactPairData::max_active_gap_ratio() const {
 
 double ContactPairData::augment() {
   if (s3_) {
-    Kokkos::deep_copy(s3_->sp.lambda, s3_->sp.pressure);
+    if (s3_->mortar) Kokkos::deep_copy(s3_->ms.lbar, s3_->ms.lambda);
+    else Kokkos::deep_copy(s3_->sp.lambda, s3_->sp.pressure);
   } else if (mortar_) {
     Kokkos::deep_copy(ms_.lbar, ms_.lambda);
     Kokkos::deep_copy(fr_.lamTA, fr_.tauA);
@@ -335,8 +331,8 @@ void ContactPairData::commit() {
     if (dst.extent(0) != src.extent(0)) dst = std::decay_t<decltype(dst)>(std::string(src.label()) + "_committed", src.extent(0));
     Kokkos::deep_copy(dst, src);
   };
-  if (s3_) {   // 3-D KTS: the multipliers are the history (the projection is searched anew)
-    keep(committed_.lambda, s3_->sp.lambda);
+  if (s3_) {   // 3-D: the multipliers are the history (the projection is searched anew)
+    keep(committed_.lambda, s3_->mortar ? s3_->ms.lbar : s3_->sp.lambda);
     return;
   }
   keep(committed_.lambda, sp_.lambda);
@@ -366,7 +362,7 @@ void ContactPairData::commit() {
 void ContactPairData::restore() {
   if (!committed_.lambda.data()) return;   // nothing committed yet: the initial state stands
   if (s3_) {
-    Kokkos::deep_copy(s3_->sp.lambda, committed_.lambda);
+    Kokkos::deep_copy(s3_->mortar ? s3_->ms.lbar : s3_->sp.lambda, committed_.lambda);
     return;
   }
   // mortar slots are segmented anew at every update (and may have grown since): their
@@ -385,7 +381,7 @@ void ContactPairData::restore() {
 
 void ContactPairData::reset_multipliers() {
   if (s3_) {
-    Kokkos::deep_copy(s3_->sp.lambda, 0.0);
+    Kokkos::deep_copy(s3_->mortar ? s3_->ms.lbar : s3_->sp.lambda, 0.0);
   } else if (mortar_) {
     Kokkos::deep_copy(ms_.lbar, 0.0);
     Kokkos::deep_copy(fr_.lamTA, 0.0);

@@ -61,6 +61,8 @@ ContactFace make_face(const System& sys, int body, const PatchSide& ps, HostFace
 
 ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : pair(pr) {
   const Problem& P = sys.problem();
+  rank_ = sys.comm()->getRank();
+  nranks_ = sys.comm()->getSize();
   for (int which = 0; which < 2; ++which) {
     const ContactSurface& cs = which == 0 ? pair.slave : pair.master;
     ContactFaces& faces = which == 0 ? slave : master;
@@ -71,6 +73,51 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
     faces.n = static_cast<int>(cs.sides.size());
     for (size_t k = 0; k < cs.sides.size(); ++k) faces.f[k] = make_face(sys, cs.body, cs.sides[k], hf[k]);
   }
+  force = ForceSum3("contact_force3");
+  mortar = pair.method == ContactMethod::MortarPenalty || pair.method == ContactMethod::MortarAlm;
+  if (mortar) {
+    // quadrature slots per slave element, filled by MortarSegments3 at every update (they grow
+    // to what an element needs); w_A = int R_A dGamma_0 by Gauss on the slave elements
+    const HostFace& h = hs_[0];
+    const int pmax = std::max({h.p[0], h.p[1], hm_[0].p[0], hm_[0].p[1]});
+    gauss = gauss_rule(pair.quadrature_points > 0 ? pair.quadrature_points : pmax + 1);
+    slots = 4 * 6 * gauss.n * gauss.n;
+    const int ne = h.ne[0] * h.ne[1], na = h.n[0] * h.n[1];
+    allocate_points(ne * slots);
+    ms.wA = Kokkos::View<double*, MemSpace>("wA", na);
+    ms.gA = Kokkos::View<double*, MemSpace>("gA", na);
+    ms.lbar = Kokkos::View<double*, MemSpace>("lbar", na);
+    ms.lambda = Kokkos::View<double*, MemSpace>("lambdaA", na);
+    ms.active = Kokkos::View<int*, MemSpace>("activeA", na);
+    ms.covered = Kokkos::View<int*, MemSpace>("coveredA", na);
+    ms.flags = Kokkos::View<int*, MemSpace>("flags", 2);
+    seg_flags_ = Kokkos::View<int*, MemSpace>("segment_flags", 2);
+    {
+      const SurfaceData ref = reference_surface(slave.f[0]);
+      const GaussRule g = gauss_rule(std::min(std::max(h.p[0], h.p[1]) + 2, kMaxGauss));
+      const auto wA = ms.wA;
+      Kokkos::parallel_for("iga::MortarWeights3", Kokkos::RangePolicy<ExecSpace>(0, ne), KOKKOS_LAMBDA(const int e) {
+        int es[2];
+        surface_element_spans(ref, e, es);
+        const double a0 = ref.U[0](es[0]), b0 = ref.U[0](es[0] + 1), a1 = ref.U[1](es[1]), b1 = ref.U[1](es[1] + 1);
+        for (int q1 = 0; q1 < g.n; ++q1)
+          for (int q0 = 0; q0 < g.n; ++q0) {
+            const double u = a0 + 0.5 * (b0 - a0) * (g.x[q0] + 1), v = a1 + 0.5 * (b1 - a1) * (g.x[q1] + 1);
+            double d[6][3], nn[3], R[kMaxSurfaceBasis], Ru[kMaxSurfaceBasis], Rv[kMaxSurfaceBasis];
+            int cp[kMaxSurfaceBasis];
+            surface_derivatives(ref, es, u, v, d);
+            cross3(d[1], d[2], nn);
+            const double w = g.w[q0] * g.w[q1] * 0.25 * (b0 - a0) * (b1 - a1) * kmath::sqrt(dot3(nn, nn));
+            const int nb = surface_basis(ref, es, u, v, R, Ru, Rv, cp);
+            for (int a = 0; a < nb; ++a) Kokkos::atomic_add(&wA(cp[a]), R[a] * w);
+          }
+      });
+    }
+    const auto ra = block_range(na, sys.comm()->getRank(), sys.comm()->getSize());
+    a_begin = static_cast<int>(ra.first);
+    a_end = static_cast<int>(ra.second);
+    mortar_scratch(kMortarInitialEntries * 3);
+  }
   // slave points: nq x nq Gauss points per slave face element (default 2 (p + 1) per direction,
   // as in 2-D), weights in the reference configuration
   std::vector<int> face, elem;
@@ -78,6 +125,7 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
   h_min_ = 1e300;
   for (int fi = 0; fi < slave.n; ++fi) {
     const HostFace& h = hs_[fi];
+    if (mortar) break;   // the slots come from the segmentation; h_min below all the same
     const Patch F = P.bodies[pair.slave.body].patches[pair.slave.sides[fi].patch].face(pair.slave.sides[fi].side);
     int nq[2];
     for (int d = 0; d < 2; ++d)
@@ -110,29 +158,34 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
           }
       }
   }
-  if (!(h_min_ < 1e300)) h_min_ = 1;
-  const int n = static_cast<int>(face.size());
-  sp.face = to_device("face", face);
-  sp.elem = to_device("elem", elem);
-  sp.uv = Kokkos::View<double* [2], MemSpace>("uv", n);
-  {
-    auto h = Kokkos::create_mirror_view(sp.uv);
-    for (int i = 0; i < n; ++i) { h(i, 0) = uv[2 * i]; h(i, 1) = uv[2 * i + 1]; }
-    Kokkos::deep_copy(sp.uv, h);
+  if (mortar) {
+    const Patch F = P.bodies[pair.slave.body].patches[pair.slave.sides[0].patch].face(pair.slave.sides[0].side);
+    const HostFace& h = hs_[0];
+    for (int s1 : h.span[1])
+      for (int s0 : h.span[0]) {
+        const double c[4][2] = {{F.knots[0][s0], F.knots[1][s1]}, {F.knots[0][s0 + 1], F.knots[1][s1]},
+                                {F.knots[0][s0], F.knots[1][s1 + 1]}, {F.knots[0][s0 + 1], F.knots[1][s1 + 1]}};
+        std::array<double, kMaxDim> x[4];
+        for (int k = 0; k < 4; ++k) x[k] = F.point(c[k]);
+        auto dist = [&](int i, int j) {
+          return std::sqrt(std::pow(x[i][0] - x[j][0], 2) + std::pow(x[i][1] - x[j][1], 2) + std::pow(x[i][2] - x[j][2], 2));
+        };
+        const double size = std::max(std::max(dist(0, 1), dist(2, 3)), std::max(dist(0, 2), dist(1, 3)));
+        if (size > 0) h_min_ = std::min(h_min_, size);
+      }
   }
-  sp.weight = to_device("weight", gw);
-  sp.lambda = Kokkos::View<double*, MemSpace>("lambda", n);
-  sp.X = Kokkos::View<double* [3], MemSpace>("X", n);
-  sp.valid = Kokkos::View<int*, MemSpace>("valid", n);
-  sp.mface = Kokkos::View<int*, MemSpace>("mface", n);
-  sp.melem = Kokkos::View<int*, MemSpace>("melem", n);
-  sp.muv = Kokkos::View<double* [2], MemSpace>("muv", n);
-  sp.gap = Kokkos::View<double*, MemSpace>("gap", n);
-  sp.pressure = Kokkos::View<double*, MemSpace>("pressure", n);
-  sp.x = Kokkos::View<double* [3], MemSpace>("x", n);
-  sp.normal = Kokkos::View<double* [3], MemSpace>("normal", n);
-  sp.touch = 1e-12 * h_min_;
-  {
+  if (!(h_min_ < 1e300)) h_min_ = 1;
+  if (!mortar) {
+    const int n = static_cast<int>(face.size());
+    allocate_points(n);
+    Kokkos::deep_copy(sp.face, Kokkos::View<int*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(face.data(), n));
+    Kokkos::deep_copy(sp.elem, Kokkos::View<int*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(elem.data(), n));
+    Kokkos::deep_copy(sp.weight, Kokkos::View<double*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(gw.data(), n));
+    {
+      auto h = Kokkos::create_mirror_view(sp.uv);
+      for (int i = 0; i < n; ++i) { h(i, 0) = uv[2 * i]; h(i, 1) = uv[2 * i + 1]; }
+      Kokkos::deep_copy(sp.uv, h);
+    }
     // reference points and measures: w = Gauss x |X_u x X_v|
     const ContactFaces s = slave;
     const SlavePoints3 p = sp;
@@ -147,10 +200,6 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
       for (int c = 0; c < 3; ++c) p.X(i, c) = d[0][c];
     });
   }
-  const auto r = block_range(n, sys.comm()->getRank(), sys.comm()->getSize());
-  p_begin = static_cast<int>(r.first);
-  p_end = static_cast<int>(r.second);
-  force = ForceSum3("contact_force3");
   // every rank holds the displacements of both surfaces (boundary-sized)
   replicated_ = sys.cp_dof_map(surface_gids());
   importer_ = rcp(new Import(sys.owned_map(), replicated_));
@@ -167,6 +216,68 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
     }
   }
   refresh();
+}
+
+void ContactSurfaces3::allocate_points(int n) {
+  sp.face = Kokkos::View<int*, MemSpace>("face", n);
+  sp.elem = Kokkos::View<int*, MemSpace>("elem", n);
+  sp.uv = Kokkos::View<double* [2], MemSpace>("uv", n);
+  sp.weight = Kokkos::View<double*, MemSpace>("weight", n);
+  sp.lambda = Kokkos::View<double*, MemSpace>("lambda", n);
+  sp.X = Kokkos::View<double* [3], MemSpace>("X", n);
+  sp.valid = Kokkos::View<int*, MemSpace>("valid", n);
+  sp.mface = Kokkos::View<int*, MemSpace>("mface", n);
+  sp.melem = Kokkos::View<int*, MemSpace>("melem", n);
+  Kokkos::deep_copy(sp.mface, -1);
+  Kokkos::deep_copy(sp.melem, -1);
+  sp.muv = Kokkos::View<double* [2], MemSpace>("muv", n);
+  sp.gap = Kokkos::View<double*, MemSpace>("gap", n);
+  sp.pressure = Kokkos::View<double*, MemSpace>("pressure", n);
+  sp.x = Kokkos::View<double* [3], MemSpace>("x", n);
+  sp.normal = Kokkos::View<double* [3], MemSpace>("normal", n);
+  const auto r = block_range(n, rank_, nranks_);
+  p_begin = static_cast<int>(r.first);
+  p_end = static_cast<int>(r.second);
+}
+
+void ContactSurfaces3::mortar_scratch(int cap) {
+  const int na = std::max(a_end - a_begin, 0);
+  scratch.dof = Kokkos::View<int**, Kokkos::LayoutRight, MemSpace>("mortar_dof", na, cap);
+  scratch.v0 = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>("mortar_v0", na, cap);
+  scratch.v1 = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>("mortar_v1", na, cap);
+  scratch.row = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>("mortar_row", na, cap);
+}
+
+double ContactSurfaces3::potential() const {
+  double pi = 0;
+  if (mortar) {
+    auto l = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms.lambda);
+    auto w = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms.wA);
+    for (size_t A = 0; A < l.extent(0); ++A) pi += 0.5 / pair.penalty * w(A) * l(A) * l(A);
+    return pi;
+  }
+  ContactPointState st;
+  state(st, false);
+  for (size_t i = 0; i < st.gap.size(); ++i)
+    if (st.active[i]) pi += 0.5 / pair.penalty * st.pressure[i] * st.pressure[i] * st.weight[i];
+  return pi;
+}
+
+double ContactSurfaces3::max_active_gap() const {
+  double r = 0;
+  if (mortar) {
+    auto g = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms.gA);
+    auto w = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms.wA);
+    auto act = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms.active);
+    for (size_t A = 0; A < g.extent(0); ++A)
+      if (act(A)) r = std::max(r, std::abs(g(A) / w(A)));
+    return r;
+  }
+  ContactPointState st;
+  state(st, false);
+  for (size_t i = 0; i < st.gap.size(); ++i)
+    if (st.active[i]) r = std::max(r, std::abs(st.gap[i]));
+  return r;
 }
 
 std::vector<GO> ContactSurfaces3::surface_gids() const {
@@ -211,12 +322,40 @@ void ContactSurfaces3::refresh() {
     hmax = std::max(hmax, master.search[k].h);
   }
   master.radius = 2 * hmax;
+  if (mortar) {
+    // segments; where an element needs more slots than it has, grow them and segment again
+    const int ne = hs_[0].ne[0] * hs_[0].ne[1];
+    for (;;) {
+      MortarSegments3 ks;
+      ks.s = slave; ks.m = master; ks.sp = sp; ks.gauss = gauss; ks.slots = slots; ks.flags = seg_flags_;
+      // a curved master's element images are cut into 2 x 2 cells (straight edges per cell: the
+      // tangent's consistency error, ~1e-6 with whole elements on a curved test surface, falls
+      // by 4); a degree-1 master's elements whole
+      ks.sub = std::max(hm_[0].p[0], hm_[0].p[1]) > 1 ? 2 : 1;
+      Kokkos::deep_copy(seg_flags_, 0);
+      Kokkos::parallel_for("iga::MortarSegments3", Kokkos::RangePolicy<ExecSpace>(0, ne), ks);
+      auto fl = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), seg_flags_);
+      if (fl(1) != 0) throw ContactError("3-D mortar: a slave element meets more master elements than the segmentation holds (" +
+                                         std::to_string(kMortar3Candidates) + "), or a clipped segment has too many vertices");
+      if (fl(0) == 0) break;
+      slots = std::max(fl(0), slots + slots / 2);
+      allocate_points(ne * slots);
+    }
+  }
   ProjectSlavePoints3 k;
   k.s = slave;
   k.m = master;
   k.sp = sp;
   k.eps = pair.penalty;
   Kokkos::parallel_for("iga::ProjectSlavePoints3", Kokkos::RangePolicy<ExecSpace>(0, num_points()), k);
+  if (mortar) {
+    MortarGaps3 kg;
+    kg.s = slave; kg.sp = sp; kg.ms = ms; kg.eps = pair.penalty; kg.touch = sp.touch; kg.slots = slots;
+    Kokkos::parallel_for("iga::MortarGaps3", Kokkos::RangePolicy<ExecSpace>(0, static_cast<int>(ms.wA.extent(0))), kg);
+    MortarPointPressure3 kp;
+    kp.s = slave; kp.sp = sp; kp.ms = ms;
+    Kokkos::parallel_for("iga::MortarPointPressure3", Kokkos::RangePolicy<ExecSpace>(0, num_points()), kp);
+  }
   Kokkos::fence();
 }
 
@@ -237,14 +376,45 @@ void ContactSurfaces3::groups(std::vector<std::vector<GO>>& out, int& active) co
   // one group per (slave element, master element) pair: the points of a slave element mostly
   // share a few master elements
   std::set<std::array<int, 4>> seen;
+  auto pressure = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.pressure);
   for (int i = p_begin; i < p_end; ++i) {
-    if (!valid(i)) continue;
-    if (kts_active(lam(i), pair.penalty, gap(i), sp.touch)) ++active;
+    if (face(i) < 0 || !valid(i)) continue;
+    if (!mortar && kts_active(lam(i), pair.penalty, gap(i), sp.touch)) ++active;
     if (!seen.insert({face(i), elem(i), mface(i), melem(i)}).second) continue;
     std::vector<GO> g;
     element_cps(hs_[face(i)], elem(i), 0, g);
     element_cps(hm_[mface(i)], melem(i), 1, g);
     out.push_back(std::move(g));
+  }
+  if (!mortar) return;
+  // mortar: delta g_A couples every control point of its support's slots: per slave element
+  // the union of its slots' groups, per A of this rank the union over its elements
+  const HostFace& hs = hs_[0];
+  const int ne = hs.ne[0] * hs.ne[1];
+  std::vector<std::vector<GO>> per_elem(ne);
+  for (int e = 0; e < ne; ++e) {
+    std::set<int> melems;
+    for (int i = e * slots; i < (e + 1) * slots; ++i)
+      if (face(i) >= 0 && valid(i)) melems.insert(melem(i));
+    if (melems.empty()) continue;
+    element_cps(hs, e, 0, per_elem[e]);
+    for (int E : melems) element_cps(hm_[0], E, 1, per_elem[e]);
+  }
+  auto act = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms.active);
+  for (int A = a_begin; A < a_end; ++A) {
+    if (act(A)) ++active;
+    const int ia = A % hs.n[0], ja = A / hs.n[0];
+    std::vector<GO> g;
+    for (int e1 = 0; e1 < hs.ne[1]; ++e1)
+      for (int e0 = 0; e0 < hs.ne[0]; ++e0) {
+        const int s0 = hs.span[0][e0], s1 = hs.span[1][e1];
+        if (s0 < ia || s0 > ia + hs.p[0] || s1 < ja || s1 > ja + hs.p[1]) continue;
+        const auto& pe = per_elem[e0 + hs.ne[0] * e1];
+        g.insert(g.end(), pe.begin(), pe.end());
+      }
+    std::sort(g.begin(), g.end());
+    g.erase(std::unique(g.begin(), g.end()), g.end());
+    if (!g.empty()) out.push_back(std::move(g));
   }
 }
 
@@ -276,6 +446,7 @@ void ContactSurfaces3::state(ContactPointState& s, bool projected_only) const {
   auto w = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.weight);
   auto face = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.face);
   for (int i = 0; i < n; ++i) {
+    if (face(i) < 0) continue;   // an unused mortar slot
     if (projected_only && !valid(i)) continue;
     s.x.push_back(x(i, 0));
     s.y.push_back(x(i, 1));
@@ -290,7 +461,7 @@ void ContactSurfaces3::state(ContactPointState& s, bool projected_only) const {
     s.gap.push_back(valid(i) ? gap(i) : std::nan(""));
     s.pressure.push_back(pr(i));
     s.weight.push_back(w(i));
-    s.active.push_back(valid(i) && kts_active(lam(i), pair.penalty, gap(i), sp.touch) ? 1 : 0);
+    s.active.push_back(valid(i) && (mortar ? pr(i) > 0 : kts_active(lam(i), pair.penalty, gap(i), sp.touch)) ? 1 : 0);
     s.tangential.push_back(0.0);
     s.slip.push_back(0.0);
     s.state.push_back(0);

@@ -5,7 +5,7 @@
 // see the same pair interface in 2-D and 3-D.
 #include <vector>
 
-#include "kernels/contact_kts3.hpp"
+#include "kernels/contact_mortar3.hpp"
 #include "solver/system.hpp"
 
 namespace iga {
@@ -33,10 +33,26 @@ class ContactSurfaces3 {
   ContactPair pair;
   ContactFaces slave, master;
   SlavePoints3 sp;
-  int p_begin = 0, p_end = 0;   // this rank's slave points
+  int p_begin = 0, p_end = 0;   // this rank's slave points (mortar: quadrature slots)
   ForceSum3 force;
+  // mortar (contact_mortar3.hpp): slots per slave element, the rule on each segment, the
+  // per-control-point state, this rank's slave control points and their scratch rows
+  bool mortar = false;
+  int slots = 0;
+  GaussRule gauss;
+  MortarState ms;
+  MortarScratch scratch;
+  int a_begin = 0, a_end = 0;
+  void mortar_scratch(int cap);
+  /// sum_A w_A lambda_A^2 / (2 eps) (mortar), the penalty potential of the slots (KTS)
+  double potential() const;
+  /// The largest |g_A / w_A| (mortar) or |g| (KTS) of the active points.
+  double max_active_gap() const;
 
  private:
+  void allocate_points(int n);
+  Kokkos::View<int*, MemSpace> seg_flags_;
+  int rank_ = 0, nranks_ = 1;
   struct HostFace {
     std::vector<GO> gid;        // per face control point
     int p[2], n[2], ne[2];

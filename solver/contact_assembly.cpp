@@ -127,9 +127,23 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
         c3.set_lids(cps);
         if (c3.p_end > c3.p_begin) {
           AssembleKts3<decltype(lcl), decltype(fv)> k;
-          k.s = c3.slave; k.m = c3.master; k.sp = c3.sp; k.eps = c3.pair.penalty;
+          k.s = c3.slave; k.m = c3.master; k.sp = c3.sp; k.eps = c3.pair.penalty; k.mortar = c3.mortar;
           k.p_begin = c3.p_begin; k.K = lcl; k.f = fv; k.force = c3.force;
-          Kokkos::parallel_for("iga::AssembleKts3", Kokkos::RangePolicy<ExecSpace>(0, c3.p_end - c3.p_begin), k);
+          Kokkos::parallel_for(c3.mortar ? "iga::AssembleMortarPressure3" : "iga::AssembleKts3",
+                               Kokkos::RangePolicy<ExecSpace>(0, c3.p_end - c3.p_begin), k);
+        }
+        if (c3.mortar && c3.a_end > c3.a_begin) {
+          Kokkos::deep_copy(c3.ms.flags, 0);
+          AssembleMortarGap3<decltype(lcl)> k;
+          k.s = c3.slave; k.m = c3.master; k.sp = c3.sp; k.ms = c3.ms; k.sc = c3.scratch; k.eps = c3.pair.penalty;
+          k.slots = c3.slots; k.a_begin = c3.a_begin; k.K = lcl;
+          Kokkos::parallel_for("iga::AssembleMortarGap3", Kokkos::RangePolicy<ExecSpace>(0, c3.a_end - c3.a_begin), k);
+          Kokkos::fence();
+          auto fl = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), c3.ms.flags);
+          if (fl(1) > 0) {
+            c3.mortar_scratch(std::max(fl(1), c3.scratch.cap() + c3.scratch.cap() / 2));
+            again = true;
+          }
         }
         continue;
       }

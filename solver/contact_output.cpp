@@ -22,6 +22,7 @@ std::vector<double> ContactPairData::mortar_multipliers() const {
 }
 
 double ContactPairData::potential() const {
+  if (s3_) return s3_->potential();
   double pi = 0;
   if (mortar_) {
     const auto l = mortar_multipliers(), w = mortar_weights();

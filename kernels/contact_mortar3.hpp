@@ -1,0 +1,367 @@
+#pragma once
+// Segment-to-segment mortar contact between faces of solids (3-D, frictionless): the 3-D form
+// of contact_mortar.hpp, with the segmentation of contact_clip.hpp. One slave face and one
+// master face (lists of faces: KTS only, for now).
+//
+// Weighted gap of slave control point A (reference measure dGamma_0):
+//   g_A = \int R_A g dGamma_0,  w_A = \int R_A dGamma_0,  g = (x_s - rho(xi)) . n(xi) with xi
+//   the closest-point projection; lambda_A = <lbar_A - eps g_A / w_A> (penalty: lbar = 0;
+//   ALM: lbar <- lambda between Newton solves), active when lbar_A - eps g_A / w_A >= -eps touch.
+//   Pressure field p = sum_A lambda_A R_A (uniform lambda: uniform pressure, the patch test).
+// Residual and tangent (as in 2-D): f_c = -\int p N dGamma_0 and K_c = -\int p G dGamma_0 per
+//   quadrature slot (AssembleKts3 with the slot's mortar pressure), plus
+//   sum_{A active} eps / w_A delta g_A (x) delta g_A per slave control point
+//   (AssembleMortarGap3), delta g_A = \int R_A N dGamma_0. The segments move with u, but the
+//   integrand is continuous across their edges, so the linearisation stays consistent.
+// Segments (MortarSegments3, one slave element per thread): the master elements whose boxes
+//   meet the slave element's box (grown by the search radius) are candidates; each candidate's
+//   corners (shared with its neighbours) are shot along the master normal onto the slave
+//   element's surface, x_s(u, v) = rho + t n (Newton on (u, v, t), the slave element's
+//   polynomial extended beyond its edges), giving a quadrilateral in the slave parameter plane
+//   whose straight edges approximate the image of the master element's edges (the images of
+//   neighbours tile the plane exactly, so the segments partition the slave element); clip_polygons cuts the slave element's parameter
+//   rectangle with its hull, and the fan rule of contact_clip.hpp (n points a direction,
+//   exact to degree 2 n - 2) fills the element's quadrature slots (parameters, weight = rule
+//   weight x |X_u x X_v| of the reference face, the master element as the projection's warm
+//   start). On a flat master each segment is exactly the slave region that sees that master
+//   element, so the slave and master forces are integrated exactly: the patch test holds to
+//   round-off for non-matching meshes.
+// Layout: slots of SlavePoints3, `slots` per slave element (element-major); an unused slot
+//   has face = -1. flags(0): the most slots an element needed when short (the host grows the
+//   capacity and segments again); flags(1): candidates beyond the capacity or a clipping
+//   overflow; flags(2): the most dofs of one delta g_A when its scratch row was short.
+// Cost per slave element: candidates x 12 x (Newton ~ 5 x (p + 1)^2 40 flops) for the shots,
+//   a clip (~ 16^2 comparisons + exact orientation tests) and n^2 x vertices slot points.
+#include "kernels/contact_clip.hpp"
+#include "kernels/contact_kts3.hpp"
+#include "kernels/contact_mortar.hpp"
+
+namespace iga {
+
+constexpr int kMortar3Candidates = 64;   // master elements considered per slave element
+
+/// Slave face data of a mortar pair: the reference surface (for measures).
+KOKKOS_INLINE_FUNCTION SurfaceData reference_surface(const ContactFace& f) {
+  SurfaceData r = f.sd;
+  r.cp = f.X;
+  return r;
+}
+
+struct MortarSegments3 {
+  ContactFaces s, m;
+  SlavePoints3 sp;
+  GaussRule gauss;
+  int slots = 1;
+  int sub = 1;   // cells per direction of a master element (its edges' images: straight per cell)
+  Kokkos::View<int*, MemSpace> flags;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int e) const {
+    const ContactFace& sf = s.f[0];
+    const SurfaceData& ss = sf.sd;
+    int es[2];
+    surface_element_spans(ss, e, es);
+    const double lo[2] = {ss.U[0](es[0]), ss.U[1](es[1])}, hi[2] = {ss.U[0](es[0] + 1), ss.U[1](es[1] + 1)};
+    for (int k = 0; k < slots; ++k) {
+      sp.face(e * slots + k) = -1;
+      sp.valid(e * slots + k) = 0;
+    }
+    // the slave element's box (current control points), grown by the search radius
+    double box[6] = {1e300, 1e300, 1e300, -1e300, -1e300, -1e300};
+    for (int j = es[1] - ss.p[1]; j <= es[1]; ++j)
+      for (int i = es[0] - ss.p[0]; i <= es[0]; ++i)
+        for (int c = 0; c < 3; ++c) {
+          const double x = ss.cp(i + ss.n[0] * j, c);
+          box[c] = x < box[c] ? x : box[c];
+          box[3 + c] = x > box[3 + c] ? x : box[3 + c];
+        }
+    for (int c = 0; c < 3; ++c) {
+      box[c] -= m.radius;
+      box[3 + c] += m.radius;
+    }
+    const SurfaceData ref = reference_surface(sf);
+    const ClipPolygon rect = parameter_rectangle(lo[0], hi[0], lo[1], hi[1]);
+    const double uc = 0.5 * (lo[0] + hi[0]), vc = 0.5 * (lo[1] + hi[1]);
+    const double hsz = (hi[0] - lo[0]) > (hi[1] - lo[1]) ? hi[0] - lo[0] : hi[1] - lo[1];
+    int used = 0;
+    const SurfaceSearch& g = m.search[0];
+    const SurfaceData& ms = m.f[0].sd;
+    int cand[kMortar3Candidates];
+    int nc = 0;
+    int c0[3], c1[3];
+    for (int d = 0; d < 3; ++d) {
+      c0[d] = g.cell_of(box[d], d);
+      c1[d] = g.cell_of(box[3 + d], d);
+      if (c0[d] < 0) c0[d] = 0;
+      if (c1[d] > g.nc[d] - 1) c1[d] = g.nc[d] - 1;
+    }
+    for (int cz = c0[2]; cz <= c1[2]; ++cz)
+      for (int cy = c0[1]; cy <= c1[1]; ++cy)
+        for (int cx = c0[0]; cx <= c1[0]; ++cx) {
+          const int cc[3] = {cx, cy, cz};
+          int k0, k1;
+          g.cell_range(cc, k0, k1);
+          for (int k = k0; k < k1; ++k) {
+            const int E = g.elems(k);
+            bool overlap = true;
+            for (int d = 0; d < 3; ++d) overlap = overlap && g.box(E, d) <= box[3 + d] && g.box(E, 3 + d) >= box[d];
+            if (!overlap) continue;
+            bool seen = false;
+            for (int q = 0; q < nc && !seen; ++q) seen = cand[q] == E;
+            if (seen) continue;
+            if (nc == kMortar3Candidates) {
+              Kokkos::atomic_fetch_max(&flags(1), 1);
+              continue;
+            }
+            cand[nc++] = E;
+          }
+        }
+    for (int q = 0; q < nc; ++q) {
+      const int E = cand[q];
+      int mspn[2];
+      surface_element_spans(ms, E, mspn);
+      const double mlo[2] = {ms.U[0](mspn[0]), ms.U[1](mspn[1])}, mhi[2] = {ms.U[0](mspn[0] + 1), ms.U[1](mspn[1] + 1)};
+      // the element cut into sub x sub cells; each cell's corners, counter-clockwise, shot onto
+      // the slave surface. Neighbouring cells (and elements) share their corners, so their
+      // straight-edged images tile the slave plane exactly (samples along an edge would make a
+      // curved cell's image non-convex, and the hulls of neighbours would overlap); the cells
+      // make the straight edges follow the curved images of the element's edges (sub^2 closer)
+      for (int cell = 0; cell < sub * sub; ++cell) {
+      const int ci = cell % sub, cj = cell / sub;
+      ClipPolygon poly;
+      poly.n = 0;
+      for (int k = 0; k < 4; ++k) {
+        const double a = (ci + (k == 1 || k == 2 ? 1.0 : 0.0)) / sub, b = (cj + (k >= 2 ? 1.0 : 0.0)) / sub;
+        const double xi[2] = {mlo[0] + a * (mhi[0] - mlo[0]), mlo[1] + b * (mhi[1] - mlo[1])};
+        double d[6][3];
+        surface_derivatives(ms, mspn, xi[0], xi[1], d);
+        double n[3];
+        cross3(d[1], d[2], n);
+        const double l = kmath::sqrt(dot3(n, n));
+        if (!(l > 0)) continue;
+        for (int c = 0; c < 3; ++c) n[c] /= l;
+        // x_s(u, v) = rho + t n: Newton on (u, v, t) from the slave element's centre
+        double u = uc, v = vc, tt = 0;
+        bool ok = false;
+        for (int it = 0; it < 30; ++it) {
+          double ds[6][3];
+          surface_derivatives(ss, es, u, v, ds);
+          double F[3];
+          for (int c = 0; c < 3; ++c) F[c] = ds[0][c] - d[0][c] - tt * n[c];
+          // J = [S_u, S_v, -n]; J delta = -F by Cramer's rule
+          const double* J0 = ds[1];
+          const double* J1 = ds[2];
+          const double J2[3] = {-n[0], -n[1], -n[2]};
+          double c12[3], c20[3], c01[3];
+          cross3(J1, J2, c12);
+          cross3(J2, J0, c20);
+          cross3(J0, J1, c01);
+          const double det = dot3(J0, c12);
+          if (!(kmath::fabs(det) > 0)) break;
+          const double du = -dot3(F, c12) / det, dv = -dot3(F, c20) / det, dt = -dot3(F, c01) / det;
+          u += du;
+          v += dv;
+          tt += dt;
+          if (kmath::fabs(du) + kmath::fabs(dv) < 1e-14 * hsz) { ok = true; break; }
+          if (kmath::fabs(u - uc) > 100 * hsz || kmath::fabs(v - vc) > 100 * hsz) break;   // running away
+        }
+        if (!ok || kmath::fabs(tt) > m.radius) continue;
+        poly.v[poly.n][0] = u;
+        poly.v[poly.n][1] = v;
+        ++poly.n;
+      }
+      if (poly.n < 3) continue;
+      ClipPolygon P;
+      if (clip_polygons(rect, poly, P) & kClipOverflow) Kokkos::atomic_fetch_max(&flags(1), 2);
+      const double mc[2] = {mlo[0] + (ci + 0.5) / sub * (mhi[0] - mlo[0]), mlo[1] + (cj + 0.5) / sub * (mhi[1] - mlo[1])};
+      for_each_polygon_point(P, gauss, [&](const double x[2], double w) {
+        if (used < slots) {
+          const int i = e * slots + used;
+          double d[6][3], nn[3];
+          surface_derivatives(ref, es, x[0], x[1], d);
+          cross3(d[1], d[2], nn);
+          sp.face(i) = 0;
+          sp.elem(i) = e;
+          sp.uv(i, 0) = x[0];
+          sp.uv(i, 1) = x[1];
+          sp.weight(i) = w * kmath::sqrt(dot3(nn, nn));
+          for (int c = 0; c < 3; ++c) sp.X(i, c) = d[0][c];
+          sp.mface(i) = 0;   // the projection's warm start: this master element
+          sp.melem(i) = E;
+          sp.muv(i, 0) = mc[0];
+          sp.muv(i, 1) = mc[1];
+        }
+        ++used;
+      });
+      }
+    }
+    if (used > slots) Kokkos::atomic_fetch_max(&flags(0), used);
+  }
+};
+
+/// f(i, R_A(slot i), slot element) for the valid slots of the slave elements in A's support.
+template <class F>
+KOKKOS_INLINE_FUNCTION void for_each_support_slot3(const SurfaceData& sd, const SlavePoints3& sp, int slots, int A,
+                                                   const F& f) {
+  const int ia = A % sd.n[0], ja = A / sd.n[0];
+  for (int e1 = 0; e1 < sd.ne[1]; ++e1) {
+    const int s1 = sd.span[1](e1);
+    if (s1 < ja || s1 > ja + sd.p[1]) continue;
+    for (int e0 = 0; e0 < sd.ne[0]; ++e0) {
+      const int s0 = sd.span[0](e0);
+      if (s0 < ia || s0 > ia + sd.p[0]) continue;
+      const int e = e0 + sd.ne[0] * e1, la = (ia - (s0 - sd.p[0])) + (sd.p[0] + 1) * (ja - (s1 - sd.p[1]));
+      for (int i = e * slots; i < (e + 1) * slots; ++i) {
+        if (sp.face(i) < 0 || !sp.valid(i)) continue;
+        double R[kMaxSurfaceBasis], Ru[kMaxSurfaceBasis], Rv[kMaxSurfaceBasis];
+        int cp[kMaxSurfaceBasis];
+        const int es[2] = {s0, s1};
+        surface_basis(sd, es, sp.uv(i, 0), sp.uv(i, 1), R, Ru, Rv, cp);
+        f(i, R[la], e);
+      }
+    }
+  }
+}
+
+/// Weighted gaps, multipliers and the active set of every slave control point A.
+struct MortarGaps3 {
+  ContactFaces s;
+  SlavePoints3 sp;
+  MortarState ms;
+  double eps = 0, touch = 0;
+  int slots = 1;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int A) const {
+    double g = 0;
+    int cov = 0;
+    const SlavePoints3& p = sp;
+    for_each_support_slot3(s.f[0].sd, sp, slots, A, [&](int i, double RA, int) {
+      g += RA * p.weight(i) * p.gap(i);
+      cov = 1;
+    });
+    ms.gA(A) = g;
+    ms.covered(A) = cov;
+    const double l = ms.lbar(A) - eps * g / ms.wA(A);
+    ms.active(A) = cov && l >= -eps * touch ? 1 : 0;
+    ms.lambda(A) = cov && l > 0 ? l : 0.0;
+  }
+};
+
+/// The pressure field at the slots, p = sum_A lambda_A R_A (the slot's `pressure`).
+struct MortarPointPressure3 {
+  ContactFaces s;
+  SlavePoints3 sp;
+  MortarState ms;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int i) const {
+    if (sp.face(i) < 0 || !sp.valid(i)) {
+      sp.pressure(i) = 0;
+      return;
+    }
+    const SurfaceData& sd = s.f[0].sd;
+    int es[2];
+    surface_element_spans(sd, sp.elem(i), es);
+    double R[kMaxSurfaceBasis], Ru[kMaxSurfaceBasis], Rv[kMaxSurfaceBasis];
+    int cp[kMaxSurfaceBasis];
+    const int n = surface_basis(sd, es, sp.uv(i, 0), sp.uv(i, 1), R, Ru, Rv, cp);
+    double pr = 0;
+    for (int a = 0; a < n; ++a) pr += ms.lambda(cp[a]) * R[a];
+    sp.pressure(i) = pr;
+  }
+};
+
+/// K_c += eps / w_A delta g_A (x) delta g_A for the active slave control points [a_begin, ...):
+/// delta g_A accumulated on a dense range (the slave control points within p of A, then the
+/// box of master control points its slots' master elements use) in scratch row k, compacted
+/// to the touched overlap dofs, sorted, and summed as an outer product.
+template <class LocalMatrix>
+struct AssembleMortarGap3 {
+  ContactFaces s, m;
+  SlavePoints3 sp;
+  MortarState ms;
+  MortarScratch sc;
+  double eps = 0;
+  int slots = 1, a_begin = 0;
+  LocalMatrix K;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
+    const int A = a_begin + k;
+    if (!ms.active(A)) return;
+    const SurfaceData& sd = s.f[0].sd;
+    const SurfaceData& md = m.f[0].sd;
+    const int ia = A % sd.n[0], ja = A / sd.n[0];
+    const int s_lo[2] = {ia - sd.p[0], ja - sd.p[1]}, sn[2] = {2 * sd.p[0] + 1, 2 * sd.p[1] + 1};
+    int m_lo[2] = {md.n[0], md.n[1]}, m_hi[2] = {-1, -1};
+    const SlavePoints3& p = sp;
+    for_each_support_slot3(sd, sp, slots, A, [&](int i, double, int) {
+      int ms_[2];
+      surface_element_spans(md, p.melem(i), ms_);
+      for (int d = 0; d < 2; ++d) {
+        m_lo[d] = ms_[d] - md.p[d] < m_lo[d] ? ms_[d] - md.p[d] : m_lo[d];
+        m_hi[d] = ms_[d] > m_hi[d] ? ms_[d] : m_hi[d];
+      }
+    });
+    if (m_hi[0] < 0) return;
+    const int mn[2] = {m_hi[0] - m_lo[0] + 1, m_hi[1] - m_lo[1] + 1};
+    const int ns = sn[0] * sn[1], size = 3 * (ns + mn[0] * mn[1]);
+    if (size > sc.cap()) {
+      Kokkos::atomic_fetch_max(&ms.flags(1), size);
+      return;
+    }
+    for (int q = 0; q < size; ++q) sc.v0(k, q) = 0;
+    const MortarScratch& S = sc;
+    for_each_support_slot3(sd, sp, slots, A, [&](int i, double RA, int e) {
+      const double w = RA * p.weight(i);
+      const double n[3] = {p.normal(i, 0), p.normal(i, 1), p.normal(i, 2)};
+      double R[kMaxSurfaceBasis], Ru[kMaxSurfaceBasis], Rv[kMaxSurfaceBasis];
+      int cp[kMaxSurfaceBasis];
+      int es[2];
+      surface_element_spans(sd, e, es);
+      const int nsb = surface_basis(sd, es, p.uv(i, 0), p.uv(i, 1), R, Ru, Rv, cp);
+      for (int a = 0; a < nsb; ++a) {
+        const int ci = cp[a] % sd.n[0] - s_lo[0], cj = cp[a] / sd.n[0] - s_lo[1];
+        for (int c = 0; c < 3; ++c) S.v0(k, 3 * (ci + sn[0] * cj) + c) += w * R[a] * n[c];
+      }
+      int mspn[2];
+      surface_element_spans(md, p.melem(i), mspn);
+      const int nmb = surface_basis(md, mspn, p.muv(i, 0), p.muv(i, 1), R, Ru, Rv, cp);
+      for (int b = 0; b < nmb; ++b) {
+        const int ci = cp[b] % md.n[0] - m_lo[0], cj = cp[b] / md.n[0] - m_lo[1];
+        for (int c = 0; c < 3; ++c) S.v0(k, 3 * (ns + ci + mn[0] * cj) + c) -= w * R[b] * n[c];
+      }
+    });
+    // compact to the touched entries with an overlap dof, then sort by dof (insertion sort)
+    int nnz = 0;
+    for (int q = 0; q < size; ++q) {
+      if (sc.v0(k, q) == 0) continue;
+      const int cpq = q / 3, c = q % 3;
+      int lid;
+      if (cpq < ns) {
+        const int ci = s_lo[0] + cpq % sn[0], cj = s_lo[1] + cpq / sn[0];
+        lid = s.f[0].lid(ci + sd.n[0] * cj);
+      } else {
+        const int r = cpq - ns, ci = m_lo[0] + r % mn[0], cj = m_lo[1] + r / mn[0];
+        lid = m.f[0].lid(ci + md.n[0] * cj);
+      }
+      if (lid < 0) continue;
+      const int dof = dof_of(lid, c, 3);
+      const double val = sc.v0(k, q);
+      int pos = nnz++;
+      while (pos > 0 && sc.dof(k, pos - 1) > dof) {
+        sc.dof(k, pos) = sc.dof(k, pos - 1);
+        sc.v1(k, pos) = sc.v1(k, pos - 1);
+        --pos;
+      }
+      sc.dof(k, pos) = dof;
+      sc.v1(k, pos) = val;
+    }
+    const double c = eps / ms.wA(A);
+    int* dof = &sc.dof(k, 0);
+    double* row = &sc.row(k, 0);
+    for (int r = 0; r < nnz; ++r) {
+      for (int q = 0; q < nnz; ++q) row[q] = c * sc.v1(k, r) * sc.v1(k, q);
+      K.sumIntoValues(dof[r], dof, nnz, row, true, true);
+    }
+  }
+};
+
+}  // namespace iga
