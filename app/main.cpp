@@ -338,7 +338,9 @@ int run(int argc, char** argv, Teuchos::RCP<const iga::Comm> comm) {
       for (const auto& c : summary["contact"])
         std::cout << "contact " << c["slave"]["body"].get<std::string>() << " on " << c["master"]["body"].get<std::string>()
                   << ": normal force " << c["normal_force"].get<double>() << ", max pressure "
-                  << c["max_pressure"].get<double>() << ", contact length " << c["contact_length"].get<double>()
+                  << c["max_pressure"].get<double>()
+                  << (c.contains("contact_area") ? ", contact area " : ", contact length ")
+                  << (c.contains("contact_area") ? c["contact_area"] : c["contact_length"]).get<double>()
                   << ", max penetration " << c["max_penetration"].get<double>() << "\n";
       std::cout << (!res.converged ? "NOT converged" : res.stopped.empty() ? "converged" : "converged, physical check FAILED") << ": " << sys->num_dofs() << " dofs, "
                 << comm->getSize() << " rank(s), Newton iterations per step [";

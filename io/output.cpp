@@ -323,6 +323,19 @@ nlohmann::json ResultWriter::contact_json(const std::vector<ContactPairData>& co
   nlohmann::json out = nlohmann::json::array();
   for (const auto& c : contact) {
     const ContactSummary s = c.summary();
+    if (P.dim() == 3) {   // solids: three force components, the contact area (frictionless)
+      out.push_back({{"master", {{"body", P.bodies[c.pair().master.body].name}, {"side", c.pair().master.label}}},
+                     {"slave", {{"body", P.bodies[c.pair().slave.body].name}, {"side", c.pair().slave.label}}},
+                     {"method", contact_method_name(c.pair().method)},
+                     {"normal_force", s.normal_force},
+                     {"force", {s.fx, s.fy, s.fz}},
+                     {"max_pressure", s.max_pressure},
+                     {"contact_area", s.contact_length},
+                     {"max_penetration", s.max_penetration},
+                     {"active_points", s.active_points},
+                     {"friction", c.pair().friction}});
+      continue;
+    }
     out.push_back({{"master", {{"body", P.bodies[c.pair().master.body].name}, {"side", c.pair().master.label}}},
                    {"slave", {{"body", P.bodies[c.pair().slave.body].name}, {"side", c.pair().slave.label}}},
                    {"method", contact_method_name(c.pair().method)},
@@ -347,8 +360,12 @@ void ResultWriter::step(const StepState& st) {
                       {"reactions", reactions_json(sys_, *st.residual)}};
   nlohmann::json pairs = nlohmann::json::array();
   for (const auto& c : contact_json(*st.contact))
-    pairs.push_back({{"normal_force", c["normal_force"]}, {"tangential_force", c["tangential_force"]}, {"force", c["force"]},
-                     {"stick_length", c["stick_length"]}, {"slip_length", c["slip_length"]}});
+    if (sys_.dim() == 3)
+      pairs.push_back({{"normal_force", c["normal_force"]}, {"force", c["force"]}, {"contact_area", c["contact_area"]},
+                       {"max_pressure", c["max_pressure"]}});
+    else
+      pairs.push_back({{"normal_force", c["normal_force"]}, {"tangential_force", c["tangential_force"]}, {"force", c["force"]},
+                       {"stick_length", c["stick_length"]}, {"slip_length", c["slip_length"]}});
   h["contact"] = pairs;
   history_.push_back(h);
   if (sys_.problem().output.all_steps) write_state(st.step, st.lambda, *st.u, *st.contact);
@@ -396,8 +413,45 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
          << "   <Time Value=\"" << tv << "\"/>\n";
     const int dim = P.dim();
     double umax = write_bodies(f, h5name, P, disp, grids, nets);
-    // (3-D contact output comes with 3-D contact)
-    if (!cstate.empty() && dim == 2) f.group("/contact");
+    if (!cstate.empty()) f.group("/contact");
+    for (size_t k = 0; k < (dim == 3 ? cstate.size() : 0); ++k) {
+      // 3-D: the slave points at their reference position with their displacement, their
+      // parameters on the slave face, gap, pressure and whether they are active
+      const auto& cs = cstate[k];
+      const hsize_t n = cs.x.size();
+      std::vector<double> d3(3 * n), act(n), xyz_def(3 * n);
+      std::vector<int> conn(n);
+      for (size_t i = 0; i < n; ++i) {
+        const double xc[3] = {cs.x[i], cs.y[i], cs.z[i]};
+        for (int c = 0; c < 3; ++c) {
+          d3[3 * i + c] = xc[c] - cs.X[3 * i + c];
+          xyz_def[3 * i + c] = xc[c];
+        }
+        act[i] = cs.active[i];
+        conn[i] = static_cast<int>(i);
+      }
+      const std::string g = "/contact/pair_" + std::to_string(k);
+      f.group(g);
+      f.write_int(g + "/conn", conn, {n});
+      f.write(g + "/xyz", cs.X, {n, 3});
+      f.write(g + "/displacement", d3, {n, 3});
+      f.write(g + "/xyz_deformed", xyz_def, {n, 3});
+      f.write(g + "/gap", cs.gap, {n});
+      f.write(g + "/pressure", cs.pressure, {n});
+      f.write(g + "/xi", cs.xi, {n});
+      f.write(g + "/eta", cs.eta, {n});
+      f.write(g + "/active", act, {n});
+      points << "   <Grid Name=\"contact_" << k << "\" GridType=\"Uniform\">\n"
+             << "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n << "\" NodesPerElement=\"1\">"
+             << data_item(h5name, g + "/conn", {n}, Item::Int) << "</Topology>\n"
+             << "    <Geometry GeometryType=\"XYZ\">" << data_item(h5name, g + "/xyz", {n, 3}) << "</Geometry>\n"
+             << "    <Attribute Name=\"displacement\" AttributeType=\"Vector\" Center=\"Node\">"
+             << data_item(h5name, g + "/displacement", {n, 3}) << "</Attribute>\n";
+      for (const char* a : {"gap", "pressure", "xi", "eta", "active"})
+        points << "    <Attribute Name=\"" << a << "\" AttributeType=\"Scalar\" Center=\"Node\">"
+               << data_item(h5name, g + "/" + a, {n}) << "</Attribute>\n";
+      points << "   </Grid>\n";
+    }
     for (size_t k = 0; k < (dim == 2 ? cstate.size() : 0); ++k) {
       // slave points in the reference configuration with their displacement, so that they
       // move with the bodies under any Warp By Vector scale
@@ -544,13 +598,22 @@ nlohmann::json ResultWriter::finish(const SolveResult& res) {
       const auto& s = cstate[k];
       std::ostringstream csv;
       csv.precision(12);
-      csv << "x,y,xi,gap,pressure,active,tangential_traction,slip,state\n";
-      // the slave points with a projection on the master (state(true)): every value is
-      // defined; a value that is not finite all the same is left empty, never written as nan
       auto num = [&](double v) -> std::ostream& {
         if (std::isfinite(v)) csv << v;
         return csv;
       };
+      if (P.dim() == 3) {   // solids: ../docs/problem-file.md, "Outputs"
+        csv << "x,y,z,xi,eta,gap,pressure,active\n";
+        for (size_t i = 0; i < s.x.size(); ++i) {
+          for (double v : {s.x[i], s.y[i], s.z[i], s.xi[i], s.eta[i], s.gap[i], s.pressure[i]}) num(v) << ",";
+          csv << s.active[i] << "\n";
+        }
+        write("contact_" + std::to_string(k) + ".csv", csv.str());
+        continue;
+      }
+      csv << "x,y,xi,gap,pressure,active,tangential_traction,slip,state\n";
+      // the slave points with a projection on the master (state(true)): every value is
+      // defined; a value that is not finite all the same is left empty, never written as nan
       for (size_t i = 0; i < s.x.size(); ++i) {
         num(s.x[i]) << ",";
         num(s.y[i]) << ",";

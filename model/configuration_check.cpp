@@ -80,10 +80,99 @@ std::vector<PatchSide> outer_sides(const Body& b) {
   return out;
 }
 
+// ------------------------------------------------------------------ faces (3-D)
+
+struct FaceSample {
+  std::array<double, 3> x, n;   // point, outward unit normal
+};
+
+double dot(const std::array<double, 3>& a, const std::array<double, 3>& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+// Points and outward normals of patch faces: `per` + 2 points a direction per element (its
+// corners and edges included), normals by central differences of the face's map.
+std::vector<FaceSample> sample_faces(const Body& b, const std::vector<PatchSide>& sides, int per, double* h_min = nullptr) {
+  std::vector<FaceSample> out;
+  for (const PatchSide& ps : sides) {
+    const Patch& Pt = b.patches[ps.patch];
+    const Patch F = Pt.face(ps.side);
+    const double sign = side_normal_sign(static_cast<int>(ps.side)) * Pt.orientation();
+    const double lo[2] = {F.knots[0].front(), F.knots[1].front()}, hi[2] = {F.knots[0].back(), F.knots[1].back()};
+    const auto s0 = F.element_spans(0), s1 = F.element_spans(1);
+    for (int e1 : s1)
+      for (int e0 : s0) {
+        const double a[2] = {F.knots[0][e0], F.knots[1][e1]}, z[2] = {F.knots[0][e0 + 1], F.knots[1][e1 + 1]};
+        if (h_min) {
+          const double c0[2] = {a[0], a[1]}, c1[2] = {z[0], a[1]}, c2[2] = {a[0], z[1]}, c3[2] = {z[0], z[1]};
+          const auto p0 = F.point(c0), p1 = F.point(c1), p2 = F.point(c2), p3 = F.point(c3);
+          auto d = [](const std::array<double, kMaxDim>& u, const std::array<double, kMaxDim>& v) {
+            return std::sqrt((u[0] - v[0]) * (u[0] - v[0]) + (u[1] - v[1]) * (u[1] - v[1]) + (u[2] - v[2]) * (u[2] - v[2]));
+          };
+          const double size = std::max(std::max(d(p0, p1), d(p2, p3)), std::max(d(p0, p2), d(p1, p3)));
+          if (size > 0) *h_min = std::min(*h_min, size);
+        }
+        for (int j = 0; j <= per + 1; ++j)
+          for (int i = 0; i <= per + 1; ++i) {
+            const double t[2] = {a[0] + (z[0] - a[0]) * i / (per + 1), a[1] + (z[1] - a[1]) * j / (per + 1)};
+            std::array<double, 3> tg[2];
+            for (int d = 0; d < 2; ++d) {
+              const double h = 1e-7 * (hi[d] - lo[d]);
+              double tp[2] = {t[0], t[1]}, tm[2] = {t[0], t[1]};
+              tp[d] = std::min(t[d] + h, hi[d]);
+              tm[d] = std::max(t[d] - h, lo[d]);
+              const auto xp = F.point(tp), xm = F.point(tm);
+              for (int c = 0; c < 3; ++c) tg[d][c] = xp[c] - xm[c];
+            }
+            std::array<double, 3> n = {tg[0][1] * tg[1][2] - tg[0][2] * tg[1][1], tg[0][2] * tg[1][0] - tg[0][0] * tg[1][2],
+                                       tg[0][0] * tg[1][1] - tg[0][1] * tg[1][0]};
+            const double l = std::sqrt(dot(n, n));
+            if (!(l > 0)) continue;   // a collapsed point: no normal
+            const auto x = F.point(t);
+            for (int c = 0; c < 3; ++c) n[c] *= sign / l;
+            out.push_back({{x[0], x[1], x[2]}, n});
+          }
+      }
+  }
+  return out;
+}
+
+bool faces(const std::vector<FaceSample>& slave, const std::vector<FaceSample>& master, double d) {
+  for (const FaceSample& s : slave)
+    for (const FaceSample& m : master) {
+      if (dot(s.n, m.n) >= -1e-3) continue;
+      std::array<double, 3> ms, sm;
+      for (int c = 0; c < 3; ++c) { ms[c] = m.x[c] - s.x[c]; sm[c] = -ms[c]; }
+      if (dot(ms, s.n) >= -d && dot(sm, m.n) >= -d) return true;
+    }
+  return false;
+}
+
+// Smallest extent of a solid's control-point box.
+double smallest_extent3(const Body& b) {
+  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+  for (const Patch& p : b.patches)
+    for (const ControlPoint& q : p.cp)
+      for (int d = 0; d < 3; ++d) { lo[d] = std::min(lo[d], q.x[d]); hi[d] = std::max(hi[d], q.x[d]); }
+  return std::min({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+}
+
 }  // namespace
 
 std::string check_pair_facing(const Problem& P, const ContactPair& c) {
   const Body& sb = P.bodies[c.slave.body];
+  if (P.dim() == 3) {
+    const auto slave = sample_faces(sb, c.slave.sides, 1), master = sample_faces(P.bodies[c.master.body], c.master.sides, 1);
+    const double d = 0.5 * smallest_extent3(sb);
+    if (slave.empty() || master.empty() || faces(slave, master, d)) return "";
+    std::string facing;
+    for (const PatchSide& ps : outer_sides(sb)) {
+      if (c.master.body == c.slave.body && std::find(c.master.sides.begin(), c.master.sides.end(), ps) != c.master.sides.end())
+        continue;
+      if (faces(sample_faces(sb, {ps}, 1), master, d)) facing += (facing.empty() ? "" : ", ") + sb.side_label(ps.patch, ps.side);
+    }
+    return "the slave face faces away from the master " + P.bodies[c.master.body].name + "." + c.master.label +
+           ": no slave point has the master in front of it with opposite outward normals, so they can never touch" +
+           (facing.empty() ? std::string("") : " (faces of " + sb.name + " that face it: " + facing + ")");
+  }
   const auto slave = sample_chain(surface_chain(P, c.slave), 4);
   const auto master = sample_chain(surface_chain(P, c.master), 4);
   const double d = 0.5 * smallest_extent(sb);
@@ -105,6 +194,13 @@ std::string check_pair_facing(const Problem& P, const ContactPair& c) {
 
 double penalty_ratio(const Problem& P, const ContactPair& c, double* E_out, double* h_out) {
   const double E = std::min(P.bodies[c.slave.body].E, P.bodies[c.master.body].E);
+  if (P.dim() == 3) {
+    double h = std::numeric_limits<double>::infinity();
+    sample_faces(P.bodies[c.slave.body], c.slave.sides, 0, &h);
+    if (E_out) *E_out = E;
+    if (h_out) *h_out = h;
+    return std::isfinite(h) && E > 0 ? c.penalty / (E / h) : 0.0;
+  }
   const SurfaceChain ch = surface_chain(P, c.slave);
   double h = std::numeric_limits<double>::infinity();
   for (const int s : ch.curve.element_spans()) {

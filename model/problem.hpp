@@ -205,6 +205,7 @@ constexpr long long kAutoDirectMaxDofsFriction = 200000;
 constexpr size_t kMaxInsertedKnots = 1000;            // per direction; subdivide refines uniformly
 constexpr int kMaxLoadSteps = 10000;
 constexpr int kMaxContactQuadrature = 12;             // contact quadrature points per slave span
+constexpr int kMaxContactFaces = 6;                    // 3-D: patch faces of one contact surface
 
 /// A body's geometry with its topology (interfaces, the outer sides, named boundaries), as a
 /// geometry file holds it; with u (2 per merged control point): the deformed control nets.

@@ -47,6 +47,14 @@ ContactSurface read_surface(const Reader& R, const Problem& P, const YAML::Node&
     }
     s.label += (s.label.empty() ? "" : "+") + name;
   }
+  if (R.dim == 3) {   // a solid: a list of patch faces (kernels/contact_kts3.hpp holds at most kMaxContactFaces)
+    if (s.sides.size() > static_cast<size_t>(kMaxContactFaces))
+      R.fail(path + ".side", sd, "a 3-D contact surface holds at most " + std::to_string(kMaxContactFaces) + " faces");
+    for (const PatchSide& ps : s.sides)
+      if (side_collapsed(b.patches[ps.patch], ps.side, b.tolerance))
+        R.fail(path + ".side", sd, patch_side_name(ps) + " is collapsed (no area): no contact there");
+    return s;
+  }
   try {
     const SurfaceChain ch = make_chain(b.patches, s.sides, b.tolerance);
     // the joints must be shared control points (one dof), not two that merely touch
@@ -67,8 +75,6 @@ ContactSurface read_surface(const Reader& R, const Problem& P, const YAML::Node&
 }
 
 void read_contact_pairs(const Reader& R, const YAML::Node& root, Problem& P) {
-  if (root["contact"] && R.dim == 3)
-    R.fail("contact", root["contact"], "contact between solids (analysis.type: solid) is not supported yet; 3-D runs take bodies without contact");
   if (root["contact"]) {
     const YAML::Node c = root["contact"];
     if (!c.IsSequence()) R.fail("contact", c, "expected a list of contact pairs");
@@ -99,6 +105,8 @@ void read_contact_pairs(const Reader& R, const YAML::Node& root, Problem& P) {
         else if (m == "mortar_alm") cp.method = ContactMethod::MortarAlm;
         else R.fail(path + ".method", n["method"], "expected kts_penalty, kts_alm, mortar_penalty or mortar_alm");
       }
+      if (R.dim == 3 && (cp.method == ContactMethod::MortarPenalty || cp.method == ContactMethod::MortarAlm))
+        R.fail(path + ".method", n["method"], "mortar between solids (analysis.type: solid) is not built yet; use kts_penalty or kts_alm");
       if (!n["penalty"]) R.missing(path + ".penalty");
       cp.penalty = R.positive(n["penalty"], path + ".penalty");
       if (n["quadrature_points"]) {
@@ -117,6 +125,8 @@ void read_contact_pairs(const Reader& R, const YAML::Node& root, Problem& P) {
         if (!(cp.friction >= 0) || !std::isfinite(cp.friction))
           R.fail(path + ".friction", n["friction"], "the Coulomb coefficient must be a number >= 0");
       }
+      if (R.dim == 3 && cp.friction > 0)
+        R.fail(path + ".friction", n["friction"], "friction between solids (analysis.type: solid) is not built yet; 3-D contact is frictionless");
       // KTS ALM with friction: the stick constraints of the quadrature points outnumber the
       // slave dofs, and where stick meets slip Uzawa drifts along them for a few hundred
       // updates (docs/friction.md): a larger default

@@ -20,6 +20,13 @@ ContactPairData::ContactPairData(const System& sys, int index) : pair_(sys.probl
   thickness = sys.problem().thickness;
   rank_ = sys.comm()->getRank();
   nranks_ = sys.comm()->getSize();
+  if (sys.dim() == 3) {   // faces of solids: contact3d.cpp
+    thickness = 1;
+    s3_ = std::make_shared<ContactSurfaces3>(sys, pair_);
+    h_min_ = s3_->h_min();
+    commit();
+    return;
+  }
   slave_chain_ = surface_chain(sys.problem(), pair_.slave);
   slave = make_curve(sys, pair_.slave, slave_chain_, slave_gid);
   master = make_curve(sys, pair_.master, surface_chain(sys.problem(), pair_.master), master_gid);
@@ -184,6 +191,10 @@ void ContactPairData::mortar_scratch(int cap) {
 }
 
 void ContactPairData::update(const Vector& u) {
+  if (s3_) {
+    s3_->update(u);
+    return;
+  }
   Vector ur(replicated_);
   ur.doImport(u, *importer_, Tpetra::INSERT);
   {
@@ -274,6 +285,12 @@ void ContactPairData::update_friction() {
 
 double ContactPairData::max_active_gap_ratio() const {
   double r = 0;
+  if (s3_) {
+    const auto st = state();
+    for (size_t i = 0; i < st.gap.size(); ++i)
+      if (st.active[i]) r = std::max(r, std::abs(st.gap[i]));
+    return r / h_min_;
+  }
   if (mortar_) {
     const auto g = weighted_gaps(), w = mortar_weights();
     auto act = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms_.active);
@@ -300,7 +317,9 @@ double ContactPairData::max_active_gap_ratio() const {
 }
 
 double ContactPairData::augment() {
-  if (mortar_) {
+  if (s3_) {
+    Kokkos::deep_copy(s3_->sp.lambda, s3_->sp.pressure);
+  } else if (mortar_) {
     Kokkos::deep_copy(ms_.lbar, ms_.lambda);
     Kokkos::deep_copy(fr_.lamTA, fr_.tauA);
   } else {
@@ -316,6 +335,10 @@ void ContactPairData::commit() {
     if (dst.extent(0) != src.extent(0)) dst = std::decay_t<decltype(dst)>(std::string(src.label()) + "_committed", src.extent(0));
     Kokkos::deep_copy(dst, src);
   };
+  if (s3_) {   // 3-D KTS: the multipliers are the history (the projection is searched anew)
+    keep(committed_.lambda, s3_->sp.lambda);
+    return;
+  }
   keep(committed_.lambda, sp_.lambda);
   keep(committed_.mxi, sp_.mxi);
   keep(committed_.melem, sp_.melem);
@@ -342,6 +365,10 @@ void ContactPairData::commit() {
 
 void ContactPairData::restore() {
   if (!committed_.lambda.data()) return;   // nothing committed yet: the initial state stands
+  if (s3_) {
+    Kokkos::deep_copy(s3_->sp.lambda, committed_.lambda);
+    return;
+  }
   // mortar slots are segmented anew at every update (and may have grown since): their
   // per-slot state is not history; the multipliers per control point are
   if (!mortar_) {
@@ -357,7 +384,9 @@ void ContactPairData::restore() {
 }
 
 void ContactPairData::reset_multipliers() {
-  if (mortar_) {
+  if (s3_) {
+    Kokkos::deep_copy(s3_->sp.lambda, 0.0);
+  } else if (mortar_) {
     Kokkos::deep_copy(ms_.lbar, 0.0);
     Kokkos::deep_copy(fr_.lamTA, 0.0);
   } else {

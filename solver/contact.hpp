@@ -4,7 +4,10 @@
 #include <stdexcept>
 #include <vector>
 
+#include <memory>
+
 #include "kernels/contact_friction.hpp"
+#include "solver/contact3d.hpp"
 #include "solver/system.hpp"
 
 namespace iga {
@@ -18,9 +21,12 @@ struct ContactError : std::runtime_error {
 /// Host copy of one pair's slave point state, for output and convergence checks.
 /// tangential: traction on the slave along the unit master tangent (tx, ty) (increasing
 /// master parameter); slip: accumulated, same sign; state: 0 open, 1 stick, 2 slip.
+/// 3-D (solids): z, eta (the second slave face parameter), nz, face (the slave face's index in
+/// the pair's list) and X (the reference point, x y z per point) as well.
 struct ContactPointState {
   std::vector<double> x, y, xi, gap, pressure, weight, nx, ny, tangential, slip, tx, ty;
-  std::vector<int> active, state;
+  std::vector<double> z, eta, nz, X;
+  std::vector<int> active, state, face;
 };
 
 /// A pair's summary at its last update and assembly. fx, fy: the force on the slave body, the
@@ -29,8 +35,10 @@ struct ContactPointState {
 /// master's outward normal / unit tangent there (increasing master parameter): the integral
 /// of the pressure, and of the tangential traction as the weak form applies it (tau d(ds)/dx_s
 /// along the tangent: tau (|t| + (eta - eta_n) e.rho'') |t| / H, H = |t|^2 - g n.rho'').
+/// 3-D: fz as well, and contact_length is the contact area (the measure of the active slave
+/// points).
 struct ContactSummary {
-  double normal_force = 0, fx = 0, fy = 0, max_pressure = 0, contact_length = 0, max_penetration = 0;
+  double normal_force = 0, fx = 0, fy = 0, fz = 0, max_pressure = 0, contact_length = 0, max_penetration = 0;
   double tangential_force = 0, stick_length = 0, slip_length = 0;
   int active_points = 0;
 };
@@ -47,7 +55,7 @@ class ContactPairData {
   const ContactPair& pair() const { return pair_; }
   /// The slave surface as one curve: its parameter is the xi of the slave points.
   const SurfaceChain& slave_chain() const { return slave_chain_; }
-  int num_points() const { return static_cast<int>(sp_.xi.extent(0)); }
+  int num_points() const { return s3_ ? s3_->num_points() : static_cast<int>(sp_.xi.extent(0)); }
   /// Current displacements of the two curves from the owned solution, then search + projection.
   void update(const Vector& u);
   /// ALM: lambda <- pressure; returns the largest gap magnitude of the active points
@@ -97,6 +105,10 @@ class ContactPairData {
   // ranks' sum after assemble_contact (assembled_: Fx, Fy, Fn, Ft; ContactSummary)
   ForceSum force_;
   double assembled_[4] = {0, 0, 0, 0};
+  // 3-D (a pair of solids' faces): the pair's state lives here and the methods above forward
+  // to it; the 2-D members stay empty. assembled3_: Fx, Fy, Fz, Fn
+  std::shared_ptr<ContactSurfaces3> s3_;
+  double assembled3_[4] = {0, 0, 0, 0};
 
  private:
   ContactPair pair_;

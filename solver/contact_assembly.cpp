@@ -27,6 +27,10 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
   int active = 0;
   for (size_t k = 0; k < pairs.size(); ++k) {
     auto& pd = pairs[k];
+    if (pd.s3_) {   // 3-D: the slave and (widened) master element of each point with a projection
+      pd.s3_->groups(groups, active);
+      continue;
+    }
     auto valid = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.valid);
     auto gap = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.gap);
     auto lam = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.lambda);
@@ -115,9 +119,20 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
     again = false;
     for (auto& pd : pairs) {
       if (pd.mortar()) Kokkos::deep_copy(pd.ms_.flags, 0);
-      Kokkos::deep_copy(pd.force_, 0.0);
+      Kokkos::deep_copy(pd.s3_ ? pd.s3_->force : pd.force_, 0.0);
     }
     for (auto& pd : pairs) {
+      if (pd.s3_) {
+        ContactSurfaces3& c3 = *pd.s3_;
+        c3.set_lids(cps);
+        if (c3.p_end > c3.p_begin) {
+          AssembleKts3<decltype(lcl), decltype(fv)> k;
+          k.s = c3.slave; k.m = c3.master; k.sp = c3.sp; k.eps = c3.pair.penalty;
+          k.p_begin = c3.p_begin; k.K = lcl; k.f = fv; k.force = c3.force;
+          Kokkos::parallel_for("iga::AssembleKts3", Kokkos::RangePolicy<ExecSpace>(0, c3.p_end - c3.p_begin), k);
+        }
+        continue;
+      }
       for (CurveData* c : {&pd.slave, &pd.master}) {
         const auto& gid = c == &pd.slave ? pd.slave_gid : pd.master_gid;
         auto h = Kokkos::create_mirror_view(c->lid);
@@ -167,9 +182,9 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
   K->fillComplete(sys.owned_map(), sys.owned_map());
   // each pair's force on its slave body: this rank's points summed by the kernels, all ranks'
   for (auto& pd : pairs) {
-    auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.force_);
+    auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.s3_ ? pd.s3_->force : pd.force_);
     double loc[4] = {h(0), h(1), h(2), h(3)};
-    Teuchos::reduceAll(*sys.comm(), Teuchos::REDUCE_SUM, 4, loc, pd.assembled_);
+    Teuchos::reduceAll(*sys.comm(), Teuchos::REDUCE_SUM, 4, loc, pd.s3_ ? pd.assembled3_ : pd.assembled_);
   }
   ContactContribution out;
   out.K = sys.export_matrix(K);

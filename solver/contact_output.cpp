@@ -36,6 +36,10 @@ double ContactPairData::potential() const {
 
 ContactPointState ContactPairData::state(bool projected_only) const {
   ContactPointState s;
+  if (s3_) {
+    s3_->state(s, projected_only);
+    return s;
+  }
   const int n = num_points();
   auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.x);
   auto nrm = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.normal);
@@ -79,10 +83,17 @@ ContactSummary ContactPairData::summary() const {
   ContactSummary c;
   // the forces: what the last assembly put on the slave dofs (assemble_contact), so that
   // they are the residual's and equal the reactions
-  c.fx = assembled_[0];
-  c.fy = assembled_[1];
-  c.normal_force = assembled_[2];
-  c.tangential_force = assembled_[3];
+  if (s3_) {
+    c.fx = assembled3_[0];
+    c.fy = assembled3_[1];
+    c.fz = assembled3_[2];
+    c.normal_force = assembled3_[3];
+  } else {
+    c.fx = assembled_[0];
+    c.fy = assembled_[1];
+    c.normal_force = assembled_[2];
+    c.tangential_force = assembled_[3];
+  }
   for (size_t i = 0; i < st.x.size(); ++i) {
     if (!st.active[i]) continue;
     ++c.active_points;

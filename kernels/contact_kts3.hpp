@@ -1,0 +1,288 @@
+#pragma once
+// Knot-to-surface (KTS) frictionless contact between faces of solids (3-D): the slave face's
+// quadrature points are projected onto the master faces (closest point, contact_surface.hpp)
+// and contribute penalty / augmented-Lagrangian forces and the consistent tangent. The 3-D
+// form of contact_kts.hpp: one Kokkos::parallel_for over slave points per stage.
+//
+// Kinematics (current configuration x = X + u)
+//   slave point     x_s = sum_a R_a(u, v) x_a          (a slave face of a trivariate patch)
+//   master surface  rho(xi^1, xi^2) = sum_b R_b x_b,  a_al = rho_,al,  metric a_ab = a_a.a_b,
+//                   A = a^-1, n the outward unit normal, curvature b_ab = n . rho_,ab
+//   projection      (x_s - rho(xi)) . a_al = 0 (Newton in contact_surface.hpp)
+//   gap             g = (x_s - rho) . n
+// Variations over the point's dofs u_e = [slave a (x, y, z) ; master b (x, y, z)]
+//   N    = [R_a n ; -R_b n]             delta g = N . delta u
+//   T_al = [R_a a_al ; -R_b a_al]       Nb_al = [0 ; R_b,al n]
+//   delta xi = H^-1 (T + g Nb) . delta u,   H = a - g b
+//   Delta delta g = G = -T^T (A b H^-1) T - g Nb^T H^-1 Nb - (Nb^T H^-1 T + T^T H^-1 Nb)
+//   (the 2-D G of contact_kts.hpp with a11 -> the metric; symmetric, since A + g A b H^-1 = H^-1)
+// Contributions of an active point (lambda - eps g >= -eps touch), p = max(0, lambda - eps g):
+//   f_c += -p w N,   K_c += w (eps N N^T - p G),   w = Gauss weights x |X_u x X_v| (reference)
+// The force on the slave body is -sum over the slave rows of f_c (ForceSum3: Fx, Fy, Fz, Fn).
+//
+// Data layout: a contact surface is a list of patch faces (ContactFaces, at most
+// kMaxFacesPerSurface), each a SurfaceData (knots, spans, current control points (x, y, z, w))
+// with its reference control points X, displacements u and the overlap control-point LIDs of
+// the contact matrix (lid). Slave points (SlavePoints3) carry their face, (u, v), element,
+// weight, multiplier, and the projection's results (master face, element, (xi^1, xi^2), gap,
+// pressure, current point, normal).
+// Cost per active point: 2 surface evaluations ((p + 1)^2 x 40 flops each) and the tangent,
+// (3 (ns + nm))^2 x ~20 flops for ns, nm control points of the slave and master elements.
+// Per-thread storage: basis values of the two elements, 4 x (p + 1)^2 doubles (no dof-sized
+// arrays: the tangent is summed one control-point column block at a time).
+#include <KokkosSparse_CrsMatrix.hpp>
+
+#include "kernels/contact_kts.hpp"
+#include "kernels/contact_surface.hpp"
+
+namespace iga {
+
+
+constexpr int kMaxFacesPerSurface = 6;
+constexpr int kMaxSurfaceBasis = kMaxBasis1D * kMaxBasis1D;
+
+/// One patch face of a contact surface on the device.
+struct ContactFace {
+  SurfaceData sd;                                // current control points in sd.cp
+  Kokkos::View<double* [4], MemSpace> cur;       // the same view, writable
+  Kokkos::View<double* [4], MemSpace> X;         // reference (x, y, z, w)
+  Kokkos::View<double* [3], MemSpace> u;         // current displacements
+  Kokkos::View<int*, MemSpace> lid;              // overlap cp LID of the contact matrix, -1 absent
+  double sign = 1;                               // outward normal = sign (S_u x S_v) / |S_u x S_v|
+};
+
+struct ContactFaces {
+  int n = 0;
+  ContactFace f[kMaxFacesPerSurface];
+  SurfaceSearch search[kMaxFacesPerSurface];   // master only: bins over the current element boxes
+  double radius = 0;                        // master only: the search radius
+};
+
+struct SlavePoints3 {
+  Kokkos::View<int*, MemSpace> face, elem;         // slave face and its element e0 + ne0 e1
+  Kokkos::View<double* [2], MemSpace> uv;          // slave parameters
+  Kokkos::View<double*, MemSpace> weight, lambda;  // reference measure; ALM multiplier
+  Kokkos::View<double* [3], MemSpace> X;           // reference slave point
+  // results
+  Kokkos::View<int*, MemSpace> valid, mface, melem;
+  Kokkos::View<double* [2], MemSpace> muv;
+  Kokkos::View<double*, MemSpace> gap, pressure;
+  Kokkos::View<double* [3], MemSpace> x, normal;
+  double touch = 0;
+};
+
+/// [Fx, Fy, Fz, Fn]: the force the assembly puts on the slave body.
+using ForceSum3 = Kokkos::View<double[4], MemSpace>;
+
+/// Spans of element e of a surface.
+KOKKOS_INLINE_FUNCTION void surface_element_spans(const SurfaceData& sd, int e, int s[2]) {
+  s[0] = sd.span[0](e % sd.ne[0]);
+  s[1] = sd.span[1](e / sd.ne[0]);
+}
+
+/// Rational basis R and its parameter derivatives Ru, Rv of the (p0 + 1)(p1 + 1) control
+/// points of the element with spans s (local index i + (p0 + 1) j), and their surface indices.
+KOKKOS_INLINE_FUNCTION int surface_basis(const SurfaceData& sd, const int s[2], double u, double v, double* R, double* Ru,
+                                         double* Rv, int* cp) {
+  double N[2][kMaxBasis1D], M[2][kMaxBasis1D];
+  bspline_ders(s[0], u, sd.p[0], sd.U[0].data(), 1, N);
+  bspline_ders(s[1], v, sd.p[1], sd.U[1].data(), 1, M);
+  double W = 0, Wu = 0, Wv = 0;
+  int k = 0;
+  for (int j = 0; j <= sd.p[1]; ++j)
+    for (int i = 0; i <= sd.p[0]; ++i, ++k) {
+      const int a = (s[0] - sd.p[0] + i) + sd.n[0] * (s[1] - sd.p[1] + j);
+      const double w = sd.cp(a, 3);
+      cp[k] = a;
+      R[k] = N[0][i] * M[0][j] * w;
+      Ru[k] = N[1][i] * M[0][j] * w;
+      Rv[k] = N[0][i] * M[1][j] * w;
+      W += R[k];
+      Wu += Ru[k];
+      Wv += Rv[k];
+    }
+  for (int m = 0; m < k; ++m) {
+    R[m] /= W;
+    Ru[m] = (Ru[m] - R[m] * Wu) / W;
+    Rv[m] = (Rv[m] - R[m] * Wv) / W;
+  }
+  return k;
+}
+
+KOKKOS_INLINE_FUNCTION void cross3(const double* a, const double* b, double* c) {
+  c[0] = a[1] * b[2] - a[2] * b[1];
+  c[1] = a[2] * b[0] - a[0] * b[2];
+  c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/// Current control points of every face from X and u (one kernel per face).
+inline void update_face_points(const ContactFace& f) {
+  const auto cur = f.cur;
+  const auto X = f.X;
+  const auto u = f.u;
+  Kokkos::parallel_for("iga::ContactFacePoints", Kokkos::RangePolicy<ExecSpace>(0, static_cast<int>(cur.extent(0))),
+                       KOKKOS_LAMBDA(const int a) {
+                         for (int c = 0; c < 3; ++c) cur(a, c) = X(a, c) + u(a, c);
+                         cur(a, 3) = X(a, 3);
+                       });
+}
+
+/// Slave points' current positions and their projections onto the nearest master face (a foot
+/// inside that face; beyond every master face's edges: no projection, valid 0).
+struct ProjectSlavePoints3 {
+  ContactFaces s, m;
+  SlavePoints3 sp;
+  double eps = 0;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int i) const {
+    sp.valid(i) = 0;
+    sp.gap(i) = 1e300;
+    sp.pressure(i) = 0;
+    sp.mface(i) = -1;
+    const SurfaceData& ss = s.f[sp.face(i)].sd;
+    int es[2];
+    surface_element_spans(ss, sp.elem(i), es);
+    double d[6][3];
+    surface_derivatives(ss, es, sp.uv(i, 0), sp.uv(i, 1), d);
+    const double x[3] = {d[0][0], d[0][1], d[0][2]};
+    for (int c = 0; c < 3; ++c) sp.x(i, c) = x[c];
+    double best = 1e300, buv[2] = {0, 0}, bfoot[3] = {0, 0, 0};
+    int bface = -1, belem = -1;
+    for (int f = 0; f < m.n; ++f) {
+      double uv[2], foot[3], d2;
+      bool inside = false;
+      const int e = closest_on_surface(m.f[f].sd, m.search[f], x, m.radius, uv, foot, d2, inside);
+      if (e < 0 || !inside || !(d2 < best)) continue;
+      best = d2;
+      bface = f;
+      belem = e;
+      buv[0] = uv[0];
+      buv[1] = uv[1];
+      for (int c = 0; c < 3; ++c) bfoot[c] = foot[c];
+    }
+    sp.melem(i) = belem;
+    if (bface < 0) return;
+    const ContactFace& mf = m.f[bface];
+    int ms[2];
+    surface_element_spans(mf.sd, belem, ms);
+    surface_derivatives(mf.sd, ms, buv[0], buv[1], d);
+    double n[3];
+    cross3(d[1], d[2], n);
+    const double l = kmath::sqrt(dot3(n, n));
+    if (!(l > 0)) return;   // a collapsed point of the master: no normal
+    for (int c = 0; c < 3; ++c) n[c] *= mf.sign / l;
+    double g = 0;
+    for (int c = 0; c < 3; ++c) g += (x[c] - bfoot[c]) * n[c];
+    sp.valid(i) = 1;
+    sp.mface(i) = bface;
+    sp.muv(i, 0) = buv[0];
+    sp.muv(i, 1) = buv[1];
+    for (int c = 0; c < 3; ++c) sp.normal(i, c) = n[c];
+    sp.gap(i) = g;
+    const double pr = sp.lambda(i) - eps * g;
+    sp.pressure(i) = pr > 0 ? pr : 0.0;
+  }
+};
+
+/// Residual and consistent tangent of the active slave points [p_begin, p_end) (see header).
+template <class LocalMatrix, class FView>
+struct AssembleKts3 {
+  ContactFaces s, m;
+  SlavePoints3 sp;
+  double eps = 0;
+  int p_begin = 0;
+  LocalMatrix K;
+  FView f;
+  ForceSum3 force;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
+    const int i = p_begin + k;
+    if (!sp.valid(i)) return;
+    const double g = sp.gap(i);
+    if (!kts_active(sp.lambda(i), eps, g, sp.touch)) return;
+    const double pl = sp.lambda(i) - eps * g;
+    const double pr = pl > 0 ? pl : 0.0;
+    const double w = sp.weight(i);
+    const ContactFace& sf = s.f[sp.face(i)];
+    const ContactFace& mf = m.f[sp.mface(i)];
+    // basis of the slave and master elements: B[0] slave R, B[1..3] master R, R_1, R_2
+    double Rs[kMaxSurfaceBasis], Rsu[kMaxSurfaceBasis], Rsv[kMaxSurfaceBasis];
+    double Rm[kMaxSurfaceBasis], Rm1[kMaxSurfaceBasis], Rm2[kMaxSurfaceBasis];
+    int cps[kMaxSurfaceBasis], cpm[kMaxSurfaceBasis];
+    int es[2], ms[2];
+    surface_element_spans(sf.sd, sp.elem(i), es);
+    surface_element_spans(mf.sd, sp.melem(i), ms);
+    const int ns = surface_basis(sf.sd, es, sp.uv(i, 0), sp.uv(i, 1), Rs, Rsu, Rsv, cps);
+    const int nm = surface_basis(mf.sd, ms, sp.muv(i, 0), sp.muv(i, 1), Rm, Rm1, Rm2, cpm);
+    double d[6][3];
+    surface_derivatives(mf.sd, ms, sp.muv(i, 0), sp.muv(i, 1), d);
+    const double n[3] = {sp.normal(i, 0), sp.normal(i, 1), sp.normal(i, 2)};
+    // metric, its inverse A, curvature b, H = a - g b and its inverse; C = A b H^-1
+    const double a00 = dot3(d[1], d[1]), a01 = dot3(d[1], d[2]), a11 = dot3(d[2], d[2]);
+    const double deta = a00 * a11 - a01 * a01;
+    const double A[2][2] = {{a11 / deta, -a01 / deta}, {-a01 / deta, a00 / deta}};
+    const double b[2][2] = {{dot3(n, d[3]), dot3(n, d[4])}, {dot3(n, d[4]), dot3(n, d[5])}};
+    const double H[2][2] = {{a00 - g * b[0][0], a01 - g * b[0][1]}, {a01 - g * b[1][0], a11 - g * b[1][1]}};
+    const double detH = H[0][0] * H[1][1] - H[0][1] * H[1][0];
+    const double Hi[2][2] = {{H[1][1] / detH, -H[0][1] / detH}, {-H[1][0] / detH, H[0][0] / detH}};
+    double Ab[2][2], C[2][2];
+    for (int r = 0; r < 2; ++r)
+      for (int c = 0; c < 2; ++c) Ab[r][c] = A[r][0] * b[0][c] + A[r][1] * b[1][c];
+    for (int r = 0; r < 2; ++r)
+      for (int c = 0; c < 2; ++c) C[r][c] = Ab[r][0] * Hi[0][c] + Ab[r][1] * Hi[1][c];
+    // per dof: N, T_al, Nb_al and its row in the contact matrix
+    auto dof = [&](int r, double& N, double t[2], double nb[2], int& lid) {
+      const int cpk = r / 3, c = r % 3;
+      if (cpk < ns) {
+        N = Rs[cpk] * n[c];
+        t[0] = Rs[cpk] * d[1][c];
+        t[1] = Rs[cpk] * d[2][c];
+        nb[0] = nb[1] = 0.0;
+        lid = dof_of(sf.lid(cps[cpk]), c, 3);
+      } else {
+        const int q = cpk - ns;
+        N = -Rm[q] * n[c];
+        t[0] = -Rm[q] * d[1][c];
+        t[1] = -Rm[q] * d[2][c];
+        nb[0] = Rm1[q] * n[c];
+        nb[1] = Rm2[q] * n[c];
+        lid = dof_of(mf.lid(cpm[q]), c, 3);
+      }
+    };
+    const int nd = 3 * (ns + nm);
+    double fs[4] = {0, 0, 0, 0};
+    for (int r = 0; r < nd; ++r) {
+      double Nr, tr[2], nbr[2];
+      int lr;
+      dof(r, Nr, tr, nbr, lr);
+      const double fr = -pr * w * Nr;
+      Kokkos::atomic_add(&f(lr), fr);
+      if (r < 3 * ns) {
+        fs[r % 3] -= fr;
+        fs[3] -= fr * n[r % 3];
+      }
+      // Hi t_r, Hi nb_r, C^T t_r: the row's 2-vectors
+      double Htr[2], Hnbr[2], Ctr[2];
+      for (int al = 0; al < 2; ++al) {
+        Htr[al] = tr[0] * Hi[0][al] + tr[1] * Hi[1][al];
+        Hnbr[al] = nbr[0] * Hi[0][al] + nbr[1] * Hi[1][al];
+        Ctr[al] = tr[0] * C[0][al] + tr[1] * C[1][al];
+      }
+      for (int cb = 0; cb < ns + nm; ++cb) {
+        double vals[3];
+        int cols[3];
+        for (int cc = 0; cc < 3; ++cc) {
+          double Nc, tc[2], nbc[2];
+          dof(3 * cb + cc, Nc, tc, nbc, cols[cc]);
+          const double G = -(Ctr[0] * tc[0] + Ctr[1] * tc[1]) - g * (Hnbr[0] * nbc[0] + Hnbr[1] * nbc[1]) -
+                           (Hnbr[0] * tc[0] + Hnbr[1] * tc[1]) - (Htr[0] * nbc[0] + Htr[1] * nbc[1]);
+          vals[cc] = w * (eps * Nr * Nc - pr * G);
+        }
+        K.sumIntoValues(lr, cols, 3, vals, false, true);
+      }
+    }
+    for (int c = 0; c < 4; ++c) Kokkos::atomic_add(&force(c), fs[c]);
+  }
+};
+
+}  // namespace iga

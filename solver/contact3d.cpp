@@ -1,0 +1,292 @@
+// 3-D contact pairs: faces of solids on the device, slave quadrature points, the replicated
+// displacements of both surfaces, search and projection (kernels/contact_kts3.hpp).
+#include "solver/contact3d.hpp"
+#include "solver/contact.hpp"
+#include "solver/system_internal.hpp"
+#include "kernels/numbering.hpp"
+#include "kernels/sides.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace iga {
+
+static_assert(kMaxContactFaces <= kMaxFacesPerSurface, "the problem file allows more contact faces than the kernels hold");
+
+using system_detail::to_device;
+
+namespace {
+
+// One patch face on the device (reference = current control points) and its host data.
+template <class HostFace>
+ContactFace make_face(const System& sys, int body, const PatchSide& ps, HostFace& h) {
+  const Patch& P = sys.problem().bodies[body].patches[ps.patch];
+  const Patch F = P.face(ps.side);
+  const std::vector<int> idx = P.side_indices(ps.side);
+  ContactFace f;
+  for (int d = 0; d < 2; ++d) {
+    h.p[d] = F.degree[d];
+    h.n[d] = F.ncp(d);
+    h.span[d] = F.element_spans(d);
+    h.ne[d] = static_cast<int>(h.span[d].size());
+    f.sd.p[d] = h.p[d];
+    f.sd.n[d] = h.n[d];
+    f.sd.ne[d] = h.ne[d];
+    f.sd.U[d] = to_device("face_knots", F.knots[d]);
+    f.sd.span[d] = to_device("face_spans", h.span[d]);
+  }
+  const int ncp = static_cast<int>(F.cp.size());
+  f.X = Kokkos::View<double* [4], MemSpace>("face_X", ncp);
+  f.cur = Kokkos::View<double* [4], MemSpace>("face_x", ncp);
+  f.u = Kokkos::View<double* [3], MemSpace>("face_u", ncp);
+  f.lid = Kokkos::View<int*, MemSpace>("face_lid", ncp);
+  auto hX = Kokkos::create_mirror_view(f.X);
+  h.gid.resize(ncp);
+  for (int a = 0; a < ncp; ++a) {
+    for (int c = 0; c < 3; ++c) hX(a, c) = F.cp[a].x[c];
+    hX(a, 3) = F.cp[a].w;
+    h.gid[a] = sys.cp_gid(body, ps.patch, idx[a]);
+  }
+  Kokkos::deep_copy(f.X, hX);
+  Kokkos::deep_copy(f.cur, hX);
+  f.sd.cp = f.cur;
+  f.sign = side_normal_sign(static_cast<int>(ps.side)) * P.orientation();
+  return f;
+}
+
+}  // namespace
+
+ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : pair(pr) {
+  const Problem& P = sys.problem();
+  for (int which = 0; which < 2; ++which) {
+    const ContactSurface& cs = which == 0 ? pair.slave : pair.master;
+    ContactFaces& faces = which == 0 ? slave : master;
+    auto& hf = which == 0 ? hs_ : hm_;
+    if (cs.sides.size() > static_cast<size_t>(kMaxContactFaces))
+      throw std::invalid_argument("a 3-D contact surface holds at most " + std::to_string(kMaxContactFaces) + " faces");
+    hf.resize(cs.sides.size());
+    faces.n = static_cast<int>(cs.sides.size());
+    for (size_t k = 0; k < cs.sides.size(); ++k) faces.f[k] = make_face(sys, cs.body, cs.sides[k], hf[k]);
+  }
+  // slave points: nq x nq Gauss points per slave face element (default 2 (p + 1) per direction,
+  // as in 2-D), weights in the reference configuration
+  std::vector<int> face, elem;
+  std::vector<double> uv, gw;
+  h_min_ = 1e300;
+  for (int fi = 0; fi < slave.n; ++fi) {
+    const HostFace& h = hs_[fi];
+    const Patch F = P.bodies[pair.slave.body].patches[pair.slave.sides[fi].patch].face(pair.slave.sides[fi].side);
+    int nq[2];
+    for (int d = 0; d < 2; ++d)
+      nq[d] = pair.quadrature_points > 0 ? pair.quadrature_points : std::min(2 * (h.p[d] + 1), kMaxContactQuadrature);
+    const GaussRule g0 = gauss_rule(nq[0]), g1 = gauss_rule(nq[1]);
+    for (int e1 = 0; e1 < h.ne[1]; ++e1)
+      for (int e0 = 0; e0 < h.ne[0]; ++e0) {
+        const int s0 = h.span[0][e0], s1 = h.span[1][e1];
+        const double a0 = F.knots[0][s0], b0 = F.knots[0][s0 + 1], a1 = F.knots[1][s1], b1 = F.knots[1][s1 + 1];
+        // the element's size: its longest corner-to-corner distance... the smallest over the surface
+        double corner[4][3];
+        for (int c = 0; c < 4; ++c) {
+          const double t[2] = {c % 2 ? b0 : a0, c / 2 ? b1 : a1};
+          const auto x = F.point(t);
+          for (int d = 0; d < 3; ++d) corner[c][d] = x[d];
+        }
+        auto dist = [&](int i, int j) {
+          return std::sqrt(std::pow(corner[i][0] - corner[j][0], 2) + std::pow(corner[i][1] - corner[j][1], 2) +
+                           std::pow(corner[i][2] - corner[j][2], 2));
+        };
+        const double size = std::max(std::max(dist(0, 1), dist(2, 3)), std::max(dist(0, 2), dist(1, 3)));
+        if (size > 0) h_min_ = std::min(h_min_, size);
+        for (int q1 = 0; q1 < nq[1]; ++q1)
+          for (int q0 = 0; q0 < nq[0]; ++q0) {
+            face.push_back(fi);
+            elem.push_back(e0 + h.ne[0] * e1);
+            uv.push_back(a0 + 0.5 * (b0 - a0) * (g0.x[q0] + 1));
+            uv.push_back(a1 + 0.5 * (b1 - a1) * (g1.x[q1] + 1));
+            gw.push_back(g0.w[q0] * g1.w[q1] * 0.25 * (b0 - a0) * (b1 - a1));
+          }
+      }
+  }
+  if (!(h_min_ < 1e300)) h_min_ = 1;
+  const int n = static_cast<int>(face.size());
+  sp.face = to_device("face", face);
+  sp.elem = to_device("elem", elem);
+  sp.uv = Kokkos::View<double* [2], MemSpace>("uv", n);
+  {
+    auto h = Kokkos::create_mirror_view(sp.uv);
+    for (int i = 0; i < n; ++i) { h(i, 0) = uv[2 * i]; h(i, 1) = uv[2 * i + 1]; }
+    Kokkos::deep_copy(sp.uv, h);
+  }
+  sp.weight = to_device("weight", gw);
+  sp.lambda = Kokkos::View<double*, MemSpace>("lambda", n);
+  sp.X = Kokkos::View<double* [3], MemSpace>("X", n);
+  sp.valid = Kokkos::View<int*, MemSpace>("valid", n);
+  sp.mface = Kokkos::View<int*, MemSpace>("mface", n);
+  sp.melem = Kokkos::View<int*, MemSpace>("melem", n);
+  sp.muv = Kokkos::View<double* [2], MemSpace>("muv", n);
+  sp.gap = Kokkos::View<double*, MemSpace>("gap", n);
+  sp.pressure = Kokkos::View<double*, MemSpace>("pressure", n);
+  sp.x = Kokkos::View<double* [3], MemSpace>("x", n);
+  sp.normal = Kokkos::View<double* [3], MemSpace>("normal", n);
+  sp.touch = 1e-12 * h_min_;
+  {
+    // reference points and measures: w = Gauss x |X_u x X_v|
+    const ContactFaces s = slave;
+    const SlavePoints3 p = sp;
+    Kokkos::parallel_for("iga::SlavePoints3", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(const int i) {
+      const SurfaceData& sd = s.f[p.face(i)].sd;
+      int es[2];
+      surface_element_spans(sd, p.elem(i), es);
+      double d[6][3], nn[3];
+      surface_derivatives(sd, es, p.uv(i, 0), p.uv(i, 1), d);
+      cross3(d[1], d[2], nn);
+      p.weight(i) *= kmath::sqrt(dot3(nn, nn));
+      for (int c = 0; c < 3; ++c) p.X(i, c) = d[0][c];
+    });
+  }
+  const auto r = block_range(n, sys.comm()->getRank(), sys.comm()->getSize());
+  p_begin = static_cast<int>(r.first);
+  p_end = static_cast<int>(r.second);
+  force = ForceSum3("contact_force3");
+  // every rank holds the displacements of both surfaces (boundary-sized)
+  std::vector<GO> cps;
+  for (const auto* hf : {&hs_, &hm_})
+    for (const HostFace& h : *hf) cps.insert(cps.end(), h.gid.begin(), h.gid.end());
+  std::sort(cps.begin(), cps.end());
+  cps.erase(std::unique(cps.begin(), cps.end()), cps.end());
+  replicated_ = sys.cp_dof_map(cps);
+  importer_ = rcp(new Import(sys.owned_map(), replicated_));
+  for (int which = 0; which < 2; ++which) {
+    const auto& hf = which == 0 ? hs_ : hm_;
+    auto& rep = which == 0 ? rep_s_ : rep_m_;
+    for (const HostFace& h : hf) {
+      Kokkos::View<int* [3], MemSpace> v("replicated_lid", h.gid.size());
+      auto hv = Kokkos::create_mirror_view(v);
+      for (size_t k = 0; k < h.gid.size(); ++k)
+        for (int c = 0; c < 3; ++c) hv(k, c) = replicated_->getLocalElement(dof_of(h.gid[k], c, 3));
+      Kokkos::deep_copy(v, hv);
+      rep.push_back(v);
+    }
+  }
+  refresh();
+}
+
+void ContactSurfaces3::update(const Vector& u) {
+  Vector ur(replicated_);
+  ur.doImport(u, *importer_, Tpetra::INSERT);
+  auto v = ur.getLocalViewDevice(Tpetra::Access::ReadOnly);
+  for (int which = 0; which < 2; ++which) {
+    ContactFaces& faces = which == 0 ? slave : master;
+    const auto& rep = which == 0 ? rep_s_ : rep_m_;
+    for (int k = 0; k < faces.n; ++k) {
+      const auto fu = faces.f[k].u;
+      const auto rk = rep[k];
+      Kokkos::parallel_for("iga::GatherFaceDisplacements", Kokkos::RangePolicy<ExecSpace>(0, static_cast<int>(fu.extent(0))),
+                           KOKKOS_LAMBDA(const int a) {
+                             for (int c = 0; c < 3; ++c) fu(a, c) = v(rk(a, c), 0);
+                           });
+    }
+  }
+  refresh();
+}
+
+void ContactSurfaces3::refresh() {
+  for (int which = 0; which < 2; ++which) {
+    ContactFaces& faces = which == 0 ? slave : master;
+    for (int k = 0; k < faces.n; ++k) update_face_points(faces.f[k]);
+  }
+  Kokkos::fence();
+  // bins over the master's current element boxes; the search radius: twice the largest
+  // bin size (a point farther from every master element is not in contact)
+  double hmax = 0;
+  for (int k = 0; k < master.n; ++k) {
+    master.search[k] = SurfaceSearch::build(master.f[k].sd);
+    hmax = std::max(hmax, master.search[k].h);
+  }
+  master.radius = 2 * hmax;
+  ProjectSlavePoints3 k;
+  k.s = slave;
+  k.m = master;
+  k.sp = sp;
+  k.eps = pair.penalty;
+  Kokkos::parallel_for("iga::ProjectSlavePoints3", Kokkos::RangePolicy<ExecSpace>(0, num_points()), k);
+  Kokkos::fence();
+}
+
+void ContactSurfaces3::groups(std::vector<std::vector<GO>>& out, int& active) const {
+  auto valid = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.valid);
+  auto gap = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.gap);
+  auto lam = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.lambda);
+  auto face = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.face);
+  auto elem = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.elem);
+  auto mface = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.mface);
+  auto melem = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.melem);
+  // the control points of element e of a face, widened by w control points each way
+  auto element_cps = [](const HostFace& h, int e, int w, std::vector<GO>& g) {
+    const int s0 = h.span[0][e % h.ne[0]], s1 = h.span[1][e / h.ne[0]];
+    for (int j = std::max(0, s1 - h.p[1] - w); j <= std::min(h.n[1] - 1, s1 + w); ++j)
+      for (int i = std::max(0, s0 - h.p[0] - w); i <= std::min(h.n[0] - 1, s0 + w); ++i) g.push_back(h.gid[i + h.n[0] * j]);
+  };
+  for (int i = p_begin; i < p_end; ++i) {
+    if (!valid(i)) continue;
+    if (kts_active(lam(i), pair.penalty, gap(i), sp.touch)) ++active;
+    std::vector<GO> g;
+    element_cps(hs_[face(i)], elem(i), 0, g);
+    element_cps(hm_[mface(i)], melem(i), 1, g);
+    out.push_back(std::move(g));
+  }
+}
+
+void ContactSurfaces3::set_lids(const std::vector<GO>& cps) {
+  for (int which = 0; which < 2; ++which) {
+    ContactFaces& faces = which == 0 ? slave : master;
+    const auto& hf = which == 0 ? hs_ : hm_;
+    for (int k = 0; k < faces.n; ++k) {
+      auto h = Kokkos::create_mirror_view(faces.f[k].lid);
+      for (size_t a = 0; a < hf[k].gid.size(); ++a) {
+        auto it = std::lower_bound(cps.begin(), cps.end(), hf[k].gid[a]);
+        h(a) = (it != cps.end() && *it == hf[k].gid[a]) ? static_cast<int>(it - cps.begin()) : -1;
+      }
+      Kokkos::deep_copy(faces.f[k].lid, h);
+    }
+  }
+}
+
+void ContactSurfaces3::state(ContactPointState& s, bool projected_only) const {
+  const int n = num_points();
+  auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.x);
+  auto X = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.X);
+  auto nrm = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.normal);
+  auto uv = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.uv);
+  auto gap = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.gap);
+  auto pr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.pressure);
+  auto lam = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.lambda);
+  auto valid = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.valid);
+  auto w = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.weight);
+  auto face = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.face);
+  for (int i = 0; i < n; ++i) {
+    if (projected_only && !valid(i)) continue;
+    s.x.push_back(x(i, 0));
+    s.y.push_back(x(i, 1));
+    s.z.push_back(x(i, 2));
+    for (int c = 0; c < 3; ++c) s.X.push_back(X(i, c));
+    s.nx.push_back(valid(i) ? nrm(i, 0) : 0.0);
+    s.ny.push_back(valid(i) ? nrm(i, 1) : 0.0);
+    s.nz.push_back(valid(i) ? nrm(i, 2) : 0.0);
+    s.xi.push_back(uv(i, 0));
+    s.eta.push_back(uv(i, 1));
+    s.face.push_back(face(i));
+    s.gap.push_back(valid(i) ? gap(i) : std::nan(""));
+    s.pressure.push_back(pr(i));
+    s.weight.push_back(w(i));
+    s.active.push_back(valid(i) && kts_active(lam(i), pair.penalty, gap(i), sp.touch) ? 1 : 0);
+    s.tangential.push_back(0.0);
+    s.slip.push_back(0.0);
+    s.state.push_back(0);
+    s.tx.push_back(0.0);
+    s.ty.push_back(0.0);
+  }
+}
+
+}  // namespace iga
