@@ -20,6 +20,11 @@
 //                           face of a sphere octant of 32 x 32 degree-2 elements, each its closest
 //                           point through the bin search (a Kokkos parallel_for); projections/s,
 //                           and the search grid's build time per call (search:1) or not (0)
+//   BM_PolygonClip/pairs/master_points/rule  3-D mortar segmentation (kernels/contact_clip.hpp):
+//                           a slave parameter rectangle against a master square of 4 points or
+//                           with its straight edges sampled (12 points), rotated and shifted at
+//                           random (every pair overlaps), clipped in a Kokkos parallel_for; rule
+//                           n > 0: and the fan rule of n^2 points per triangle integrating 1; clips/s
 //   BM_SpMV / BM_StreamCopy GB/s of the assembled elasticity matrix, and the copy limit
 // Rates are per wall-clock second (UseRealTime), so that threaded runs count every thread.
 // Run: build/bin/bench_kernels [--benchmark_filter=...]; with the OpenMP Trilinos,
@@ -27,9 +32,11 @@
 #include <benchmark/benchmark.h>
 #include <Tpetra_Core.hpp>
 
+#include <random>
 #include <sstream>
 
 #include "kernels/basis.hpp"
+#include "kernels/contact_clip.hpp"
 #include "kernels/elasticity.hpp"
 #include "solver/contact.hpp"
 #include "tests/surfaces3d.hpp"
@@ -305,6 +312,62 @@ void BM_SurfaceProjection(benchmark::State& st) {
   st.counters["surface elements"] = sd.ne[0] * sd.ne[1];
 }
 
+void BM_PolygonClip(benchmark::State& st) {
+  const int n = static_cast<int>(st.range(0)), per_edge = static_cast<int>(st.range(1)) / 4;
+  const GaussRule g = gauss_rule(std::max(1, static_cast<int>(st.range(2))));
+  const bool rule = st.range(2) > 0;
+  Kokkos::View<double* [4], MemSpace> slave("slave", n);
+  Kokkos::View<double* [kClipMaxVertices][2], MemSpace> master("master", n);
+  auto hs = Kokkos::create_mirror_view(slave);
+  auto hm = Kokkos::create_mirror_view(master);
+  std::mt19937 gen(1);
+  std::uniform_real_distribution<double> U(0, 1);
+  for (int k = 0; k < n; ++k) {
+    const double u0 = U(gen), v0 = U(gen), h = 0.5 + 0.5 * U(gen);
+    hs(k, 0) = u0;
+    hs(k, 1) = u0 + h;
+    hs(k, 2) = v0;
+    hs(k, 3) = v0 + h;
+    const double cx = u0 + h * (1.4 * U(gen) - 0.2), cy = v0 + h * (1.4 * U(gen) - 0.2), r = 0.4 * h, th = 6 * U(gen);
+    const double corner[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+    for (int e = 0; e < 4; ++e)
+      for (int s = 0; s < per_edge; ++s) {
+        const double t = static_cast<double>(s) / per_edge;
+        const double a = corner[e][0] + t * (corner[(e + 1) % 4][0] - corner[e][0]);
+        const double b = corner[e][1] + t * (corner[(e + 1) % 4][1] - corner[e][1]);
+        hm(k, e * per_edge + s, 0) = cx + r * (std::cos(th) * a - std::sin(th) * b);
+        hm(k, e * per_edge + s, 1) = cy + r * (std::sin(th) * a + std::cos(th) * b);
+      }
+  }
+  Kokkos::deep_copy(slave, hs);
+  Kokkos::deep_copy(master, hm);
+  const int nm = 4 * per_edge;
+  Kokkos::View<double*, MemSpace> area("area", n);
+  for (auto _ : st) {
+    Kokkos::parallel_for("bench::PolygonClip", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(const int k) {
+      const ClipPolygon S = parameter_rectangle(slave(k, 0), slave(k, 1), slave(k, 2), slave(k, 3));
+      ClipPolygon M, P;
+      M.n = nm;
+      for (int a = 0; a < nm; ++a) {
+        M.v[a][0] = master(k, a, 0);
+        M.v[a][1] = master(k, a, 1);
+      }
+      clip_polygons(S, M, P);
+      double w = 0;
+      if (rule)
+        for_each_polygon_point(P, g, [&](const double*, double wq) { w += wq; });
+      else
+        w = polygon_area(P);
+      area(k) = w;
+    });
+    Kokkos::fence();
+  }
+  int overlaps = 0;
+  Kokkos::parallel_reduce("bench::Overlaps", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(const int k, int& c) { c += area(k) > 0; }, overlaps);
+  st.counters["clips/s"] = benchmark::Counter(static_cast<double>(n) * st.iterations(), benchmark::Counter::kIsRate);
+  st.counters["overlapping"] = static_cast<double>(overlaps) / n;
+}
+
 void BM_SpMV(benchmark::State& st) {
   const Problem prob = block_problem(2, static_cast<int>(st.range(0)));
   System sys(prob, Tpetra::getDefaultComm());
@@ -360,6 +423,7 @@ BENCHMARK_TEMPLATE(BM_Formation3D, 2)->ArgNames({"model", "sf"})->ArgsProduct({{
 BENCHMARK_TEMPLATE(BM_Formation3D, 3)->ArgNames({"model", "sf"})->ArgsProduct({{0, 2}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_TEMPLATE(BM_Formation3D, 4)->ArgNames({"model", "sf"})->ArgsProduct({{0, 2}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_ContactProjection)->ArgNames({"M", "warm"})->ArgsProduct({{16, 64, 256, 1024, 4096}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_PolygonClip)->ArgNames({"pairs", "master_points", "rule"})->Args({10000, 4, 0})->Args({100000, 4, 0})->Args({100000, 12, 0})->Args({100000, 4, 3})->Args({100000, 12, 3})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_SpMV)->Arg(64)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_StreamCopy)->Arg(1 << 16)->Arg(1 << 25)->Unit(benchmark::kMillisecond)->UseRealTime();
 

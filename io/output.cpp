@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <initializer_list>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -414,6 +415,20 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
     const int dim = P.dim();
     double umax = write_bodies(f, h5name, P, disp, grids, nets);
     if (!cstate.empty()) f.group("/contact");
+    // a pair's contact points as an XDMF grid: polyvertices at the reference points, the
+    // displacement, and the scalar arrays `names` of the HDF5 group g
+    auto points_grid = [&](size_t k, const std::string& g, hsize_t n, std::initializer_list<const char*> names) {
+      points << "   <Grid Name=\"contact_" << k << "\" GridType=\"Uniform\">\n"
+             << "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n << "\" NodesPerElement=\"1\">"
+             << data_item(h5name, g + "/conn", {n}, Item::Int) << "</Topology>\n"
+             << "    <Geometry GeometryType=\"XYZ\">" << data_item(h5name, g + "/xyz", {n, 3}) << "</Geometry>\n"
+             << "    <Attribute Name=\"displacement\" AttributeType=\"Vector\" Center=\"Node\">"
+             << data_item(h5name, g + "/displacement", {n, 3}) << "</Attribute>\n";
+      for (const char* a : names)
+        points << "    <Attribute Name=\"" << a << "\" AttributeType=\"Scalar\" Center=\"Node\">"
+               << data_item(h5name, g + "/" + a, {n}) << "</Attribute>\n";
+      points << "   </Grid>\n";
+    };
     for (size_t k = 0; k < (dim == 3 ? cstate.size() : 0); ++k) {
       // 3-D: the slave points at their reference position with their displacement, their
       // parameters on the slave face, gap, pressure and whether they are active
@@ -441,16 +456,7 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
       f.write(g + "/xi", cs.xi, {n});
       f.write(g + "/eta", cs.eta, {n});
       f.write(g + "/active", act, {n});
-      points << "   <Grid Name=\"contact_" << k << "\" GridType=\"Uniform\">\n"
-             << "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n << "\" NodesPerElement=\"1\">"
-             << data_item(h5name, g + "/conn", {n}, Item::Int) << "</Topology>\n"
-             << "    <Geometry GeometryType=\"XYZ\">" << data_item(h5name, g + "/xyz", {n, 3}) << "</Geometry>\n"
-             << "    <Attribute Name=\"displacement\" AttributeType=\"Vector\" Center=\"Node\">"
-             << data_item(h5name, g + "/displacement", {n, 3}) << "</Attribute>\n";
-      for (const char* a : {"gap", "pressure", "xi", "eta", "active"})
-        points << "    <Attribute Name=\"" << a << "\" AttributeType=\"Scalar\" Center=\"Node\">"
-               << data_item(h5name, g + "/" + a, {n}) << "</Attribute>\n";
-      points << "   </Grid>\n";
+      points_grid(k, g, n, {"gap", "pressure", "xi", "eta", "active"});
     }
     for (size_t k = 0; k < (dim == 2 ? cstate.size() : 0); ++k) {
       // slave points in the reference configuration with their displacement, so that they
@@ -488,16 +494,7 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
       f.write(g + "/tangential_traction", cs.tangential, {n});
       f.write(g + "/slip", cs.slip, {n});
       f.write(g + "/state", state, {n});
-      points << "   <Grid Name=\"contact_" << k << "\" GridType=\"Uniform\">\n"
-            << "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n << "\" NodesPerElement=\"1\">"
-            << data_item(h5name, g + "/conn", {n}, Item::Int) << "</Topology>\n"
-            << "    <Geometry GeometryType=\"XYZ\">" << data_item(h5name, g + "/xyz", {n, 3}) << "</Geometry>\n"
-            << "    <Attribute Name=\"displacement\" AttributeType=\"Vector\" Center=\"Node\">"
-            << data_item(h5name, g + "/displacement", {n, 3}) << "</Attribute>\n";
-      for (const char* a : {"gap", "pressure", "xi", "active", "tangential_traction", "slip", "state"})
-        points << "    <Attribute Name=\"" << a << "\" AttributeType=\"Scalar\" Center=\"Node\">"
-               << data_item(h5name, g + "/" + a, {n}) << "</Attribute>\n";
-      points << "   </Grid>\n";
+      points_grid(k, g, n, {"gap", "pressure", "xi", "active", "tangential_traction", "slip", "state"});
     }
     for (std::ostringstream* o : {&grids, &nets, &points}) *o << "  </Grid>\n";
     write(h5name, f.image());

@@ -135,6 +135,7 @@ struct ProjectSlavePoints3 {
   double eps = 0;
 
   KOKKOS_INLINE_FUNCTION void operator()(const int i) const {
+    const int prev_face = sp.mface(i), prev_elem = sp.melem(i);
     sp.valid(i) = 0;
     sp.gap(i) = 1e300;
     sp.pressure(i) = 0;
@@ -148,7 +149,28 @@ struct ProjectSlavePoints3 {
     for (int c = 0; c < 3; ++c) sp.x(i, c) = x[c];
     double best = 1e300, buv[2] = {0, 0}, bfoot[3] = {0, 0, 0};
     int bface = -1, belem = -1;
-    for (int f = 0; f < m.n; ++f) {
+    // warm start: Newton from the previous projection on its element; kept without a search
+    // when it lands strictly inside that element (the closest point moved continuously)
+    if (prev_face >= 0 && prev_elem >= 0) {
+      const SurfaceData& sd = m.f[prev_face].sd;
+      double uv[2] = {sp.muv(i, 0), sp.muv(i, 1)}, foot[3];
+      bool inside = false;
+      const double d2 = project_on_surface_element(sd, prev_elem, x, uv, foot, inside, true);
+      int ps[2];
+      surface_element_spans(sd, prev_elem, ps);
+      bool interior = inside;
+      for (int k = 0; k < 2; ++k) interior = interior && uv[k] > sd.U[k](ps[k]) && uv[k] < sd.U[k](ps[k] + 1);
+      if (interior && d2 <= m.radius * m.radius) {
+        best = d2;
+        bface = prev_face;
+        belem = prev_elem;
+        buv[0] = uv[0];
+        buv[1] = uv[1];
+        for (int c = 0; c < 3; ++c) bfoot[c] = foot[c];
+      }
+    }
+    const int nsearch = bface < 0 ? m.n : 0;   // no warm start: every master face, the nearest foot
+    for (int f = 0; f < nsearch; ++f) {
       double uv[2], foot[3], d2;
       bool inside = false;
       const int e = closest_on_surface(m.f[f].sd, m.search[f], x, m.radius, uv, foot, d2, inside);
@@ -278,7 +300,7 @@ struct AssembleKts3 {
                            (Hnbr[0] * tc[0] + Hnbr[1] * tc[1]) - (Htr[0] * nbc[0] + Htr[1] * nbc[1]);
           vals[cc] = w * (eps * Nr * Nc - pr * G);
         }
-        K.sumIntoValues(lr, cols, 3, vals, false, true);
+        K.sumIntoValues(lr, cols, 3, vals, true, true);   // rows sorted (assemble_contact): binary search
       }
     }
     for (int c = 0; c < 4; ++c) Kokkos::atomic_add(&force(c), fs[c]);

@@ -86,8 +86,9 @@ KOKKOS_INLINE_FUNCTION double dot3(const double* a, const double* b) { return a[
 /// four elements reach clamped, is found as such).
 /// Stops when a Newton step is below 1e-12 of the element's parameter size (quadratic
 /// convergence: the error after it is ~ 1e-24) or after 30 steps.
+/// `warm`: Newton starts from uv as given (the previous projection) instead of the sample.
 KOKKOS_INLINE_FUNCTION double project_on_surface_element(const SurfaceData& sd, int e, const double x[3], double uv[2],
-                                                         double foot[3], bool& inside) {
+                                                         double foot[3], bool& inside, bool warm = false) {
   const int ei[2] = {e % sd.ne[0], e / sd.ne[0]};
   int s[2];
   double lo[2], hi[2];
@@ -98,7 +99,8 @@ KOKKOS_INLINE_FUNCTION double project_on_surface_element(const SurfaceData& sd, 
   }
   double d[6][3];
   double best = 1e300;
-  for (int b = 0; b <= 2; ++b)
+  if (warm && !(uv[0] >= lo[0] && uv[0] <= hi[0] && uv[1] >= lo[1] && uv[1] <= hi[1])) warm = false;
+  for (int b = 0; b <= 2 && !warm; ++b)
     for (int a = 0; a <= 2; ++a) {
       const double t[2] = {lo[0] + 0.5 * a * (hi[0] - lo[0]), lo[1] + 0.5 * b * (hi[1] - lo[1])};
       surface_derivatives(sd, s, t[0], t[1], d);

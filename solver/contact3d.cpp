@@ -7,6 +7,8 @@
 #include "kernels/sides.hpp"
 
 #include <algorithm>
+#include <array>
+#include <set>
 #include <cmath>
 #include <stdexcept>
 
@@ -150,12 +152,7 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
   p_end = static_cast<int>(r.second);
   force = ForceSum3("contact_force3");
   // every rank holds the displacements of both surfaces (boundary-sized)
-  std::vector<GO> cps;
-  for (const auto* hf : {&hs_, &hm_})
-    for (const HostFace& h : *hf) cps.insert(cps.end(), h.gid.begin(), h.gid.end());
-  std::sort(cps.begin(), cps.end());
-  cps.erase(std::unique(cps.begin(), cps.end()), cps.end());
-  replicated_ = sys.cp_dof_map(cps);
+  replicated_ = sys.cp_dof_map(surface_gids());
   importer_ = rcp(new Import(sys.owned_map(), replicated_));
   for (int which = 0; which < 2; ++which) {
     const auto& hf = which == 0 ? hs_ : hm_;
@@ -170,6 +167,15 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
     }
   }
   refresh();
+}
+
+std::vector<GO> ContactSurfaces3::surface_gids() const {
+  std::vector<GO> cps;
+  for (const auto* hf : {&hs_, &hm_})
+    for (const HostFace& h : *hf) cps.insert(cps.end(), h.gid.begin(), h.gid.end());
+  std::sort(cps.begin(), cps.end());
+  cps.erase(std::unique(cps.begin(), cps.end()), cps.end());
+  return cps;
 }
 
 void ContactSurfaces3::update(const Vector& u) {
@@ -228,9 +234,13 @@ void ContactSurfaces3::groups(std::vector<std::vector<GO>>& out, int& active) co
     for (int j = std::max(0, s1 - h.p[1] - w); j <= std::min(h.n[1] - 1, s1 + w); ++j)
       for (int i = std::max(0, s0 - h.p[0] - w); i <= std::min(h.n[0] - 1, s0 + w); ++i) g.push_back(h.gid[i + h.n[0] * j]);
   };
+  // one group per (slave element, master element) pair: the points of a slave element mostly
+  // share a few master elements
+  std::set<std::array<int, 4>> seen;
   for (int i = p_begin; i < p_end; ++i) {
     if (!valid(i)) continue;
     if (kts_active(lam(i), pair.penalty, gap(i), sp.touch)) ++active;
+    if (!seen.insert({face(i), elem(i), mface(i), melem(i)}).second) continue;
     std::vector<GO> g;
     element_cps(hs_[face(i)], elem(i), 0, g);
     element_cps(hm_[mface(i)], melem(i), 1, g);

@@ -27,6 +27,8 @@ class ContactSurfaces3 {
   void set_lids(const std::vector<GO>& cps);
   void state(ContactPointState& s, bool projected_only) const;
   double h_min() const { return h_min_; }
+  /// Global control point ids of both surfaces (sorted, unique).
+  std::vector<GO> surface_gids() const;
 
   ContactPair pair;
   ContactFaces slave, master;

@@ -12,7 +12,8 @@
 #    1e-8 (the Newton tolerance is 1e-10 of the residual), and the peak pressure and the
 #    half-width (the gap's zero crossing at the edge of the active points) agree with Hertz
 #    for the computed load within 5 % (as tests/test_contact).
-# Usage: cli_ranks.sh EXE MPIEXEC PROBLEM lame|wheel
+#  - patch3d (examples/contact_patch_3d.yaml): the 3-D contact patch test, exact (below).
+# Usage: cli_ranks.sh EXE MPIEXEC PROBLEM lame|wheel|patch3d
 # MPI runs take one thread per rank (OMP_NUM_THREADS=1): 2 ranks x 1 thread fill 2 cores; with
 # the OpenMP build more threads oversubscribe them and Kokkos warns on stderr.
 set -euo pipefail
@@ -55,7 +56,7 @@ same("max_displacement", [a["max_displacement"]], [b["max_displacement"]])
 assert len(a["contact"]) == len(b["contact"])
 for k, (ca, cb) in enumerate(zip(a["contact"], b["contact"])):
     assert ca["active_points"] == cb["active_points"], (k, ca["active_points"], cb["active_points"])
-    for f in ("normal_force", "max_pressure", "contact_length"):
+    for f in ("normal_force", "max_pressure", "contact_area" if "contact_area" in ca else "contact_length"):
         same(f"contact {k} {f}", [ca[f]], [cb[f]])
     same(f"contact {k} force", ca["force"], cb["force"])
 assert len(a["probes"]) == len(b["probes"])
@@ -105,6 +106,20 @@ for s, n in ((a, 1), (b, 2)):
         e = edge(d)
         print(f"  {n} rank(s): p0 {c['max_pressure']:.5g} (Hertz {p0:.5g}), half-width {e:.5g} (Hertz {half:.5g})")
         assert abs(c["max_pressure"] - p0) <= 0.05 * p0 and abs(e - half) <= 0.05 * half, "Hertz"
+    elif check == "patch3d":
+        # examples/contact_patch_3d.yaml: the uniform state is exact (sigma_zz = -1), so the
+        # contact force is p x area = 4, every pressure 1 and the probe at the top's far corner
+        # moves by (nu p / E x 2, the same, -p (1 / E_top + 1 / E_base) - p / eps)
+        c = s["contact"][0]
+        assert abs(c["normal_force"] - 4) <= 1e-9 and abs(c["force"][2] - 4) <= 1e-9, c
+        assert abs(s["reactions"]["base"]["front"][2] - 4) <= 1e-9, s["reactions"]
+        rows = list(csv.DictReader(open(d + "/contact_0.csv")))
+        assert list(rows[0].keys()) == ["x", "y", "z", "xi", "eta", "gap", "pressure", "active"], rows[0].keys()
+        dp = max(abs(float(r["pressure"]) - 1) for r in rows)
+        u = s["probes"][0]["displacement"]
+        du = max(abs(g - e) for g, e in zip(u, (3e-4, 3e-4, -1.51e-3)))
+        print(f"  {n} rank(s): {len(rows)} contact points, max |p - 1| = {dp:.1e}, probe |u - exact| = {du:.1e}")
+        assert dp <= 1e-8 and du <= 1e-12, "patch test"
     else:
         sys.exit("unknown check " + check)
 print(check + ": physics OK on 1 and 2 ranks")

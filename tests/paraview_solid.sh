@@ -11,6 +11,7 @@
 #   (error ratio > 2.8; p = 2 gives 2); the reactions on the planes of symmetry equal the
 #   pressure's resultant p a H = 5 (to 1e-6: the load is integrated on the exact geometry);
 #   max_displacement = the largest u_r (at the inner radius) within 1e-4.
+# - examples/contact_patch_3d.yaml: the 3-D contact points through every reader.
 # Exits 77 (skipped) without pvpython; in CI (CI=true) a missing pvpython fails.
 set -u
 exe="$1"; here="$2"
@@ -26,6 +27,10 @@ run() {   # name [args]
 run coarse
 run fine --set "bodies.0.refine.subdivide=[12, 8, 1]"
 run volume --set output.cells=volume
+# 3-D contact (issue 36): the contact points in result_contact.xdmf with every reader, their
+# largest pressure = summary's max_pressure
+OMP_NUM_THREADS=1 "$exe" run "$here/../../examples/contact_patch_3d.yaml" --output "$tmp/contact3d" --quiet || { echo "FAIL: contact_patch_3d did not run"; fail=1; }
+pvpython "$here/check_results.py" "$tmp/contact3d" || { echo "FAIL: ParaView check of contact_patch_3d"; fail=1; }
 [ $fail = 0 ] || exit 1
 /usr/bin/python3 - "$tmp" <<'PY'
 import json, math, sys

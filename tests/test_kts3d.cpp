@@ -1,0 +1,288 @@
+// 3-D knot-to-surface contact between solids (kernels/contact_kts3.hpp, solver/contact3d.cpp):
+//   Kts3Tangent   K_c against central differences of f_c, and f_c against differences of the
+//                 potential, on a curved rational master (a bump), with and without ALM
+//                 multipliers, after a slide over several master elements (finite kinematics)
+//   StackedBoxes  the contact patch test: two blocks of different moduli under a uniform
+//                 pressure; with nested meshes the stress is uniform to round-off, with
+//                 non-nested ones equilibrium holds to round-off and the error is KTS's
+//   Slab          a ring pressed by a block, extruded into a slab held at u_z = 0 on both
+//                 faces: the 3-D run equals the 2-D plane-strain run to round-off
+// Run on 1 and 2 ranks (ctest test_kts3d, test_kts3d_2ranks).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <sstream>
+
+#include "support.hpp"
+
+using namespace iga;
+using namespace iga::test;
+
+namespace {
+
+// A block 2 x 2 x 1 whose top face is a rational biquadratic bump (z from 1.0 at the corners
+// to 1.3 in the middle, weight 0.8 there), refined to n x n elements on top, and a box above
+// it (its bottom face the slave) of degree p.
+std::string bump_and_box(int p, int n, const std::string& method, const std::string& extra = "") {
+  std::ostringstream os;
+  os << extra << "analysis: {type: solid}\n"
+     << "bodies:\n"
+     << "  - name: bump\n    material: {youngs_modulus: 1000.0, poisson_ratio: 0.3}\n"
+     << "    geometry:\n      nurbs:\n        degree: [2, 2, 1]\n"
+     << "        knots: [[0, 0, 0, 1, 1, 1], [0, 0, 0, 1, 1, 1], [0, 0, 1, 1]]\n"
+     << "        control_points: [\n";
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i) {
+        const int m = (i == 1) + (j == 1);
+        const double z = k == 0 ? 0.0 : (m == 2 ? 1.3 : m == 1 ? 1.1 : 1.0);
+        const double w = k == 1 && m == 2 ? 0.8 : 1.0;
+        os << "          [" << i << ", " << j << ", " << z << ", " << w << "],\n";
+      }
+  os << "        ]\n"
+     << "    refine: {degree_elevate: [" << p - 2 << ", " << p - 2 << ", " << p - 1 << "], subdivide: [" << n << ", " << n << ", 1]}\n"
+     << "    boundary: {front: {displacement: {x: 0, y: 0, z: 0}}}\n"
+     << "  - name: box\n    material: {youngs_modulus: 500.0, poisson_ratio: 0.25}\n"
+     << "    geometry: {box: {origin: [0.4, 0.5, 1.1], size: [1.1, 0.9, 0.4]}}\n"
+     << "    refine: {degree_elevate: [" << p - 1 << ", " << p - 1 << ", " << p - 1 << "], subdivide: [3, 2, 1]}\n"
+     << "    boundary: {back: {displacement: {x: 0, y: 0, z: -0.01}}}\n"
+     << "contact:\n  - {master: {body: bump, side: back}, slave: {body: box, side: front}, method: " << method
+     << ", penalty: 1.0e4}\n";
+  return os.str();
+}
+
+// K_c against central differences of f_c, and f_c against central differences of the
+// potential, at a state with smooth random displacements of the order of the penetration plus
+// a rigid shift of the box (shift[0] along x: sliding over the master's elements).
+void check_tangent(int p, bool multipliers, std::array<double, 3> shift, const std::string& extra = "") {
+  const Problem P = parse_problem(bump_and_box(p, 6, multipliers ? "kts_alm" : "kts_penalty", extra), "tangent3d.yaml");
+  System sys(P, Tpetra::getDefaultComm());
+  std::vector<ContactPairData> pairs{ContactPairData(sys, 0)};
+  Vector u0(sys.owned_map());
+  {
+    auto h = u0.getLocalViewHost(Tpetra::Access::OverwriteAll);
+    for (size_t l = 0; l < u0.getLocalLength(); ++l) {
+      const GO dof = sys.owned_map()->getGlobalElement(l);
+      std::mt19937 rng(static_cast<unsigned>(dof) + 17u * p);   // the same state on any number of ranks
+      std::uniform_real_distribution<double> d(-2e-3, 2e-3);
+      h(l, 0) = d(rng) + (sys.body_of(dof / 3) == 1 ? shift[dof % 3] : 0.0);
+    }
+  }
+  pairs[0].update(u0);
+  if (multipliers) {
+    pairs[0].augment();
+    pairs[0].update(u0);
+  }
+  const ContactContribution c0 = assemble_contact(sys, pairs);
+  ASSERT_GT(c0.active, 20);
+  // a spread of the surfaces' dofs (every one would take minutes): every 5th, all components
+  std::vector<GO> dofs;
+  const auto gids = pairs[0].s3_->surface_gids();
+  for (size_t k = 0; k < gids.size(); k += 5)
+    for (int c = 0; c < 3; ++c) dofs.push_back(3 * gids[k] + c);
+  const double h = 1e-7;
+  double worst = 0, worst_f = 0, kscale = 0;
+  Vector e(sys.owned_map()), Ke(sys.owned_map());
+  for (GO dof : dofs) {
+    const LO l = sys.owned_map()->getLocalElement(dof);   // invalid on the ranks that do not own it
+    auto eval = [&](double s, double& pi) {
+      Vector u(u0, Teuchos::Copy);
+      if (l != Teuchos::OrdinalTraits<LO>::invalid()) u.getLocalViewHost(Tpetra::Access::ReadWrite)(l, 0) += s;
+      pairs[0].update(u);
+      pi = pairs[0].potential();
+      return assemble_contact(sys, pairs).f;
+    };
+    double pp, pm;
+    RCP<Vector> fp = eval(h, pp), fm = eval(-h, pm);
+    if (l != Teuchos::OrdinalTraits<LO>::invalid()) {
+      const double f_j = c0.f->getLocalViewHost(Tpetra::Access::ReadOnly)(l, 0);
+      worst_f = std::max(worst_f, std::abs((pp - pm) / (2 * h) - f_j));
+    }
+    e.putScalar(0.0);
+    if (l != Teuchos::OrdinalTraits<LO>::invalid()) e.getLocalViewHost(Tpetra::Access::ReadWrite)(l, 0) = 1.0;
+    c0.K->apply(e, Ke);
+    fp->update(-1.0, *fm, 1.0);
+    fp->scale(1.0 / (2 * h));
+    kscale = std::max(kscale, Ke.norm2());
+    fp->update(-1.0, Ke, 1.0);
+    worst = std::max(worst, fp->norm2());
+  }
+  pairs[0].update(u0);
+  double worst_f_all = 0;
+  Teuchos::reduceAll(*sys.comm(), Teuchos::REDUCE_MAX, 1, &worst_f, &worst_f_all);
+  std::printf("  p = %d%s, shift (%g, %g, %g): %d active; max |K_c e_j - FD| = %.2e of max |K_c e_j| = %.2e; "
+              "max |f_c - dPi/du| = %.2e of |f_c| = %.2e\n",
+              p, multipliers ? " (ALM multipliers)" : "", shift[0], shift[1], shift[2], c0.active, worst, kscale, worst_f_all,
+              c0.f->normInf());
+  EXPECT_LT(worst, 1e-6 * kscale);
+  EXPECT_LT(worst_f_all, 1e-6 * c0.f->normInf());
+}
+
+// Two blocks of 2 x 2 x 1 stacked, different moduli and Poisson ratios with the same lateral
+// strain nu p / E (so the interface does not slide), rollers on the west and south faces, the
+// base's bottom on rollers in z, pressure p = 1 on top.
+std::string stacked(int p, int base_n, int top_n, const std::string& method) {
+  std::ostringstream os;
+  os << "analysis: {type: solid}\n"
+     << "bodies:\n"
+     << "  - name: base\n    material: {youngs_modulus: 2000.0, poisson_ratio: 0.3}\n"
+     << "    geometry: {box: {origin: [0, 0, 0], size: [2, 2, 1]}}\n"
+     << "    refine: {degree_elevate: [" << p - 1 << ", " << p - 1 << ", " << p - 1 << "], subdivide: [" << base_n << ", "
+     << base_n << ", 1]}\n"
+     << "    boundary: {front: {displacement: {z: 0}}, west: {displacement: {x: 0}}, south: {displacement: {y: 0}}}\n"
+     << "  - name: top\n    material: {youngs_modulus: 1000.0, poisson_ratio: 0.15}\n"
+     << "    geometry: {box: {origin: [0, 0, 1], size: [2, 2, 1]}}\n"
+     << "    refine: {degree_elevate: [" << p - 1 << ", " << p - 1 << ", " << p - 1 << "], subdivide: [" << top_n << ", "
+     << top_n << ", 1]}\n"
+     << "    boundary: {back: {pressure: 1.0}, west: {displacement: {x: 0}}, south: {displacement: {y: 0}}}\n"
+     << "contact:\n  - {master: {body: base, side: back}, slave: {body: top, side: front}, method: " << method
+     << ", penalty: 1.0e5}\n";
+  return os.str();
+}
+
+}  // namespace
+
+TEST(Kts3Tangent, MatchesFiniteDifferencesOnACurvedRationalMaster) {
+  for (int p : {2, 3})
+    for (bool alm : {false, true}) check_tangent(p, alm, {0.0, 0.0, -0.02});
+}
+
+// Large sliding, finite kinematics: the box slid 0.7 along x (two master elements of 1/3) and
+// 0.3 along y, pressed into the bump's flank where its normal has turned.
+TEST(Kts3Tangent, MatchesFiniteDifferencesAfterSlidingOverSeveralElements) {
+  check_tangent(2, false, {-0.7, 0.3, -0.03}, "");
+  check_tangent(2, true, {-0.7, 0.3, -0.03}, "");
+}
+
+// Nested meshes (every master knot is a slave knot): each slave element sees one polynomial
+// piece of the master, the slave Gauss rule integrates the master forces exactly, and the
+// uniform state is exact: p = eps |g| = 1, the slave points at X + (nu p / E) (x, y) and
+// z - p H / E_base - p / eps; the contact force equals the applied load and the reactions.
+TEST(StackedBoxes, NestedMeshesPassThePatchTestToRoundOff) {
+  for (int p : {1, 2, 3})
+    for (const char* method : {"kts_penalty", "kts_alm"}) {
+      const Solved s = solve_text(stacked(p, 2, 4, method));
+      ASSERT_TRUE(s.res.converged);
+      const auto& c = s.res.contact[0];
+      const ContactSummary sm = c.summary();
+      const auto st = c.state(true);
+      const bool alm = std::string(method) == "kts_alm";
+      const double gap = alm ? 0.0 : -1e-5;
+      double worst_p = 0, worst_x = 0;
+      for (size_t i = 0; i < st.x.size(); ++i) {
+        ASSERT_EQ(st.active[i], 1);
+        worst_p = std::max(worst_p, std::abs(st.pressure[i] - 1.0));
+        const double* X = &st.X[3 * i];
+        worst_x = std::max({worst_x, std::abs(st.x[i] - X[0] * (1 + 1.5e-4)), std::abs(st.y[i] - X[1] * (1 + 1.5e-4)),
+                            std::abs(st.z[i] - (X[2] - 5e-4 + gap))});
+      }
+      std::printf("  p = %d %s: %zu points, max |p - 1| = %.2e, max |x - exact| = %.2e, force %.15g, Newton %d\n", p, method,
+                  st.x.size(), worst_p, worst_x, sm.normal_force, newton_total(s));
+      EXPECT_LT(worst_p, alm ? 1e-8 : 1e-10);
+      EXPECT_LT(worst_x, 1e-12);
+      EXPECT_NEAR(sm.normal_force, 4.0, 1e-10);
+      EXPECT_NEAR(sm.fz, 4.0, 1e-10);
+      EXPECT_NEAR(sm.fx, 0.0, 1e-12);
+      EXPECT_NEAR(sm.fy, 0.0, 1e-12);
+      EXPECT_NEAR(sm.contact_length, 4.0, 1e-12);   // the contact area
+    }
+}
+
+// Non-nested meshes (3 x 3 slave elements over 2 x 2 master elements): the slave Gauss rule
+// meets master element edges inside slave elements, so KTS moves the load among the master
+// control points by the quadrature error; the load is transmitted whole (equilibrium to
+// round-off) and the pressure stays within that error of 1.
+TEST(StackedBoxes, NonNestedMeshesKeepEquilibrium) {
+  const Solved s = solve_text(stacked(2, 2, 3, "kts_penalty"));
+  ASSERT_TRUE(s.res.converged);
+  const ContactSummary sm = s.res.contact[0].summary();
+  const auto st = s.res.contact[0].state(true);
+  double lo = 1e300, hi = -1e300;
+  for (double p : st.pressure) lo = std::min(lo, p), hi = std::max(hi, p);
+  std::printf("  non-nested p = 2: pressure in [%.12f, %.12f], force %.15g\n", lo, hi, sm.normal_force);
+  EXPECT_NEAR(sm.normal_force, 4.0, 1e-10);
+  EXPECT_NEAR(sm.fz, 4.0, 1e-10);
+  // measured: 9e-11; the bound is the Gauss rule's error on the master basis, which has a C^1
+  // kink inside two of the three slave elements per direction (2 (p + 1) points: below 1e-6)
+  EXPECT_LT(hi - lo, 1e-6);
+  EXPECT_NEAR(lo, 1.0, 1e-6);
+}
+
+namespace {
+
+// A 2-D patch extruded into a slab of thickness 1 along z (degree 1, one element): the same
+// control net at z = 0 and z = 1, as an inline trivariate NURBS.
+std::string extruded(const Patch& P) {
+  std::ostringstream os;
+  os.precision(17);
+  auto knots = [&](const std::vector<double>& U) {
+    os << "[";
+    for (size_t k = 0; k < U.size(); ++k) os << (k ? ", " : "") << U[k];
+    os << "]";
+  };
+  os << "      nurbs:\n        degree: [" << P.degree[0] << ", " << P.degree[1] << ", 1]\n        knots: [";
+  knots(P.knots[0]);
+  os << ", ";
+  knots(P.knots[1]);
+  os << ", [0, 0, 1, 1]]\n        control_points: [\n";
+  for (int k = 0; k < 2; ++k)
+    for (const ControlPoint& c : P.cp) os << "          [" << c.x[0] << ", " << c.x[1] << ", " << k << ", " << c.w << "],\n";
+  os << "        ]\n";
+  return os.str();
+}
+
+}  // namespace
+
+// The 2-D ring-and-block contact (a block pressed 0.01 onto the curved outer face of a ring,
+// KTS, 4 quadrature points per span) against the same bodies extruded into a slab held at
+// u_z = 0 on its front and back faces (plane strain): the 3-D knot-to-surface path (search,
+// projection, residual, tangent with the curvature of the master) gives the 2-D answer to
+// round-off, the forces per unit thickness included.
+TEST(Slab, EqualsThe2DPlaneStrainRun) {
+  for (int p : {2, 3}) {
+    test::RingAndBlock rb;
+    rb.p = p;
+    const Solved s2 = solve_text(rb.yaml());
+    ASSERT_TRUE(s2.res.converged);
+    std::ostringstream os;
+    os << "analysis: {type: solid}\nbodies:\n";
+    const char* bc[2] = {"{south: {displacement: {x: 0, y: 0, z: 0}}, front: {displacement: {z: 0}}, back: {displacement: {z: 0}}}",
+                         "{north: {displacement: {x: 0, y: -0.01, z: 0}}, front: {displacement: {z: 0}}, back: {displacement: {z: 0}}}"};
+    for (int b = 0; b < 2; ++b) {
+      const Body& B = s2.P.bodies[b];
+      os << "  - name: " << B.name << "\n    material: {youngs_modulus: " << B.E << ", poisson_ratio: " << B.nu << "}\n"
+         << "    geometry:\n" << extruded(B.patches[0]) << "    boundary: " << bc[b] << "\n";
+    }
+    os << "contact:\n  - {master: {body: ring, side: north}, slave: {body: block, side: south}, method: kts_penalty, "
+          "penalty: 1.0e4, quadrature_points: 4}\n";
+    const Solved s3 = solve_text(os.str());
+    ASSERT_TRUE(s3.res.converged);
+    if (s3.sys->comm()->getRank() == 0) {
+      double diff = 0, scale = 0;
+      for (int b = 0; b < 2; ++b) {
+        const size_t n2 = s2.disp[b].size() / 2;
+        ASSERT_EQ(s3.disp[b].size(), 6 * n2);
+        for (size_t a = 0; a < n2; ++a)
+          for (int k = 0; k < 2; ++k) {
+            for (int c = 0; c < 2; ++c) {
+              diff = std::max(diff, std::abs(s3.disp[b][3 * (a + n2 * k) + c] - s2.disp[b][2 * a + c]));
+              scale = std::max(scale, std::abs(s2.disp[b][2 * a + c]));
+            }
+            EXPECT_EQ(s3.disp[b][3 * (a + n2 * k) + 2], 0.0);
+          }
+      }
+      const ContactSummary c2 = s2.res.contact[0].summary(), c3 = s3.res.contact[0].summary();
+      std::printf("  p = %d: max |u_3D - u_2D| = %.2e of %.2e; force (%.12g, %.12g) vs 2-D (%.12g, %.12g); active %d vs %d; "
+                  "Newton %d vs %d\n",
+                  p, diff, scale, c3.fx, c3.fy, c2.fx, c2.fy, c3.active_points, c2.active_points, newton_total(s3),
+                  newton_total(s2));
+      EXPECT_LT(diff, 1e-10 * scale);
+      EXPECT_NEAR(c3.fy, c2.fy, 1e-9 * std::abs(c2.fy));
+      EXPECT_NEAR(c3.fx, c2.fx, 1e-9 * std::abs(c2.fy));
+      EXPECT_NEAR(c3.fz, 0.0, 1e-12 * std::abs(c2.fy));
+      EXPECT_NEAR(c3.max_pressure, c2.max_pressure, 1e-9 * c2.max_pressure);
+      EXPECT_EQ(c3.active_points, 4 * c2.active_points);   // 4 Gauss points through the thickness
+    }
+  }
+}
