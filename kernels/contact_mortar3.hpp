@@ -14,7 +14,7 @@
 //   (AssembleMortarGap3), delta g_A = \int R_A N dGamma_0. The segments move with u, but the
 //   integrand is continuous across their edges, so the linearisation stays consistent.
 // Segments (MortarSegments3, one slave element per thread): the master elements whose boxes
-//   meet the slave element's box (grown by the search radius) are candidates; each candidate's
+//   meet the slave element's box (grown by its own size) are candidates; each candidate's
 //   corners (shared with its neighbours) are shot along the master normal onto the slave
 //   element's surface, x_s(u, v) = rho + t n (Newton on (u, v, t), the slave element's
 //   polynomial extended beyond its edges), giving a quadrilateral in the slave parameter plane
@@ -27,9 +27,10 @@
 //   element, so the slave and master forces are integrated exactly: the patch test holds to
 //   round-off for non-matching meshes.
 // Layout: slots of SlavePoints3, `slots` per slave element (element-major); an unused slot
-//   has face = -1. flags(0): the most slots an element needed when short (the host grows the
-//   capacity and segments again); flags(1): candidates beyond the capacity or a clipping
-//   overflow; flags(2): the most dofs of one delta g_A when its scratch row was short.
+//   has face = -1. flags(0): the most slots an element needed when short, flags(1): the most
+//   candidate master elements of one slave element when its row was short (the host grows
+//   either and segments again); flags(2): a clipping overflow (cannot happen with four-cornered
+//   cells). MortarState::flags(1): the most dofs of one delta g_A when its scratch row was short.
 // Cost per slave element: candidates x 12 x (Newton ~ 5 x (p + 1)^2 40 flops) for the shots,
 //   a clip (~ 16^2 comparisons + exact orientation tests) and n^2 x vertices slot points.
 #include "kernels/contact_clip.hpp"
@@ -38,7 +39,7 @@
 
 namespace iga {
 
-constexpr int kMortar3Candidates = 64;   // master elements considered per slave element
+constexpr int kMortar3Candidates = 64;   // candidate master elements per slave element to start with
 
 /// Slave face data of a mortar pair: the reference surface (for measures).
 KOKKOS_INLINE_FUNCTION SurfaceData reference_surface(const ContactFace& f) {
@@ -54,6 +55,7 @@ struct MortarSegments3 {
   int slots = 1;
   int sub = 1;   // cells per direction of a master element (its edges' images: straight per cell)
   Kokkos::View<int*, MemSpace> flags;
+  Kokkos::View<int**, Kokkos::LayoutRight, MemSpace> cand;   // per slave element: candidate master elements
 
   KOKKOS_INLINE_FUNCTION void operator()(const int e) const {
     const ContactFace& sf = s.f[0];
@@ -65,7 +67,7 @@ struct MortarSegments3 {
       sp.face(e * slots + k) = -1;
       sp.valid(e * slots + k) = 0;
     }
-    // the slave element's box (current control points), grown by the search radius
+    // the slave element's box (current control points)
     double box[6] = {1e300, 1e300, 1e300, -1e300, -1e300, -1e300};
     for (int j = es[1] - ss.p[1]; j <= es[1]; ++j)
       for (int i = es[0] - ss.p[0]; i <= es[0]; ++i)
@@ -74,9 +76,13 @@ struct MortarSegments3 {
           box[c] = x < box[c] ? x : box[c];
           box[3 + c] = x > box[3 + c] ? x : box[3 + c];
         }
+    // grown by its own size: a master element farther than that from the slave element is not
+    // in contact with it (a global radius would take in many elements of a graded master)
+    double margin = 0;
+    for (int c = 0; c < 3; ++c) margin = box[3 + c] - box[c] > margin ? box[3 + c] - box[c] : margin;
     for (int c = 0; c < 3; ++c) {
-      box[c] -= m.radius;
-      box[3 + c] += m.radius;
+      box[c] -= margin;
+      box[3 + c] += margin;
     }
     const SurfaceData ref = reference_surface(sf);
     const ClipPolygon rect = parameter_rectangle(lo[0], hi[0], lo[1], hi[1]);
@@ -85,8 +91,9 @@ struct MortarSegments3 {
     int used = 0;
     const SurfaceSearch& g = m.search[0];
     const SurfaceData& ms = m.f[0].sd;
-    int cand[kMortar3Candidates];
+    // candidates in this element's row of the scratch (its capacity grows to what is needed)
     int nc = 0;
+    const int cap = static_cast<int>(cand.extent(1));
     int c0[3], c1[3];
     for (int d = 0; d < 3; ++d) {
       c0[d] = g.cell_of(box[d], d);
@@ -106,17 +113,18 @@ struct MortarSegments3 {
             for (int d = 0; d < 3; ++d) overlap = overlap && g.box(E, d) <= box[3 + d] && g.box(E, 3 + d) >= box[d];
             if (!overlap) continue;
             bool seen = false;
-            for (int q = 0; q < nc && !seen; ++q) seen = cand[q] == E;
+            for (int q = 0; q < nc && q < cap && !seen; ++q) seen = cand(e, q) == E;
             if (seen) continue;
-            if (nc == kMortar3Candidates) {
-              Kokkos::atomic_fetch_max(&flags(1), 1);
-              continue;
-            }
-            cand[nc++] = E;
+            if (nc < cap) cand(e, nc) = E;
+            ++nc;
           }
         }
+    if (nc > cap) {   // the host grows the rows and segments again
+      Kokkos::atomic_fetch_max(&flags(1), nc);
+      return;
+    }
     for (int q = 0; q < nc; ++q) {
-      const int E = cand[q];
+      const int E = cand(e, q);
       int mspn[2];
       surface_element_spans(ms, E, mspn);
       const double mlo[2] = {ms.U[0](mspn[0]), ms.U[1](mspn[1])}, mhi[2] = {ms.U[0](mspn[0] + 1), ms.U[1](mspn[1] + 1)};
@@ -164,14 +172,14 @@ struct MortarSegments3 {
           if (kmath::fabs(du) + kmath::fabs(dv) < 1e-14 * hsz) { ok = true; break; }
           if (kmath::fabs(u - uc) > 100 * hsz || kmath::fabs(v - vc) > 100 * hsz) break;   // running away
         }
-        if (!ok || kmath::fabs(tt) > m.radius) continue;
+        if (!ok || kmath::fabs(tt) > margin) continue;
         poly.v[poly.n][0] = u;
         poly.v[poly.n][1] = v;
         ++poly.n;
       }
       if (poly.n < 3) continue;
       ClipPolygon P;
-      if (clip_polygons(rect, poly, P) & kClipOverflow) Kokkos::atomic_fetch_max(&flags(1), 2);
+      if (clip_polygons(rect, poly, P) & kClipOverflow) Kokkos::atomic_fetch_max(&flags(2), 1);
       const double mc[2] = {mlo[0] + (ci + 0.5) / sub * (mhi[0] - mlo[0]), mlo[1] + (cj + 0.5) / sub * (mhi[1] - mlo[1])};
       for_each_polygon_point(P, gauss, [&](const double x[2], double w) {
         if (used < slots) {

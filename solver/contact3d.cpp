@@ -91,7 +91,7 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
     ms.active = Kokkos::View<int*, MemSpace>("activeA", na);
     ms.covered = Kokkos::View<int*, MemSpace>("coveredA", na);
     ms.flags = Kokkos::View<int*, MemSpace>("flags", 2);
-    seg_flags_ = Kokkos::View<int*, MemSpace>("segment_flags", 2);
+    seg_flags_ = Kokkos::View<int*, MemSpace>("segment_flags", 3);
     {
       const SurfaceData ref = reference_surface(slave.f[0]);
       const GaussRule g = gauss_rule(std::min(std::max(h.p[0], h.p[1]) + 2, kMaxGauss));
@@ -332,14 +332,18 @@ void ContactSurfaces3::refresh() {
       // tangent's consistency error, ~1e-6 with whole elements on a curved test surface, falls
       // by 4); a degree-1 master's elements whole
       ks.sub = std::max(hm_[0].p[0], hm_[0].p[1]) > 1 ? 2 : 1;
+      if (static_cast<int>(cand_.extent(0)) != ne) cand_ = decltype(cand_)("mortar_candidates", ne, kMortar3Candidates);
+      ks.cand = cand_;
       Kokkos::deep_copy(seg_flags_, 0);
       Kokkos::parallel_for("iga::MortarSegments3", Kokkos::RangePolicy<ExecSpace>(0, ne), ks);
       auto fl = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), seg_flags_);
-      if (fl(1) != 0) throw ContactError("3-D mortar: a slave element meets more master elements than the segmentation holds (" +
-                                         std::to_string(kMortar3Candidates) + "), or a clipped segment has too many vertices");
-      if (fl(0) == 0) break;
-      slots = std::max(fl(0), slots + slots / 2);
-      allocate_points(ne * slots);
+      if (fl(2) != 0) throw ContactError("3-D mortar: a clipped segment has more vertices than the segmentation holds");
+      if (fl(0) == 0 && fl(1) == 0) break;
+      if (fl(1) > 0) cand_ = decltype(cand_)("mortar_candidates", ne, std::max<int>(fl(1), cand_.extent(1) * 3 / 2));
+      if (fl(0) > 0) {
+        slots = std::max(fl(0), slots + slots / 2);
+        allocate_points(ne * slots);
+      }
     }
   }
   ProjectSlavePoints3 k;

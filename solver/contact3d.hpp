@@ -52,6 +52,7 @@ class ContactSurfaces3 {
  private:
   void allocate_points(int n);
   Kokkos::View<int*, MemSpace> seg_flags_;
+  Kokkos::View<int**, Kokkos::LayoutRight, MemSpace> cand_;   // mortar: candidate master elements per slave element
   int rank_ = 0, nranks_ = 1;
   struct HostFace {
     std::vector<GO> gid;        // per face control point
