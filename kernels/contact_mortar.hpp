@@ -212,6 +212,17 @@ KOKKOS_INLINE_FUNCTION void for_each_support_point(const CurveData& s, const Sla
   });
 }
 
+/// Slave control point A's weighted gap g (cov: some slot of its support has a projection),
+/// multiplier and activity: lambda_A = <lbar_A - eps g / w_A>, active at >= -eps touch. One rule
+/// for 2-D and 3-D (MortarGaps, MortarGaps3).
+KOKKOS_INLINE_FUNCTION void mortar_multiplier(const MortarState& ms, int A, double g, int cov, double eps, double touch) {
+  ms.gA(A) = g;
+  ms.covered(A) = cov;
+  const double l = ms.lbar(A) - eps * g / ms.wA(A);
+  ms.active(A) = cov && l >= -eps * touch ? 1 : 0;
+  ms.lambda(A) = cov && l > 0 ? l : 0.0;
+}
+
 /// Weighted gaps, multipliers and the active set of every slave control point.
 struct MortarGaps {
   CurveData s;
@@ -229,11 +240,7 @@ struct MortarGaps {
       g += RA * p.weight(i) * p.gap(i);
       cov = 1;
     });
-    ms.gA(A) = g;
-    ms.covered(A) = cov;
-    const double l = ms.lbar(A) - eps * g / ms.wA(A);
-    ms.active(A) = cov && l >= -eps * touch ? 1 : 0;
-    ms.lambda(A) = cov && l > 0 ? l : 0.0;
+    mortar_multiplier(ms, A, g, cov, eps, touch);
   }
 };
 

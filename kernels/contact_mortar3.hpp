@@ -246,11 +246,7 @@ struct MortarGaps3 {
       g += RA * p.weight(i) * p.gap(i);
       cov = 1;
     });
-    ms.gA(A) = g;
-    ms.covered(A) = cov;
-    const double l = ms.lbar(A) - eps * g / ms.wA(A);
-    ms.active(A) = cov && l >= -eps * touch ? 1 : 0;
-    ms.lambda(A) = cov && l > 0 ? l : 0.0;
+    mortar_multiplier(ms, A, g, cov, eps, touch);
   }
 };
 
