@@ -175,6 +175,7 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
       }
   }
   if (!(h_min_ < 1e300)) h_min_ = 1;
+  sp.touch = 1e-12 * h_min_;   // gaps within round-off of 0 count as closed (touching at the start)
   if (!mortar) {
     const int n = static_cast<int>(face.size());
     allocate_points(n);

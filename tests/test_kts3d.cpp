@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <random>
+#include <iomanip>
 #include <sstream>
 
 #include "support.hpp"
@@ -124,7 +125,7 @@ void check_tangent(int p, bool multipliers, std::array<double, 3> shift, const s
 // Two blocks of 2 x 2 x 1 stacked, different moduli and Poisson ratios with the same lateral
 // strain nu p / E (so the interface does not slide), rollers on the west and south faces, the
 // base's bottom on rollers in z, pressure p = 1 on top.
-std::string stacked(int p, int base_n, int top_n, const std::string& method) {
+std::string stacked(int p, int base_n, int top_n, const std::string& method, double top_z = 1.0) {
   std::ostringstream os;
   os << "analysis: {type: solid}\n"
      << "bodies:\n"
@@ -134,7 +135,7 @@ std::string stacked(int p, int base_n, int top_n, const std::string& method) {
      << base_n << ", 1]}\n"
      << "    boundary: {front: {displacement: {z: 0}}, west: {displacement: {x: 0}}, south: {displacement: {y: 0}}}\n"
      << "  - name: top\n    material: {youngs_modulus: 1000.0, poisson_ratio: 0.15}\n"
-     << "    geometry: {box: {origin: [0, 0, 1], size: [2, 2, 1]}}\n"
+     << "    geometry: {box: {origin: [0, 0, " << std::setprecision(17) << top_z << "], size: [2, 2, 1]}}\n"
      << "    refine: {degree_elevate: [" << p - 1 << ", " << p - 1 << ", " << p - 1 << "], subdivide: [" << top_n << ", "
      << top_n << ", 1]}\n"
      << "    boundary: {back: {pressure: 1.0}, west: {displacement: {x: 0}}, south: {displacement: {y: 0}}}\n"
@@ -238,6 +239,20 @@ TEST(StackedBoxes, MortarPassesThePatchTestToRoundOff) {
         EXPECT_NEAR(sm.fz, 4.0, 1e-10);
         EXPECT_NEAR(sm.contact_length, 4.0, 1e-12);   // the segments tile the slave face
       }
+}
+
+// Bodies that touch within round-off at the start (the top block 1e-13 above the base: a gap
+// below 1e-12 of the smallest slave element counts as closed, as in 2-D): the contact holds the
+// top block from the first solve, which is otherwise free to move in z (a singular system).
+TEST(StackedBoxes, TouchingWithinRoundOffHoldsFromTheFirstSolve) {
+  for (const char* method : {"kts_penalty", "mortar_penalty"}) {
+    const Solved s = solve_text(stacked(2, 2, 3, method, 1.0 + 1e-13));
+    ASSERT_TRUE(s.res.converged) << method;
+    EXPECT_NEAR(s.res.contact[0].summary().normal_force, 4.0, 1e-9) << method;
+    // the first solve is the linear answer for the touching state; the 1e-13 offset leaves a
+    // residual of eps x 1e-13 relative to the load, which one more iteration removes
+    EXPECT_LE(s.res.newton_iterations[0], 2) << method;
+  }
 }
 
 // Non-nested meshes (3 x 3 slave elements over 2 x 2 master elements): the slave Gauss rule
