@@ -1,12 +1,15 @@
-// 3-D knot-to-surface contact between solids (kernels/contact_kts3.hpp, solver/contact3d.cpp):
-//   Kts3Tangent   K_c against central differences of f_c, and f_c against differences of the
-//                 potential, on a curved rational master (a bump), with and without ALM
-//                 multipliers, after a slide over several master elements (finite kinematics)
-//   StackedBoxes  the contact patch test: two blocks of different moduli under a uniform
-//                 pressure; with nested meshes the stress is uniform to round-off, with
-//                 non-nested ones equilibrium holds to round-off and the error is KTS's
-//   Slab          a ring pressed by a block, extruded into a slab held at u_z = 0 on both
-//                 faces: the 3-D run equals the 2-D plane-strain run to round-off
+// 3-D contact between solids, knot-to-surface (kernels/contact_kts3.hpp) and mortar
+// (kernels/contact_mortar3.hpp), solver/contact3d.cpp:
+//   Kts3Tangent    K_c against central differences of f_c, and f_c against differences of the
+//                  potential, on a curved rational master (a bump), with and without ALM
+//                  multipliers, after a slide over several master elements (finite kinematics)
+//   Mortar3Tangent the same for mortar (weighted-gap term and pressure field)
+//   StackedBoxes   the contact patch test: two blocks of different moduli under a uniform
+//                  pressure; KTS with nested meshes and mortar with non-nested ones (p = 1..4)
+//                  uniform to round-off; KTS non-nested: equilibrium; bodies touching within
+//                  round-off at the start
+//   Slab           a ring pressed by a block, extruded into a slab held at u_z = 0 on both
+//                  faces: the 3-D KTS run equals the 2-D plane-strain run to round-off
 // Run on 1 and 2 ranks (ctest test_kts3d, test_kts3d_2ranks).
 #include <gtest/gtest.h>
 
