@@ -90,7 +90,7 @@ double dot(const std::array<double, 3>& a, const std::array<double, 3>& b) { ret
 
 // Points and outward normals of patch faces: `per` + 2 points a direction per element (its
 // corners and edges included), normals by central differences of the face's map.
-std::vector<FaceSample> sample_faces(const Body& b, const std::vector<PatchSide>& sides, int per, double* h_min = nullptr) {
+std::vector<FaceSample> sample_faces(const Body& b, const std::vector<PatchSide>& sides, int per) {
   std::vector<FaceSample> out;
   for (const PatchSide& ps : sides) {
     const Patch& Pt = b.patches[ps.patch];
@@ -101,15 +101,6 @@ std::vector<FaceSample> sample_faces(const Body& b, const std::vector<PatchSide>
     for (int e1 : s1)
       for (int e0 : s0) {
         const double a[2] = {F.knots[0][e0], F.knots[1][e1]}, z[2] = {F.knots[0][e0 + 1], F.knots[1][e1 + 1]};
-        if (h_min) {
-          const double c0[2] = {a[0], a[1]}, c1[2] = {z[0], a[1]}, c2[2] = {a[0], z[1]}, c3[2] = {z[0], z[1]};
-          const auto p0 = F.point(c0), p1 = F.point(c1), p2 = F.point(c2), p3 = F.point(c3);
-          auto d = [](const std::array<double, kMaxDim>& u, const std::array<double, kMaxDim>& v) {
-            return std::sqrt((u[0] - v[0]) * (u[0] - v[0]) + (u[1] - v[1]) * (u[1] - v[1]) + (u[2] - v[2]) * (u[2] - v[2]));
-          };
-          const double size = std::max(std::max(d(p0, p1), d(p2, p3)), std::max(d(p0, p2), d(p1, p3)));
-          if (size > 0) *h_min = std::min(*h_min, size);
-        }
         for (int j = 0; j <= per + 1; ++j)
           for (int i = 0; i <= per + 1; ++i) {
             const double t[2] = {a[0] + (z[0] - a[0]) * i / (per + 1), a[1] + (z[1] - a[1]) * j / (per + 1)};
@@ -192,11 +183,28 @@ std::string check_pair_facing(const Problem& P, const ContactPair& c) {
          (facing.empty() ? std::string("") : " (sides of " + sb.name + " that face it: " + facing + ")");
 }
 
+double smallest_element_size(const Patch& F) {
+  double h = std::numeric_limits<double>::infinity();
+  for (int s1 : F.element_spans(1))
+    for (int s0 : F.element_spans(0)) {
+      const double c[4][2] = {{F.knots[0][s0], F.knots[1][s1]}, {F.knots[0][s0 + 1], F.knots[1][s1]},
+                              {F.knots[0][s0], F.knots[1][s1 + 1]}, {F.knots[0][s0 + 1], F.knots[1][s1 + 1]}};
+      std::array<double, kMaxDim> x[4];
+      for (int k = 0; k < 4; ++k) x[k] = F.point(c[k]);
+      auto d = [&](int i, int j) { return std::sqrt(dot({x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]},
+                                                        {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]})); };
+      const double size = std::max(std::max(d(0, 1), d(2, 3)), std::max(d(0, 2), d(1, 3)));
+      if (size > 0) h = std::min(h, size);
+    }
+  return h;
+}
+
 double penalty_ratio(const Problem& P, const ContactPair& c, double* E_out, double* h_out) {
   const double E = std::min(P.bodies[c.slave.body].E, P.bodies[c.master.body].E);
   if (P.dim() == 3) {
     double h = std::numeric_limits<double>::infinity();
-    sample_faces(P.bodies[c.slave.body], c.slave.sides, 0, &h);
+    for (const PatchSide& ps : c.slave.sides)
+      h = std::min(h, smallest_element_size(P.bodies[c.slave.body].patches[ps.patch].face(ps.side)));
     if (E_out) *E_out = E;
     if (h_out) *h_out = h;
     return std::isfinite(h) && E > 0 ? c.penalty / (E / h) : 0.0;

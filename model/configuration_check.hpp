@@ -52,6 +52,11 @@ constexpr double kPenaltyRatioWarning = 1e4;
 /// One line about a pair's penalty where its ratio is above kPenaltyRatioWarning, else "".
 std::string penalty_warning(const Problem& P, int pair);
 
+/// A face (a bivariate patch with 3-D points): the smallest over its elements of the longest
+/// distance between two corners along an element edge (infinity without elements of positive
+/// size). The slave element size of the penalty check and of 3-D contact's tolerances.
+double smallest_element_size(const Patch& face);
+
 /// u: per body, 2 displacements per merged control point (Body::cp_index numbering).
 /// allowed_penetration[pair]: the largest penetration each contact pair reports now.
 /// Returns "" or one line: bodies, sides, depth and where.

@@ -2,6 +2,7 @@
 // displacements of both surfaces, search and projection (kernels/contact_kts3.hpp).
 #include "solver/contact3d.hpp"
 #include "solver/contact.hpp"
+#include "model/configuration_check.hpp"
 #include "solver/system_internal.hpp"
 #include "kernels/numbering.hpp"
 #include "kernels/sides.hpp"
@@ -81,7 +82,7 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
     const HostFace& h = hs_[0];
     const int pmax = std::max({h.p[0], h.p[1], hm_[0].p[0], hm_[0].p[1]});
     gauss = gauss_rule(pair.quadrature_points > 0 ? pair.quadrature_points : pmax + 1);
-    slots = 4 * 6 * gauss.n * gauss.n;
+    slots = 4 * 6 * gauss.n * gauss.n;   // room for 4 segments of 6 fan triangles to start with
     const int ne = h.ne[0] * h.ne[1], na = h.n[0] * h.n[1];
     allocate_points(ne * slots);
     ms.wA = Kokkos::View<double*, MemSpace>("wA", na);
@@ -125,7 +126,7 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
   h_min_ = 1e300;
   for (int fi = 0; fi < slave.n; ++fi) {
     const HostFace& h = hs_[fi];
-    if (mortar) break;   // the slots come from the segmentation; h_min below all the same
+    if (mortar) break;   // the slots come from the segmentation
     const Patch F = P.bodies[pair.slave.body].patches[pair.slave.sides[fi].patch].face(pair.slave.sides[fi].side);
     int nq[2];
     for (int d = 0; d < 2; ++d)
@@ -135,19 +136,6 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
       for (int e0 = 0; e0 < h.ne[0]; ++e0) {
         const int s0 = h.span[0][e0], s1 = h.span[1][e1];
         const double a0 = F.knots[0][s0], b0 = F.knots[0][s0 + 1], a1 = F.knots[1][s1], b1 = F.knots[1][s1 + 1];
-        // the element's size: its longest corner-to-corner distance... the smallest over the surface
-        double corner[4][3];
-        for (int c = 0; c < 4; ++c) {
-          const double t[2] = {c % 2 ? b0 : a0, c / 2 ? b1 : a1};
-          const auto x = F.point(t);
-          for (int d = 0; d < 3; ++d) corner[c][d] = x[d];
-        }
-        auto dist = [&](int i, int j) {
-          return std::sqrt(std::pow(corner[i][0] - corner[j][0], 2) + std::pow(corner[i][1] - corner[j][1], 2) +
-                           std::pow(corner[i][2] - corner[j][2], 2));
-        };
-        const double size = std::max(std::max(dist(0, 1), dist(2, 3)), std::max(dist(0, 2), dist(1, 3)));
-        if (size > 0) h_min_ = std::min(h_min_, size);
         for (int q1 = 0; q1 < nq[1]; ++q1)
           for (int q0 = 0; q0 < nq[0]; ++q0) {
             face.push_back(fi);
@@ -158,22 +146,9 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
           }
       }
   }
-  if (mortar) {
-    const Patch F = P.bodies[pair.slave.body].patches[pair.slave.sides[0].patch].face(pair.slave.sides[0].side);
-    const HostFace& h = hs_[0];
-    for (int s1 : h.span[1])
-      for (int s0 : h.span[0]) {
-        const double c[4][2] = {{F.knots[0][s0], F.knots[1][s1]}, {F.knots[0][s0 + 1], F.knots[1][s1]},
-                                {F.knots[0][s0], F.knots[1][s1 + 1]}, {F.knots[0][s0 + 1], F.knots[1][s1 + 1]}};
-        std::array<double, kMaxDim> x[4];
-        for (int k = 0; k < 4; ++k) x[k] = F.point(c[k]);
-        auto dist = [&](int i, int j) {
-          return std::sqrt(std::pow(x[i][0] - x[j][0], 2) + std::pow(x[i][1] - x[j][1], 2) + std::pow(x[i][2] - x[j][2], 2));
-        };
-        const double size = std::max(std::max(dist(0, 1), dist(2, 3)), std::max(dist(0, 2), dist(1, 3)));
-        if (size > 0) h_min_ = std::min(h_min_, size);
-      }
-  }
+  // the smallest slave element (the ALM gap scale and the touch tolerance)
+  for (const PatchSide& ps : pair.slave.sides)
+    h_min_ = std::min(h_min_, smallest_element_size(P.bodies[pair.slave.body].patches[ps.patch].face(ps.side)));
   if (!(h_min_ < 1e300)) h_min_ = 1;
   sp.touch = 1e-12 * h_min_;   // gaps within round-off of 0 count as closed (touching at the start)
   if (!mortar) {
