@@ -12,6 +12,9 @@
 #include <set>
 #include <cmath>
 #include <stdexcept>
+#include <type_traits>
+
+#include <Teuchos_CommHelpers.hpp>
 
 namespace iga {
 
@@ -64,6 +67,7 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
   const Problem& P = sys.problem();
   rank_ = sys.comm()->getRank();
   nranks_ = sys.comm()->getSize();
+  comm_ = sys.comm();
   for (int which = 0; which < 2; ++which) {
     const ContactSurface& cs = which == 0 ? pair.slave : pair.master;
     ContactFaces& faces = which == 0 ? slave : master;
@@ -327,7 +331,10 @@ void ContactSurfaces3::refresh() {
   k.m = master;
   k.sp = sp;
   k.eps = pair.penalty;
-  Kokkos::parallel_for("iga::ProjectSlavePoints3", Kokkos::RangePolicy<ExecSpace>(0, num_points()), k);
+  // KTS: this rank's points only (their assembly is this rank's; state() sums the others'
+  // in). Mortar: every slot, which the weighted gaps of this rank's control points read
+  const int first = mortar ? 0 : p_begin, last = mortar ? num_points() : p_end;
+  Kokkos::parallel_for("iga::ProjectSlavePoints3", Kokkos::RangePolicy<ExecSpace>(first, last), k);
   if (mortar) {
     MortarGaps3 kg;
     kg.s = slave; kg.sp = sp; kg.ms = ms; kg.eps = pair.penalty; kg.touch = sp.touch; kg.slots = slots;
@@ -425,6 +432,30 @@ void ContactSurfaces3::state(ContactPointState& s, bool projected_only) const {
   auto valid = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.valid);
   auto w = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.weight);
   auto face = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.face);
+  if (!mortar && nranks_ > 1) {
+    // KTS projects each rank's own points: the others' entries zeroed here, then summed over
+    // the ranks, so that every rank holds every point's state
+    auto sum = [&](auto& v) {
+      using V = std::decay_t<decltype(v)>;
+      using T = typename V::non_const_value_type;
+      for (int i = 0; i < n; ++i) {
+        if (i >= p_begin && i < p_end) continue;
+        if constexpr (V::rank == 1) v(i) = 0;
+        else
+          for (int c = 0; c < static_cast<int>(v.extent(1)); ++c) v(i, c) = 0;
+      }
+      const int len = static_cast<int>(v.span());   // the whole contiguous array, any layout
+      std::vector<T> out(len);
+      Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, len, v.data(), out.data());
+      std::copy(out.begin(), out.end(), v.data());
+    };
+    sum(x);
+    sum(nrm);
+    sum(gap);
+    sum(pr);
+    sum(lam);
+    sum(valid);
+  }
   for (int i = 0; i < n; ++i) {
     if (face(i) < 0) continue;   // an unused mortar slot
     if (projected_only && !valid(i)) continue;

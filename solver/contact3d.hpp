@@ -25,6 +25,8 @@ class ContactSurfaces3 {
   void groups(std::vector<std::vector<GO>>& out, int& active) const;
   /// Overlap LIDs of the faces' control points in the contact matrix's numbering cps.
   void set_lids(const std::vector<GO>& cps);
+  /// Every slave point's state on every rank (collective: KTS projects only this rank's
+  /// points, and the states of the others come by a sum over the ranks).
   void state(ContactPointState& s, bool projected_only) const;
   double h_min() const { return h_min_; }
   /// Global control point ids of both surfaces (sorted, unique).
@@ -51,6 +53,7 @@ class ContactSurfaces3 {
 
  private:
   void allocate_points(int n);
+  RCP<const Comm> comm_;
   Kokkos::View<int*, MemSpace> seg_flags_;
   Kokkos::View<int**, Kokkos::LayoutRight, MemSpace> cand_;   // mortar: candidate master elements per slave element
   int rank_ = 0, nranks_ = 1;

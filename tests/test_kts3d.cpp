@@ -327,6 +327,7 @@ TEST(Slab, EqualsThe2DPlaneStrainRun) {
           "penalty: 1.0e4, quadrature_points: 4}\n";
     const Solved s3 = solve_text(os.str());
     ASSERT_TRUE(s3.res.converged);
+    const ContactSummary c2 = s2.res.contact[0].summary(), c3 = s3.res.contact[0].summary();   // collective
     if (s3.sys->comm()->getRank() == 0) {
       double diff = 0, scale = 0;
       for (int b = 0; b < 2; ++b) {
@@ -341,7 +342,6 @@ TEST(Slab, EqualsThe2DPlaneStrainRun) {
             EXPECT_EQ(s3.disp[b][3 * (a + n2 * k) + 2], 0.0);
           }
       }
-      const ContactSummary c2 = s2.res.contact[0].summary(), c3 = s3.res.contact[0].summary();
       std::printf("  p = %d: max |u_3D - u_2D| = %.2e of %.2e; force (%.12g, %.12g) vs 2-D (%.12g, %.12g); active %d vs %d; "
                   "Newton %d vs %d\n",
                   p, diff, scale, c3.fx, c3.fy, c2.fx, c2.fy, c3.active_points, c2.active_points, newton_total(s3),
