@@ -18,7 +18,7 @@
 //   (the 2-D G of contact_kts.hpp with a11 -> the metric; symmetric, since A + g A b H^-1 = H^-1)
 // Contributions of an active point (lambda - eps g >= -eps touch), p = max(0, lambda - eps g):
 //   f_c += -p w N,   K_c += w (eps N N^T - p G),   w = Gauss weights x |X_u x X_v| (reference)
-// The force on the slave body is -sum over the slave rows of f_c (ForceSum3: Fx, Fy, Fz, Fn).
+// The force on the slave body is -sum over the slave rows of f_c (a ForceSum: Fx, Fy, Fz, Fn).
 //
 // Data layout: a contact surface is a list of patch faces (ContactFaces, at most
 // kMaxFacesPerSurface), each a SurfaceData (knots, spans, current control points (x, y, z, w))
@@ -71,8 +71,6 @@ struct SlavePoints3 {
   double touch = 0;
 };
 
-/// [Fx, Fy, Fz, Fn]: the force the assembly puts on the slave body.
-using ForceSum3 = Kokkos::View<double[4], MemSpace>;
 
 /// Spans of element e of a surface.
 KOKKOS_INLINE_FUNCTION void surface_element_spans(const SurfaceData& sd, int e, int s[2]) {
@@ -154,6 +152,14 @@ struct ProjectSlavePoints3 {
     for (int c = 0; c < 3; ++c) sp.x(i, c) = x[c];
     double best = 1e300, buv[2] = {0, 0}, bfoot[3] = {0, 0, 0};
     int bface = -1, belem = -1;
+    auto keep = [&](int f, int e, double d2, const double uv[2], const double foot[3]) {
+      best = d2;
+      bface = f;
+      belem = e;
+      buv[0] = uv[0];
+      buv[1] = uv[1];
+      for (int c = 0; c < 3; ++c) bfoot[c] = foot[c];
+    };
     // warm start: Newton from the previous projection on its element; kept without a search
     // when it lands strictly inside that element (the closest point moved continuously)
     if (prev_face >= 0 && prev_elem >= 0) {
@@ -165,27 +171,14 @@ struct ProjectSlavePoints3 {
       surface_element_spans(sd, prev_elem, ps);
       bool interior = inside;
       for (int k = 0; k < 2; ++k) interior = interior && uv[k] > sd.U[k](ps[k]) && uv[k] < sd.U[k](ps[k] + 1);
-      if (interior && d2 <= m.radius * m.radius) {
-        best = d2;
-        bface = prev_face;
-        belem = prev_elem;
-        buv[0] = uv[0];
-        buv[1] = uv[1];
-        for (int c = 0; c < 3; ++c) bfoot[c] = foot[c];
-      }
+      if (interior && d2 <= m.radius * m.radius) keep(prev_face, prev_elem, d2, uv, foot);
     }
     const int nsearch = bface < 0 ? m.n : 0;   // no warm start: every master face, the nearest foot
     for (int f = 0; f < nsearch; ++f) {
       double uv[2], foot[3], d2;
       bool inside = false;
       const int e = closest_on_surface(m.f[f].sd, m.search[f], x, m.radius, uv, foot, d2, inside);
-      if (e < 0 || !inside || !(d2 < best)) continue;
-      best = d2;
-      bface = f;
-      belem = e;
-      buv[0] = uv[0];
-      buv[1] = uv[1];
-      for (int c = 0; c < 3; ++c) bfoot[c] = foot[c];
+      if (e >= 0 && inside && d2 < best) keep(f, e, d2, uv, foot);
     }
     sp.melem(i) = belem;
     if (bface < 0) return;
@@ -223,7 +216,7 @@ struct AssembleKts3 {
   bool mortar = false;
   LocalMatrix K;
   FView f;
-  ForceSum3 force;
+  ForceSum force;   // [Fx, Fy, Fz, Fn]: the force the assembly puts on the slave body
 
   KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
     const int i = p_begin + k;

@@ -22,6 +22,7 @@ ContactPairData::ContactPairData(const System& sys, int index) : pair_(sys.probl
   nranks_ = sys.comm()->getSize();
   if (sys.dim() == 3) {   // faces of solids: contact3d.cpp
     thickness = 1;
+    force_ = ForceSum("contact_force");
     s3_ = std::make_shared<ContactSurfaces3>(sys, pair_);
     h_min_ = s3_->h_min();
     commit();

@@ -102,13 +102,13 @@ class ContactPairData {
   // friction (every pair: the slip and state outputs; assembled only where mu > 0)
   FrictionData fr_;
   // the force on the slave body: summed by the assembly kernels on this rank (force_), all
-  // ranks' sum after assemble_contact (assembled_: Fx, Fy, Fn, Ft; ContactSummary)
+  // ranks' sum after assemble_contact (assembled_: Fx, Fy, Fn, Ft in 2-D, Fx, Fy, Fz, Fn in
+  // 3-D; ContactSummary)
   ForceSum force_;
   double assembled_[4] = {0, 0, 0, 0};
   // 3-D (a pair of solids' faces): the pair's state lives here and the methods above forward
-  // to it; the 2-D members stay empty. assembled3_: Fx, Fy, Fz, Fn
+  // to it; the 2-D members stay empty
   std::shared_ptr<ContactSurfaces3> s3_;
-  double assembled3_[4] = {0, 0, 0, 0};
 
  private:
   ContactPair pair_;

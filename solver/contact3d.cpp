@@ -78,7 +78,6 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
     faces.n = static_cast<int>(cs.sides.size());
     for (size_t k = 0; k < cs.sides.size(); ++k) faces.f[k] = make_face(sys, cs.body, cs.sides[k], hf[k]);
   }
-  force = ForceSum3("contact_force3");
   mortar = pair.method == ContactMethod::MortarPenalty || pair.method == ContactMethod::MortarAlm;
   if (mortar) {
     // quadrature slots per slave element, filled by MortarSegments3 at every update (they grow

@@ -36,7 +36,6 @@ class ContactSurfaces3 {
   ContactFaces slave, master;
   SlavePoints3 sp;
   int p_begin = 0, p_end = 0;   // this rank's slave points (mortar: quadrature slots)
-  ForceSum3 force;
   // mortar (contact_mortar3.hpp): slots per slave element, the rule on each segment, the
   // per-control-point state, this rank's slave control points and their scratch rows
   bool mortar = false;

@@ -119,7 +119,7 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
     again = false;
     for (auto& pd : pairs) {
       if (pd.mortar()) Kokkos::deep_copy(pd.ms_.flags, 0);
-      Kokkos::deep_copy(pd.s3_ ? pd.s3_->force : pd.force_, 0.0);
+      Kokkos::deep_copy(pd.force_, 0.0);
     }
     for (auto& pd : pairs) {
       if (pd.s3_) {
@@ -128,7 +128,7 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
         if (c3.p_end > c3.p_begin) {
           AssembleKts3<decltype(lcl), decltype(fv)> k;
           k.s = c3.slave; k.m = c3.master; k.sp = c3.sp; k.eps = c3.pair.penalty; k.mortar = c3.mortar;
-          k.p_begin = c3.p_begin; k.K = lcl; k.f = fv; k.force = c3.force;
+          k.p_begin = c3.p_begin; k.K = lcl; k.f = fv; k.force = pd.force_;
           Kokkos::parallel_for(c3.mortar ? "iga::AssembleMortarPressure3" : "iga::AssembleKts3",
                                Kokkos::RangePolicy<ExecSpace>(0, c3.p_end - c3.p_begin), k);
         }
@@ -196,9 +196,9 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
   K->fillComplete(sys.owned_map(), sys.owned_map());
   // each pair's force on its slave body: this rank's points summed by the kernels, all ranks'
   for (auto& pd : pairs) {
-    auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.s3_ ? pd.s3_->force : pd.force_);
+    auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.force_);
     double loc[4] = {h(0), h(1), h(2), h(3)};
-    Teuchos::reduceAll(*sys.comm(), Teuchos::REDUCE_SUM, 4, loc, pd.s3_ ? pd.assembled3_ : pd.assembled_);
+    Teuchos::reduceAll(*sys.comm(), Teuchos::REDUCE_SUM, 4, loc, pd.assembled_);
   }
   ContactContribution out;
   out.K = sys.export_matrix(K);

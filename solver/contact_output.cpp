@@ -85,10 +85,10 @@ ContactSummary ContactPairData::summary() const {
   // the forces: what the last assembly put on the slave dofs (assemble_contact), so that
   // they are the residual's and equal the reactions
   if (s3_) {
-    c.fx = assembled3_[0];
-    c.fy = assembled3_[1];
-    c.fz = assembled3_[2];
-    c.normal_force = assembled3_[3];
+    c.fx = assembled_[0];
+    c.fy = assembled_[1];
+    c.fz = assembled_[2];
+    c.normal_force = assembled_[3];
   } else {
     c.fx = assembled_[0];
     c.fy = assembled_[1];
