@@ -324,17 +324,24 @@ nlohmann::json ResultWriter::contact_json(const std::vector<ContactPairData>& co
   nlohmann::json out = nlohmann::json::array();
   for (const auto& c : contact) {
     const ContactSummary s = c.summary();
-    if (P.dim() == 3) {   // solids: three force components, the contact area (frictionless)
-      out.push_back({{"master", {{"body", P.bodies[c.pair().master.body].name}, {"side", c.pair().master.label}}},
-                     {"slave", {{"body", P.bodies[c.pair().slave.body].name}, {"side", c.pair().slave.label}}},
-                     {"method", contact_method_name(c.pair().method)},
-                     {"normal_force", s.normal_force},
-                     {"force", {s.fx, s.fy, s.fz}},
-                     {"max_pressure", s.max_pressure},
-                     {"contact_area", s.contact_length},
-                     {"max_penetration", s.max_penetration},
-                     {"active_points", s.active_points},
-                     {"friction", c.pair().friction}});
+    if (P.dim() == 3) {   // solids: three force components, the contact area; with friction the
+                          // tangential force [Tx, Ty, Tz] and the stick and slip areas
+      nlohmann::json j = {{"master", {{"body", P.bodies[c.pair().master.body].name}, {"side", c.pair().master.label}}},
+                          {"slave", {{"body", P.bodies[c.pair().slave.body].name}, {"side", c.pair().slave.label}}},
+                          {"method", contact_method_name(c.pair().method)},
+                          {"normal_force", s.normal_force},
+                          {"force", {s.fx, s.fy, s.fz}},
+                          {"max_pressure", s.max_pressure},
+                          {"contact_area", s.contact_length},
+                          {"max_penetration", s.max_penetration},
+                          {"active_points", s.active_points},
+                          {"friction", c.pair().friction}};
+      if (c.friction()) {
+        j["tangential_force"] = {s.tangential[0], s.tangential[1], s.tangential[2]};
+        j["stick_area"] = s.stick_length;
+        j["slip_area"] = s.slip_length;
+      }
+      out.push_back(j);
       continue;
     }
     out.push_back({{"master", {{"body", P.bodies[c.pair().master.body].name}, {"side", c.pair().master.label}}},
@@ -361,10 +368,13 @@ void ResultWriter::step(const StepState& st) {
                       {"reactions", reactions_json(sys_, *st.residual)}};
   nlohmann::json pairs = nlohmann::json::array();
   for (const auto& c : contact_json(*st.contact))
-    if (sys_.dim() == 3)
-      pairs.push_back({{"normal_force", c["normal_force"]}, {"force", c["force"]}, {"contact_area", c["contact_area"]},
-                       {"max_pressure", c["max_pressure"]}});
-    else
+    if (sys_.dim() == 3) {
+      nlohmann::json j = {{"normal_force", c["normal_force"]}, {"force", c["force"]}, {"contact_area", c["contact_area"]},
+                          {"max_pressure", c["max_pressure"]}};
+      for (const char* key : {"tangential_force", "stick_area", "slip_area"})
+        if (c.contains(key)) j[key] = c[key];
+      pairs.push_back(j);
+    } else
       pairs.push_back({{"normal_force", c["normal_force"]}, {"tangential_force", c["tangential_force"]}, {"force", c["force"]},
                        {"stick_length", c["stick_length"]}, {"slip_length", c["slip_length"]}});
   h["contact"] = pairs;
@@ -456,7 +466,13 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
       f.write(g + "/xi", cs.xi, {n});
       f.write(g + "/eta", cs.eta, {n});
       f.write(g + "/active", act, {n});
-      points_grid(k, g, n, {"gap", "pressure", "xi", "eta", "active"});
+      // friction (zeros when frictionless: every pair's grid has the same arrays): the length
+      // of the tangential traction, the accumulated slip, the state (0 open, 1 stick, 2 slip)
+      const std::vector<double> fstate(cs.state.begin(), cs.state.end());
+      f.write(g + "/tangential_traction", cs.tangential, {n});
+      f.write(g + "/slip", cs.slip, {n});
+      f.write(g + "/state", fstate, {n});
+      points_grid(k, g, n, {"gap", "pressure", "xi", "eta", "active", "tangential_traction", "slip", "state"});
     }
     for (size_t k = 0; k < (dim == 2 ? cstate.size() : 0); ++k) {
       // slave points in the reference configuration with their displacement, so that they
@@ -600,10 +616,19 @@ nlohmann::json ResultWriter::finish(const SolveResult& res) {
         return csv;
       };
       if (P.dim() == 3) {   // solids: ../docs/problem-file.md, "Outputs"
-        csv << "x,y,z,xi,eta,gap,pressure,active\n";
+        const bool fric = res.contact[k].friction();
+        csv << "x,y,z,xi,eta,gap,pressure,active" << (fric ? ",tx,ty,tz,slip,state" : "") << "\n";
         for (size_t i = 0; i < s.x.size(); ++i) {
           for (double v : {s.x[i], s.y[i], s.z[i], s.xi[i], s.eta[i], s.gap[i], s.pressure[i]}) num(v) << ",";
-          csv << s.active[i] << "\n";
+          csv << s.active[i];
+          if (fric) {
+            for (double v : {s.tx[i], s.ty[i], s.tz[i], s.slip[i]}) {
+              csv << ",";
+              num(v);
+            }
+            csv << "," << s.state[i];
+          }
+          csv << "\n";
         }
         write("contact_" + std::to_string(k) + ".csv", csv.str());
         continue;

@@ -314,8 +314,7 @@ double ContactPairData::max_active_gap_ratio() const {
 
 double ContactPairData::augment() {
   if (s3_) {
-    if (s3_->mortar) Kokkos::deep_copy(s3_->ms.lbar, s3_->ms.lambda);
-    else Kokkos::deep_copy(s3_->sp.lambda, s3_->sp.pressure);
+    s3_->augment();
   } else if (mortar_) {
     Kokkos::deep_copy(ms_.lbar, ms_.lambda);
     Kokkos::deep_copy(fr_.lamTA, fr_.tauA);
@@ -332,8 +331,8 @@ void ContactPairData::commit() {
     if (dst.extent(0) != src.extent(0)) dst = std::decay_t<decltype(dst)>(std::string(src.label()) + "_committed", src.extent(0));
     Kokkos::deep_copy(dst, src);
   };
-  if (s3_) {   // 3-D: the multipliers are the history (the projection is searched anew)
-    keep(committed_.lambda, s3_->mortar ? s3_->ms.lbar : s3_->sp.lambda);
+  if (s3_) {
+    s3_->commit();
     return;
   }
   keep(committed_.lambda, sp_.lambda);
@@ -361,11 +360,11 @@ void ContactPairData::commit() {
 }
 
 void ContactPairData::restore() {
-  if (!committed_.lambda.data()) return;   // nothing committed yet: the initial state stands
   if (s3_) {
-    Kokkos::deep_copy(s3_->mortar ? s3_->ms.lbar : s3_->sp.lambda, committed_.lambda);
+    s3_->restore();
     return;
   }
+  if (!committed_.lambda.data()) return;   // nothing committed yet: the initial state stands
   // mortar slots are segmented anew at every update (and may have grown since): their
   // per-slot state is not history; the multipliers per control point are
   if (!mortar_) {
@@ -382,7 +381,7 @@ void ContactPairData::restore() {
 
 void ContactPairData::reset_multipliers() {
   if (s3_) {
-    Kokkos::deep_copy(s3_->mortar ? s3_->ms.lbar : s3_->sp.lambda, 0.0);
+    s3_->reset_multipliers();
   } else if (mortar_) {
     Kokkos::deep_copy(ms_.lbar, 0.0);
     Kokkos::deep_copy(fr_.lamTA, 0.0);

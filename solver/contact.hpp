@@ -22,10 +22,12 @@ struct ContactError : std::runtime_error {
 /// tangential: traction on the slave along the unit master tangent (tx, ty) (increasing
 /// master parameter); slip: accumulated, same sign; state: 0 open, 1 stick, 2 slip.
 /// 3-D (solids): z, eta (the second slave face parameter), nz, face (the slave face's index in
-/// the pair's list) and X (the reference point, x y z per point) as well.
+/// the pair's list) and X (the reference point, x y z per point) as well; with friction,
+/// (tx, ty, tz) is the tangential traction vector on the slave, tangential its length, slip
+/// the accumulated slip path and slip_increment the length of this step's slip |g_T|.
 struct ContactPointState {
   std::vector<double> x, y, xi, gap, pressure, weight, nx, ny, tangential, slip, tx, ty;
-  std::vector<double> z, eta, nz, X;
+  std::vector<double> z, eta, nz, X, tz, slip_increment;
   std::vector<int> active, state, face;
 };
 
@@ -37,8 +39,12 @@ struct ContactPointState {
 /// along the tangent: tau (|t| + (eta - eta_n) e.rho'') |t| / H, H = |t|^2 - g n.rho'').
 /// 3-D: fz as well, and contact_length is the contact area (the measure of the active slave
 /// points).
+/// 3-D with friction: tangential (Tx, Ty, Tz), the slave rows' sum of the friction part of -f_c
+/// (the integral of the tangential traction as the weak form applies it); stick_length and
+/// slip_length are areas.
 struct ContactSummary {
   double normal_force = 0, fx = 0, fy = 0, fz = 0, max_pressure = 0, contact_length = 0, max_penetration = 0;
+  double tangential[3] = {0, 0, 0};
   double tangential_force = 0, stick_length = 0, slip_length = 0;
   int active_points = 0;
 };
@@ -71,8 +77,10 @@ class ContactPairData {
   /// ALM convergence: the largest gap of the active points and, with friction, the largest
   /// slip increment of the stick points, relative to the smallest slave element size.
   double max_active_gap_ratio() const;
-  bool friction() const { return fr_.mu > 0; }
-  FrictionCounts friction_counts() const { return counts_; }
+  bool friction() const { return s3_ ? s3_->friction : fr_.mu > 0; }
+  FrictionCounts friction_counts() const {
+    return s3_ ? FrictionCounts{s3_->counts[0], s3_->counts[1], s3_->counts[2]} : counts_;
+  }
   /// Slave points (KTS: quadrature points; mortar: segment quadrature points in use). A point
   /// without a projection on the master (beyond its ends) has no gap: NaN, and with
   /// projected_only (what the outputs write) it is left out.

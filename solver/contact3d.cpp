@@ -79,6 +79,11 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
     for (size_t k = 0; k < cs.sides.size(); ++k) faces.f[k] = make_face(sys, cs.body, cs.sides[k], hf[k]);
   }
   mortar = pair.method == ContactMethod::MortarPenalty || pair.method == ContactMethod::MortarAlm;
+  fr.mu = pair.friction;
+  fr.epsT = pair.tangential_penalty > 0 ? pair.tangential_penalty : pair.penalty;
+  fr.force = ForceSum("friction_force");
+  friction = fr.mu > 0;
+  if (friction && mortar) throw std::invalid_argument("3-D mortar contact is frictionless (friction with mortar between solids is not built yet)");
   if (mortar) {
     // quadrature slots per slave element, filled by MortarSegments3 at every update (they grow
     // to what an element needs); w_A = int R_A dGamma_0 by Gauss on the slave elements
@@ -217,6 +222,17 @@ void ContactSurfaces3::allocate_points(int n) {
   const auto r = block_range(n, rank_, nranks_);
   p_begin = static_cast<int>(r.first);
   p_end = static_cast<int>(r.second);
+  fr.ref_face = Kokkos::View<int*, MemSpace>("ref_face", n);
+  Kokkos::deep_copy(fr.ref_face, -1);
+  fr.ref_uv = Kokkos::View<double* [2], MemSpace>("ref_uv", n);
+  fr.lamT = Kokkos::View<double* [2], MemSpace>("lamT", n);
+  fr.tau = Kokkos::View<double* [2], MemSpace>("tau", n);
+  fr.t = Kokkos::View<double* [3], MemSpace>("traction", n);
+  fr.slip = Kokkos::View<double*, MemSpace>("slip", n);
+  fr.slip_c = Kokkos::View<double*, MemSpace>("slip_c", n);
+  fr.gT = Kokkos::View<double*, MemSpace>("gT", n);
+  fr.state = Kokkos::View<int*, MemSpace>("friction_state", n);
+  state_prev_ = Kokkos::View<int*, MemSpace>("friction_state_prev", n);
 }
 
 void ContactSurfaces3::mortar_scratch(int cap) {
@@ -254,9 +270,69 @@ double ContactSurfaces3::max_active_gap() const {
   }
   ContactPointState st;
   state(st, false);
-  for (size_t i = 0; i < st.gap.size(); ++i)
+  for (size_t i = 0; i < st.gap.size(); ++i) {
     if (st.active[i]) r = std::max(r, std::abs(st.gap[i]));
+    if (st.state[i] == 1) r = std::max(r, st.slip_increment[i]);   // friction: the stick points' |g_T|
+  }
   return r;
+}
+
+void ContactSurfaces3::update_friction() {
+  UpdateFriction3 k;
+  k.m = master; k.sp = sp; k.fr = fr; k.eps = pair.penalty;
+  Kokkos::parallel_for("iga::UpdateFriction3", Kokkos::RangePolicy<ExecSpace>(p_begin, p_end), k);
+  // stick / slip counts and the points that changed state since the previous update (all ranks)
+  const auto st = fr.state, prev = state_prev_;
+  int loc[3] = {0, 0, 0};
+  Kokkos::parallel_reduce("iga::FrictionCounts3", Kokkos::RangePolicy<ExecSpace>(p_begin, p_end),
+                          KOKKOS_LAMBDA(const int i, int& stick, int& slip, int& sw) {
+                            stick += st(i) == 1;
+                            slip += st(i) == 2;
+                            sw += st(i) != prev(i);
+                          },
+                          loc[0], loc[1], loc[2]);
+  Kokkos::deep_copy(state_prev_, fr.state);
+  Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, 3, loc, counts);
+}
+
+// History: the multipliers (the projection is searched anew) and friction's committed foot,
+// traction and accumulated slip. Every rank copies every point: the others' entries are its own
+// zeros or stale values that its kernels never read (each rank updates only its own points).
+void ContactSurfaces3::commit() {
+  auto keep = [](auto& dst, const auto& src) {
+    if (dst.extent(0) != src.extent(0)) dst = std::decay_t<decltype(dst)>(std::string(src.label()) + "_committed", src.extent(0));
+    Kokkos::deep_copy(dst, src);
+  };
+  keep(committed_.lambda, mortar ? ms.lbar : sp.lambda);
+  if (!friction) return;
+  Kokkos::deep_copy(fr.lamT, fr.tau);
+  keep(committed_.lamT, fr.lamT);
+  Kokkos::deep_copy(fr.slip_c, fr.slip);
+  const auto f = fr;
+  const SlavePoints3 p = sp;
+  Kokkos::parallel_for("iga::CommitFriction3", Kokkos::RangePolicy<ExecSpace>(0, num_points()), KOKKOS_LAMBDA(const int i) {
+    f.ref_face(i) = p.valid(i) ? p.mface(i) : -1;
+    f.ref_uv(i, 0) = p.muv(i, 0);
+    f.ref_uv(i, 1) = p.muv(i, 1);
+  });
+  Kokkos::fence();
+}
+
+void ContactSurfaces3::restore() {
+  if (!committed_.lambda.data()) return;   // nothing committed yet: the initial state stands
+  Kokkos::deep_copy(mortar ? ms.lbar : sp.lambda, committed_.lambda);
+  if (friction) Kokkos::deep_copy(fr.lamT, committed_.lamT);
+}
+
+void ContactSurfaces3::augment() {
+  if (mortar) Kokkos::deep_copy(ms.lbar, ms.lambda);
+  else Kokkos::deep_copy(sp.lambda, sp.pressure);
+  if (friction) Kokkos::deep_copy(fr.lamT, fr.tau);
+}
+
+void ContactSurfaces3::reset_multipliers() {
+  Kokkos::deep_copy(mortar ? ms.lbar : sp.lambda, 0.0);
+  if (friction) Kokkos::deep_copy(fr.lamT, 0.0);
 }
 
 std::vector<GO> ContactSurfaces3::surface_gids() const {
@@ -334,6 +410,7 @@ void ContactSurfaces3::refresh() {
   // in). Mortar: every slot, which the weighted gaps of this rank's control points read
   const int first = mortar ? 0 : p_begin, last = mortar ? num_points() : p_end;
   Kokkos::parallel_for("iga::ProjectSlavePoints3", Kokkos::RangePolicy<ExecSpace>(first, last), k);
+  if (friction) update_friction();
   if (mortar) {
     MortarGaps3 kg;
     kg.s = slave; kg.sp = sp; kg.ms = ms; kg.eps = pair.penalty; kg.touch = sp.touch; kg.slots = slots;
@@ -431,6 +508,10 @@ void ContactSurfaces3::state(ContactPointState& s, bool projected_only) const {
   auto valid = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.valid);
   auto w = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.weight);
   auto face = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.face);
+  auto trac = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr.t);
+  auto slip = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr.slip);
+  auto gT = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr.gT);
+  auto fst = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr.state);
   if (!mortar && nranks_ > 1) {
     // KTS projects each rank's own points: the others' entries zeroed here, then summed over
     // the ranks, so that every rank holds every point's state
@@ -454,6 +535,12 @@ void ContactSurfaces3::state(ContactPointState& s, bool projected_only) const {
     sum(pr);
     sum(lam);
     sum(valid);
+    if (friction) {
+      sum(trac);
+      sum(slip);
+      sum(gT);
+      sum(fst);
+    }
   }
   for (int i = 0; i < n; ++i) {
     if (face(i) < 0) continue;   // an unused mortar slot
@@ -472,11 +559,14 @@ void ContactSurfaces3::state(ContactPointState& s, bool projected_only) const {
     s.pressure.push_back(pr(i));
     s.weight.push_back(w(i));
     s.active.push_back(valid(i) && (mortar ? pr(i) > 0 : kts_active(lam(i), pair.penalty, gap(i), sp.touch)) ? 1 : 0);
-    s.tangential.push_back(0.0);
-    s.slip.push_back(0.0);
-    s.state.push_back(0);
-    s.tx.push_back(0.0);
-    s.ty.push_back(0.0);
+    const double t[3] = {trac(i, 0), trac(i, 1), trac(i, 2)};
+    s.tangential.push_back(std::sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]));
+    s.slip.push_back(slip(i));
+    s.slip_increment.push_back(gT(i));
+    s.state.push_back(fst(i));
+    s.tx.push_back(t[0]);
+    s.ty.push_back(t[1]);
+    s.tz.push_back(t[2]);
   }
 }
 

@@ -5,6 +5,7 @@
 // see the same pair interface in 2-D and 3-D.
 #include <vector>
 
+#include "kernels/contact_friction3.hpp"
 #include "kernels/contact_mortar3.hpp"
 #include "solver/system.hpp"
 
@@ -47,12 +48,31 @@ class ContactSurfaces3 {
   void mortar_scratch(int cap);
   /// sum_A w_A lambda_A^2 / (2 eps) (mortar), the penalty potential of the slots (KTS)
   double potential() const;
-  /// The largest |g_A / w_A| (mortar) or |g| (KTS) of the active points.
+  /// The largest |g_A / w_A| (mortar) or |g| (KTS) of the active points, and with friction the
+  /// largest slip increment |g_T| of the stick points (KTS).
   double max_active_gap() const;
+
+  // friction (KTS, kernels/contact_friction3.hpp): the law at this rank's points after each
+  // projection; the history (committed foot, traction, slip) moves on at commit() and comes
+  // back at restore(); augment(): lamT <- tau (ALM)
+  Friction3 fr;
+  bool friction = false;
+  int counts[3] = {0, 0, 0};        // stick, slip, state switches since the last update (all ranks)
+  double assembled_t[3] = {0, 0, 0};   // [Tx, Ty, Tz] of the last assembly (all ranks)
+  void commit();
+  void restore();
+  void augment();
+  void reset_multipliers();
 
  private:
   void allocate_points(int n);
   RCP<const Comm> comm_;
+  void update_friction();
+  Kokkos::View<int*, MemSpace> state_prev_;
+  struct Committed {
+    Kokkos::View<double*, MemSpace> lambda;
+    Kokkos::View<double* [2], MemSpace> lamT;
+  } committed_;
   Kokkos::View<int*, MemSpace> seg_flags_;
   Kokkos::View<int**, Kokkos::LayoutRight, MemSpace> cand_;   // mortar: candidate master elements per slave element
   int rank_ = 0, nranks_ = 1;

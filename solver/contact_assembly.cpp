@@ -132,6 +132,13 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
           Kokkos::parallel_for(c3.mortar ? "iga::AssembleMortarPressure3" : "iga::AssembleKts3",
                                Kokkos::RangePolicy<ExecSpace>(0, c3.p_end - c3.p_begin), k);
         }
+        if (c3.friction) Kokkos::deep_copy(c3.fr.force, 0.0);
+        if (c3.friction && c3.p_end > c3.p_begin) {
+          AssembleFriction3<decltype(lcl), decltype(fv)> k;
+          k.s = c3.slave; k.m = c3.master; k.sp = c3.sp; k.fr = c3.fr; k.eps = c3.pair.penalty;
+          k.p_begin = c3.p_begin; k.K = lcl; k.f = fv; k.force = pd.force_;
+          Kokkos::parallel_for("iga::AssembleFriction3", Kokkos::RangePolicy<ExecSpace>(0, c3.p_end - c3.p_begin), k);
+        }
         if (c3.mortar && c3.a_end > c3.a_begin) {
           Kokkos::deep_copy(c3.ms.flags, 0);
           AssembleMortarGap3<decltype(lcl)> k;
@@ -199,6 +206,11 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
     auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.force_);
     double loc[4] = {h(0), h(1), h(2), h(3)};
     Teuchos::reduceAll(*sys.comm(), Teuchos::REDUCE_SUM, 4, loc, pd.assembled_);
+    if (pd.s3_ && pd.s3_->friction) {
+      auto t = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.s3_->fr.force);
+      double lt[3] = {t(0), t(1), t(2)};
+      Teuchos::reduceAll(*sys.comm(), Teuchos::REDUCE_SUM, 3, lt, pd.s3_->assembled_t);
+    }
   }
   ContactContribution out;
   out.K = sys.export_matrix(K);

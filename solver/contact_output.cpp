@@ -89,6 +89,7 @@ ContactSummary ContactPairData::summary() const {
     c.fy = assembled_[1];
     c.fz = assembled_[2];
     c.normal_force = assembled_[3];
+    for (int k = 0; k < 3; ++k) c.tangential[k] = s3_->assembled_t[k];
   } else {
     c.fx = assembled_[0];
     c.fy = assembled_[1];

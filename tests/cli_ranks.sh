@@ -13,7 +13,8 @@
 #    half-width (the gap's zero crossing at the edge of the active points) agree with Hertz
 #    for the computed load within 5 % (as tests/test_contact).
 #  - patch3d (examples/contact_patch_3d.yaml): the 3-D contact patch test, exact (below).
-# Usage: cli_ranks.sh EXE MPIEXEC PROBLEM lame|wheel|patch3d
+#  - sliding3d (examples/sliding_box_3d.yaml): 3-D gross sliding, T = (-mu F_n, 0, 0) exactly.
+# Usage: cli_ranks.sh EXE MPIEXEC PROBLEM lame|wheel|patch3d|sliding3d
 # MPI runs take one thread per rank (OMP_NUM_THREADS=1): 2 ranks x 1 thread fill 2 cores; with
 # the OpenMP build more threads oversubscribe them and Kokkos warns on stderr.
 set -euo pipefail
@@ -59,6 +60,10 @@ for k, (ca, cb) in enumerate(zip(a["contact"], b["contact"])):
     for f in ("normal_force", "max_pressure", "contact_area" if "contact_area" in ca else "contact_length"):
         same(f"contact {k} {f}", [ca[f]], [cb[f]])
     same(f"contact {k} force", ca["force"], cb["force"])
+    if "tangential_force" in ca and isinstance(ca["tangential_force"], list):   # 3-D friction
+        same(f"contact {k} tangential_force", ca["tangential_force"], cb["tangential_force"])
+        for f in ("stick_area", "slip_area"):
+            assert abs(ca[f] - cb[f]) <= 1e-12, (f, ca[f], cb[f])
 assert len(a["probes"]) == len(b["probes"])
 for k, (pa, pb) in enumerate(zip(a["probes"], b["probes"])):
     for f in ("displacement", "stress"):
@@ -120,6 +125,20 @@ for s, n in ((a, 1), (b, 2)):
         du = max(abs(g - e) for g, e in zip(u, (3e-4, 3e-4, -1.51e-3)))
         print(f"  {n} rank(s): {len(rows)} contact points, max |p - 1| = {dp:.1e}, probe |u - exact| = {du:.1e}")
         assert dp <= 1e-8 and du <= 1e-12, "patch test"
+    elif check == "sliding3d":
+        # examples/sliding_box_3d.yaml: every point slips along -x with |t| = mu p, so the
+        # tangential force is (-mu F_n, 0, 0) and the slip area the whole footprint (1)
+        c, mu = s["contact"][0], num("friction")
+        T, Fn = c["tangential_force"], c["normal_force"]
+        assert abs(T[0] + mu * Fn) <= 1e-9 * Fn and abs(T[1]) <= 1e-9 * Fn and abs(T[2]) <= 1e-9 * Fn, (T, Fn)
+        assert abs(c["slip_area"] - 1) <= 1e-12 and c["stick_area"] == 0, c
+        rows = list(csv.DictReader(open(d + "/contact_0.csv")))
+        assert list(rows[0].keys())[-5:] == ["tx", "ty", "tz", "slip", "state"], rows[0].keys()
+        act = [r for r in rows if r["active"] == "1"]
+        pmax = max(float(r["pressure"]) for r in act)
+        dt = max(abs(float(r["tx"]) + mu * float(r["pressure"])) + abs(float(r["ty"])) for r in act)
+        assert all(r["state"] == "2" for r in act) and dt <= 1e-8 * pmax, ("point law", dt)
+        print(f"  {n} rank(s): T = {T[0]:.12g} = -mu F_n {-mu * Fn:.12g}; {len(act)} points slip, max |t + mu p e_x| = {dt:.1e}")
     else:
         sys.exit("unknown check " + check)
 print(check + ": physics OK on 1 and 2 ranks")

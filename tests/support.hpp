@@ -74,6 +74,27 @@ struct RingAndBlock {
   }
 };
 
+// A 2-D patch extruded into a slab of thickness 1 along z (degree 1, one element): the same
+// control net at z = 0 and z = 1, as an inline trivariate NURBS.
+inline std::string extruded_nurbs(const Patch& P) {
+  std::ostringstream os;
+  os.precision(17);
+  auto knots = [&](const std::vector<double>& U) {
+    os << "[";
+    for (size_t k = 0; k < U.size(); ++k) os << (k ? ", " : "") << U[k];
+    os << "]";
+  };
+  os << "      nurbs:\n        degree: [" << P.degree[0] << ", " << P.degree[1] << ", 1]\n        knots: [";
+  knots(P.knots[0]);
+  os << ", ";
+  knots(P.knots[1]);
+  os << ", [0, 0, 1, 1]]\n        control_points: [\n";
+  for (int k = 0; k < 2; ++k)
+    for (const ControlPoint& c : P.cp) os << "          [" << c.x[0] << ", " << c.x[1] << ", " << k << ", " << c.w << "],\n";
+  os << "        ]\n";
+  return os.str();
+}
+
 /// The largest |A_ij - B_ij| over the owned rows of all ranks (the same pattern expected,
 /// entry by entry), and in `scale` the largest |A_ij|.
 inline double max_abs_difference(const Matrix& A, const Matrix& B, double& scale) {

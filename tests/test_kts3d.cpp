@@ -29,7 +29,7 @@ namespace {
 // to 1.3 in the middle, weight 0.8 there), refined to n x n elements on top, and a box above
 // it (its bottom face the slave) of degree p.
 // `analysis`: more keys of the analysis map (", kinematics: finite").
-std::string bump_and_box(int p, int n, const std::string& method, const std::string& analysis = "") {
+std::string bump_and_box(int p, int n, const std::string& method, const std::string& analysis = "", double mu = 0) {
   std::ostringstream os;
   os << "analysis: {type: solid" << analysis << "}\n"
      << "bodies:\n"
@@ -53,28 +53,41 @@ std::string bump_and_box(int p, int n, const std::string& method, const std::str
      << "    refine: {degree_elevate: [" << p - 1 << ", " << p - 1 << ", " << p - 1 << "], subdivide: [3, 2, 1]}\n"
      << "    boundary: {back: {displacement: {x: 0, y: 0, z: -0.01}}}\n"
      << "contact:\n  - {master: {body: bump, side: back}, slave: {body: box, side: front}, method: " << method
-     << ", penalty: 1.0e4}\n";
+     << ", penalty: 1.0e4" << (mu > 0 ? ", friction: " + std::to_string(mu) : std::string()) << "}\n";
   return os.str();
 }
 
 // K_c against central differences of f_c, and f_c against central differences of the
 // potential, at a state with smooth random displacements of the order of the penetration plus
 // a rigid shift of the box (shift[0] along x: sliding over the master's elements).
-void check_tangent(int p, bool multipliers, std::array<double, 3> shift, const std::string& analysis = "", bool mortar = false) {
+// Friction (mu > 0): a history first, the box a distance `slide` back along its path (where
+// the references are committed with zero traction), then slide / 2 back (committed with the
+// traction there), so that the state has references, committed tractions and slip increments;
+// only K_c against differences of f_c (friction has no potential).
+void check_tangent(int p, bool multipliers, std::array<double, 3> shift, const std::string& analysis = "", bool mortar = false,
+                   double mu = 0, std::array<double, 2> slide = {0, 0}) {
   const std::string method = std::string(mortar ? "mortar" : "kts") + (multipliers ? "_alm" : "_penalty");
-  const Problem P = parse_problem(bump_and_box(p, 6, method, analysis), "tangent3d.yaml");
+  const Problem P = parse_problem(bump_and_box(p, 6, method, analysis, mu), "tangent3d.yaml");
   System sys(P, Tpetra::getDefaultComm());
   std::vector<ContactPairData> pairs{ContactPairData(sys, 0)};
-  Vector u0(sys.owned_map());
-  {
-    auto h = u0.getLocalViewHost(Tpetra::Access::OverwriteAll);
-    for (size_t l = 0; l < u0.getLocalLength(); ++l) {
+  auto state = [&](double back) {
+    Vector u(sys.owned_map());
+    auto h = u.getLocalViewHost(Tpetra::Access::OverwriteAll);
+    for (size_t l = 0; l < u.getLocalLength(); ++l) {
       const GO dof = sys.owned_map()->getGlobalElement(l);
       std::mt19937 rng(static_cast<unsigned>(dof) + 17u * p);   // the same state on any number of ranks
       std::uniform_real_distribution<double> d(-2e-3, 2e-3);
-      h(l, 0) = d(rng) + (sys.body_of(dof / 3) == 1 ? shift[dof % 3] : 0.0);
+      const double s = dof % 3 < 2 ? shift[dof % 3] - back * slide[dof % 3] : shift[2];
+      h(l, 0) = d(rng) + (sys.body_of(dof / 3) == 1 ? s : 0.0);
     }
-  }
+    return u;
+  };
+  Vector u0 = state(0.0);
+  if (mu > 0)
+    for (double back : {1.0, 0.5}) {
+      pairs[0].update(state(back));
+      pairs[0].commit();
+    }
   pairs[0].update(u0);
   if (multipliers) {
     pairs[0].augment();
@@ -101,7 +114,7 @@ void check_tangent(int p, bool multipliers, std::array<double, 3> shift, const s
     };
     double pp, pm;
     RCP<Vector> fp = eval(h, pp), fm = eval(-h, pm);
-    if (l != Teuchos::OrdinalTraits<LO>::invalid()) {
+    if (l != Teuchos::OrdinalTraits<LO>::invalid() && mu == 0) {
       const double f_j = c0.f->getLocalViewHost(Tpetra::Access::ReadOnly)(l, 0);
       worst_f = std::max(worst_f, std::abs((pp - pm) / (2 * h) - f_j));
     }
@@ -117,10 +130,12 @@ void check_tangent(int p, bool multipliers, std::array<double, 3> shift, const s
   pairs[0].update(u0);
   double worst_f_all = 0;
   Teuchos::reduceAll(*sys.comm(), Teuchos::REDUCE_MAX, 1, &worst_f, &worst_f_all);
-  std::printf("  %s p = %d%s, shift (%g, %g, %g): %d active; max |K_c e_j - FD| = %.2e of max |K_c e_j| = %.2e; "
-              "max |f_c - dPi/du| = %.2e of |f_c| = %.2e\n",
-              method.c_str(), p, multipliers ? " (ALM multipliers)" : "", shift[0], shift[1], shift[2], c0.active, worst, kscale, worst_f_all,
-              c0.f->normInf());
+  const FrictionCounts fc = pairs[0].friction_counts();
+  std::printf("  %s p = %d%s, shift (%g, %g, %g): %d active (friction: %d stick, %d slip); max |K_c e_j - FD| = %.2e of max "
+              "|K_c e_j| = %.2e; max |f_c - dPi/du| = %.2e of |f_c| = %.2e\n",
+              method.c_str(), p, multipliers ? " (ALM multipliers)" : "", shift[0], shift[1], shift[2], c0.active, fc.stick, fc.slip,
+              worst, kscale, worst_f_all, c0.f->normInf());
+  if (mu > 0) EXPECT_GT(slide[0] == 0 && slide[1] == 0 ? 1 : fc.stick + fc.slip, 0);
   EXPECT_LT(worst, 1e-6 * kscale);
   EXPECT_LT(worst_f_all, 1e-6 * c0.f->normInf());
 }
@@ -181,6 +196,19 @@ TEST(Kts3Tangent, MatchesFiniteDifferencesOnACurvedRationalMaster) {
 TEST(Kts3Tangent, MatchesFiniteDifferencesAfterSlidingOverSeveralElements) {
   check_tangent(2, false, {-0.7, 0.3, -0.03}, ", kinematics: finite");
   check_tangent(2, true, {-0.7, 0.3, -0.03}, ", kinematics: finite");
+}
+
+// Friction (contact_friction3.hpp): the exact tangent of the Coulomb law's residual, on the
+// curved rational master, after a slide with committed references and tractions: short slides
+// (every point sticks) and long ones (most slip), penalty and ALM, small and finite kinematics.
+TEST(Friction3Tangent, MatchesFiniteDifferencesInStickAndSlip) {
+  for (int p : {2, 3}) {
+    check_tangent(p, false, {0.0, 0.0, -0.02}, "", false, 0.3, {1e-4, -5e-5});
+    check_tangent(p, false, {0.0, 0.0, -0.02}, "", false, 0.3, {0.04, 0.03});
+  }
+  check_tangent(2, true, {0.0, 0.0, -0.02}, "", false, 0.3, {0.04, -0.03});
+  check_tangent(2, false, {-0.7, 0.3, -0.03}, ", kinematics: finite", false, 0.3, {0.05, 0.02});
+  check_tangent(2, true, {-0.7, 0.3, -0.03}, ", kinematics: finite", false, 0.3, {1e-4, 1e-4});
 }
 
 // Mortar (contact_mortar3.hpp): the weighted-gap term eps / w_A delta g_A delta g_A^T and the
@@ -278,31 +306,6 @@ TEST(StackedBoxes, NonNestedMeshesKeepEquilibrium) {
   EXPECT_NEAR(lo, 1.0, 1e-6);
 }
 
-namespace {
-
-// A 2-D patch extruded into a slab of thickness 1 along z (degree 1, one element): the same
-// control net at z = 0 and z = 1, as an inline trivariate NURBS.
-std::string extruded(const Patch& P) {
-  std::ostringstream os;
-  os.precision(17);
-  auto knots = [&](const std::vector<double>& U) {
-    os << "[";
-    for (size_t k = 0; k < U.size(); ++k) os << (k ? ", " : "") << U[k];
-    os << "]";
-  };
-  os << "      nurbs:\n        degree: [" << P.degree[0] << ", " << P.degree[1] << ", 1]\n        knots: [";
-  knots(P.knots[0]);
-  os << ", ";
-  knots(P.knots[1]);
-  os << ", [0, 0, 1, 1]]\n        control_points: [\n";
-  for (int k = 0; k < 2; ++k)
-    for (const ControlPoint& c : P.cp) os << "          [" << c.x[0] << ", " << c.x[1] << ", " << k << ", " << c.w << "],\n";
-  os << "        ]\n";
-  return os.str();
-}
-
-}  // namespace
-
 // The 2-D ring-and-block contact (a block pressed 0.01 onto the curved outer face of a ring,
 // KTS, 4 quadrature points per span) against the same bodies extruded into a slab held at
 // u_z = 0 on its front and back faces (plane strain): the 3-D knot-to-surface path (search,
@@ -321,7 +324,7 @@ TEST(Slab, EqualsThe2DPlaneStrainRun) {
     for (int b = 0; b < 2; ++b) {
       const Body& B = s2.P.bodies[b];
       os << "  - name: " << B.name << "\n    material: {youngs_modulus: " << B.E << ", poisson_ratio: " << B.nu << "}\n"
-         << "    geometry:\n" << extruded(B.patches[0]) << "    boundary: " << bc[b] << "\n";
+         << "    geometry:\n" << extruded_nurbs(B.patches[0]) << "    boundary: " << bc[b] << "\n";
     }
     os << "contact:\n  - {master: {body: ring, side: north}, slave: {body: block, side: south}, method: kts_penalty, "
           "penalty: 1.0e4, quadrature_points: 4}\n";

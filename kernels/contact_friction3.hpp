@@ -1,0 +1,320 @@
+#pragma once
+// Coulomb friction on NURBS contact surfaces (3-D, knot-to-surface): the 2-D law of
+// contact_friction.hpp with a two-dimensional tangent plane. One Kokkos::parallel_for over
+// slave points per stage (the law: UpdateFriction3; residual and tangent: AssembleFriction3).
+//
+// Slip (objective: built from the convective coordinates of the foot, which a rigid motion
+// leaves unchanged, and the current tangent vectors)
+//   xi      the current closest-point projection of the slave point onto the master surface
+//   xi_n    the projection of the same slave point at the last converged load step (committed;
+//           on another master face than the current one, or none: dxi = 0, the slip counts
+//           from the current foot)
+//   dxi     = xi - xi_n,   a_al = rho_,al (xi),   slip vector g_T = a_al dxi^al
+// Traction: components tau^al on the unit covariant vectors e_al = a_al / |a_al|,
+//   t = tau^al e_al   (the traction on the slave body in the tangent plane; in plane strain
+//   tau^1 is the 2-D law's tau, so an extruded 2-D problem gives the 2-D answer)
+// Law (per point, penalty regularisation and return mapping)
+//   trial   tr^al = lamT^al - eps_T |a_al| dxi^al     (lamT: the committed traction
+//                                                      (penalty), augmented (ALM))
+//   |tr|^2  = tr^al tr^be (e_al . e_be)
+//   stick   |tr| <= mu p:  tau = tr
+//   slip    otherwise:     tau = mu p tr / |tr|,       p = <lambda - eps g> (contact_kts3.hpp)
+//   accumulated slip (a path length) += (|tr| - |tau|) / eps_T. A point touching with p = 0
+//   is active: at a zero trial traction it sticks (as in 2-D).
+// Weak form: the tangential virtual work is t . delta g_T,
+//   delta g_T = delta a_al0 dxi^al + c_be delta xi^be,   c_be = a_be + a_al,be dxi^al,
+//   delta xi = H^-1 (a . (delta x_s - delta rho_0) + d . delta a_0),  H = a_al . a_be - d . a_al,be,
+//   d = x_s - rho, "_0": at fixed xi (sum_b R_b(xi) delta x_b, and R_b,al for a_al0), so
+//   f_c[slave a, c]  = -w R_a Q_s[c],                          Q_s = P_ga a_ga,
+//   f_c[master b, c] = -w (-R_b Q_s[c] + R_b,ga Q_ga[c]),       Q_ga = t dxi^ga + P_ga d,
+//   P_ga = (t . c_be) H^-1_be,ga,  w the slave point's reference measure.
+// Tangent: the exact derivative of f_c by forward automatic differentiation (Sacado SFad) over
+// 33 point variables y = [x_s, S, S_1, S_2, S_11, S_12, S_22, S_111, S_112, S_122, S_222] (the
+// slave point and the master surface's derivatives at the foot, 3 components each, all linear in
+// the element dofs), the foot xi entering as a value with derivative dxi/dy (implicit function
+// theorem) and the master quantities as first-order Taylor expansions in xi - xi*; then
+//   K[r, (slave a, c)]  = R_a df_r/dx_s[c],
+//   K[r, (master b, c)] = sum_k R_b^(k) df_r/dS^(k)[c]   (k over the 10 derivatives).
+// Data layout: Friction3 per slave point: the committed foot (face, xi_n), the committed /
+// augmented traction lamT^al, the current traction tau^al and vector t, the accumulated slip,
+// the slip increment's length |g_T| and the state (0 open, 1 stick, 2 slip).
+// Cost per active point: ~ 400 Fad operations of 34 flops (the point variables), plus
+// (3 (ns + nm))^2 x ~ 12 flops for the rows and columns (ns, nm = (p + 1)^2 control points of
+// the slave and master elements): about 5e4 flops at p = 2, 2.7e5 at p = 4. Per-thread storage:
+// the master basis to third order, 10 (p + 1)^2 doubles, and ~ 60 Fad values of 34 doubles.
+#include <Sacado.hpp>
+
+#include "kernels/contact_kts3.hpp"
+
+namespace iga {
+
+struct Friction3 {
+  double mu = 0, epsT = 0;
+  Kokkos::View<int*, MemSpace> ref_face;          // committed master face of the foot, -1 none
+  Kokkos::View<double* [2], MemSpace> ref_uv;     // committed foot xi_n
+  Kokkos::View<double* [2], MemSpace> lamT, tau;  // traction components on e_al: committed / augmented, current
+  Kokkos::View<double* [3], MemSpace> t;          // current traction vector
+  Kokkos::View<double*, MemSpace> slip, slip_c;   // accumulated slip: current, committed
+  Kokkos::View<double*, MemSpace> gT;             // |g_T| (the ALM check of the stick points)
+  Kokkos::View<int*, MemSpace> state;             // 0 open, 1 stick, 2 slip
+  ForceSum force;                                 // [Tx, Ty, Tz, -]: the slave rows' sum of -f_c
+};
+
+/// Rational basis of the element with spans s and its parameter derivatives to third order:
+/// R[k][a], k = 0: R, 1: u, 2: v, 3: uu, 4: uv, 5: vv, 6: uuu, 7: uuv, 8: uvv, 9: vvv; local
+/// index a = i + (p0 + 1) j, cp[a] its surface index. Returns the number of control points.
+KOKKOS_INLINE_FUNCTION int surface_basis3(const SurfaceData& sd, const int s[2], double u, double v,
+                                          double R[10][kMaxSurfaceBasis], int* cp) {
+  constexpr int ku[10] = {0, 1, 0, 2, 1, 0, 3, 2, 1, 0}, kv[10] = {0, 0, 1, 0, 1, 2, 0, 1, 2, 3};
+  double N[4][kMaxBasis1D], M[4][kMaxBasis1D];
+  const int du = sd.p[0] < 3 ? sd.p[0] : 3, dv = sd.p[1] < 3 ? sd.p[1] : 3;
+  bspline_ders(s[0], u, sd.p[0], sd.U[0].data(), du, N);
+  bspline_ders(s[1], v, sd.p[1], sd.U[1].data(), dv, M);
+  for (int i = 0; i <= sd.p[0]; ++i)
+    for (int d = du + 1; d <= 3; ++d) N[d][i] = 0.0;   // derivatives beyond the degree vanish
+  for (int j = 0; j <= sd.p[1]; ++j)
+    for (int d = dv + 1; d <= 3; ++d) M[d][j] = 0.0;
+  double W[10] = {};
+  int n = 0;
+  for (int j = 0; j <= sd.p[1]; ++j)
+    for (int i = 0; i <= sd.p[0]; ++i, ++n) {
+      const int a = (s[0] - sd.p[0] + i) + sd.n[0] * (s[1] - sd.p[1] + j);
+      const double w = sd.cp(a, 3);
+      cp[n] = a;
+      for (int k = 0; k < 10; ++k) {
+        R[k][n] = N[ku[k]][i] * M[kv[k]][j] * w;   // homogeneous A^(k)
+        W[k] += R[k][n];
+      }
+    }
+  // R^(k,l) = (A^(k,l) - sum_{(i,j) != (0,0)} C(k,i) C(l,j) W^(i,j) R^(k-i,l-j)) / W, by
+  // increasing order (the table index of (k, l) is idx)
+  auto idx = [&](int a, int b) {
+    const int o = a + b;
+    return o == 0 ? 0 : o == 1 ? 1 + b : o == 2 ? 3 + b : 6 + b;
+  };
+  constexpr int binom[4][4] = {{1, 0, 0, 0}, {1, 1, 0, 0}, {1, 2, 1, 0}, {1, 3, 3, 1}};
+  for (int k = 0; k < 10; ++k) {
+    const int a = ku[k], b = kv[k];
+    for (int m = 0; m < n; ++m) {
+      double r = R[k][m];
+      for (int i = 0; i <= a; ++i)
+        for (int j = 0; j <= b; ++j) {
+          if (i == 0 && j == 0) continue;
+          r -= binom[a][i] * binom[b][j] * W[idx(i, j)] * R[idx(a - i, b - j)][m];
+        }
+      R[k][m] = r / W[0];
+    }
+  }
+  return n;
+}
+
+/// The traction law at a point, on any scalar type T (double: the state; Fad: the tangent).
+/// len: |a_al|, G01 = e_1 . e_2, dxi the slip in convective coordinates; state 1 stick, 2 slip
+/// (given: `forced` >= 1; decided here: 0, a trial within `tol` of mu p sticks: a point that
+/// touches with p = 0 and a slip of round-off keeps its stick stiffness, without which the
+/// first solve of a step would leave the bodies free to slide sideways).
+/// Returns the state; tr the trial, tau the traction.
+template <class T>
+KOKKOS_INLINE_FUNCTION int coulomb3(const double lamT[2], double epsT, double mu, const T& p, const T len[2], const T& G01,
+                                    const T dxi[2], T tr[2], T tau[2], T& norm, int forced, double tol = 0) {
+  using std::sqrt;
+  for (int al = 0; al < 2; ++al) tr[al] = lamT[al] - epsT * len[al] * dxi[al];
+  const T n2 = tr[0] * tr[0] + tr[1] * tr[1] + 2.0 * G01 * tr[0] * tr[1];
+  norm = n2 > 0.0 ? T(sqrt(n2)) : T(0.0);
+  const int st = forced > 0 ? forced : (Sacado::ScalarValue<T>::eval(norm) <= mu * Sacado::ScalarValue<T>::eval(p) + tol ? 1 : 2);
+  for (int al = 0; al < 2; ++al) tau[al] = st == 1 ? tr[al] : T(mu * p * tr[al] / norm);
+  return st;
+}
+
+/// The law at this rank's slave points: state, traction, slip (after ProjectSlavePoints3).
+struct UpdateFriction3 {
+  ContactFaces m;
+  SlavePoints3 sp;
+  Friction3 fr;
+  double eps = 0;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int i) const {
+    fr.state(i) = 0;
+    fr.gT(i) = 0;
+    for (int al = 0; al < 2; ++al) fr.tau(i, al) = 0;
+    for (int c = 0; c < 3; ++c) fr.t(i, c) = 0;
+    fr.slip(i) = fr.slip_c(i);
+    if (sp.face(i) < 0 || !sp.valid(i) || !kts_active(sp.lambda(i), eps, sp.gap(i), sp.touch)) return;
+    const ContactFace& mf = m.f[sp.mface(i)];
+    int ms[2];
+    surface_element_spans(mf.sd, sp.melem(i), ms);
+    double d[6][3];
+    surface_derivatives(mf.sd, ms, sp.muv(i, 0), sp.muv(i, 1), d);
+    double len[2], e[2][3], dxi[2] = {0, 0};
+    for (int al = 0; al < 2; ++al) {
+      len[al] = kmath::sqrt(dot3(d[1 + al], d[1 + al]));
+      for (int c = 0; c < 3; ++c) e[al][c] = d[1 + al][c] / len[al];
+    }
+    if (fr.ref_face(i) == sp.mface(i))
+      for (int al = 0; al < 2; ++al) dxi[al] = sp.muv(i, al) - fr.ref_uv(i, al);
+    const double lamT[2] = {fr.lamT(i, 0), fr.lamT(i, 1)};
+    const double pl = sp.lambda(i) - eps * sp.gap(i), p = pl > 0 ? pl : 0.0;
+    double tr[2], tau[2], norm;
+    // round-off: eps_T times the touch tolerance (1e-12 of the smallest slave element)
+    const int st = coulomb3<double>(lamT, fr.epsT, fr.mu, p, len, dot3(e[0], e[1]), dxi, tr, tau, norm, 0, fr.epsT * sp.touch);
+    fr.state(i) = st;
+    double gT[3], tn2 = tau[0] * tau[0] + tau[1] * tau[1] + 2 * dot3(e[0], e[1]) * tau[0] * tau[1];
+    for (int c = 0; c < 3; ++c) {
+      gT[c] = d[1][c] * dxi[0] + d[2][c] * dxi[1];
+      fr.t(i, c) = tau[0] * e[0][c] + tau[1] * e[1][c];
+    }
+    for (int al = 0; al < 2; ++al) fr.tau(i, al) = tau[al];
+    fr.gT(i) = kmath::sqrt(dot3(gT, gT));
+    fr.slip(i) = fr.slip_c(i) + (norm - kmath::sqrt(tn2 > 0 ? tn2 : 0.0)) / fr.epsT;
+  }
+};
+
+/// Tangential residual and its exact tangent at the active points [p_begin, p_end) (header).
+template <class LocalMatrix, class FView>
+struct AssembleFriction3 {
+  static constexpr int NY = 33;
+  using F = Sacado::Fad::SFad<double, NY>;
+  ContactFaces s, m;
+  SlavePoints3 sp;
+  Friction3 fr;
+  double eps = 0;
+  int p_begin = 0;
+  LocalMatrix K;
+  FView f;
+  ForceSum force;   // the pair's [Fx, Fy, Fz, Fn]; fr.force gets [Tx, Ty, Tz]
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
+    const int i = p_begin + k;
+    if (sp.face(i) < 0 || !sp.valid(i)) return;
+    const int st = fr.state(i);
+    if (st == 0) return;
+    const ContactFace& sf = s.f[sp.face(i)];
+    const ContactFace& mf = m.f[sp.mface(i)];
+    double Rs[kMaxSurfaceBasis], Rsu[kMaxSurfaceBasis], Rsv[kMaxSurfaceBasis], Rm[10][kMaxSurfaceBasis];
+    int cps[kMaxSurfaceBasis], cpm[kMaxSurfaceBasis], es[2], ms[2];
+    surface_element_spans(sf.sd, sp.elem(i), es);
+    surface_element_spans(mf.sd, sp.melem(i), ms);
+    const int ns = surface_basis(sf.sd, es, sp.uv(i, 0), sp.uv(i, 1), Rs, Rsu, Rsv, cps);
+    const int nm = surface_basis3(mf.sd, ms, sp.muv(i, 0), sp.muv(i, 1), Rm, cpm);
+    // the point variables' values: x_s and the master's derivatives S^(k) at the foot
+    double Y[11][3] = {};
+    for (int a = 0; a < ns; ++a)
+      for (int c = 0; c < 3; ++c) Y[0][c] += Rs[a] * sf.sd.cp(cps[a], c);
+    for (int kk = 0; kk < 10; ++kk)
+      for (int b = 0; b < nm; ++b)
+        for (int c = 0; c < 3; ++c) Y[1 + kk][c] += Rm[kk][b] * mf.sd.cp(cpm[b], c);
+    auto var = [&](int kk, int c) { return F(NY, 3 * kk + c, Y[kk][c]); };
+    // the foot's derivative over y: H dxi = a . (dx_s - dS) + d . dS_al
+    double dv[3], Hv[2][2];
+    for (int c = 0; c < 3; ++c) dv[c] = Y[0][c] - Y[1][c];
+    Hv[0][0] = dot3(Y[2], Y[2]) - dot3(dv, Y[4]);
+    Hv[0][1] = Hv[1][0] = dot3(Y[2], Y[3]) - dot3(dv, Y[5]);
+    Hv[1][1] = dot3(Y[3], Y[3]) - dot3(dv, Y[6]);
+    const double detv = Hv[0][0] * Hv[1][1] - Hv[0][1] * Hv[1][0];
+    const double Hiv[2][2] = {{Hv[1][1] / detv, -Hv[0][1] / detv}, {-Hv[1][0] / detv, Hv[0][0] / detv}};
+    F xi[2];
+    for (int be = 0; be < 2; ++be) {
+      xi[be] = F(NY, 0.0);
+      for (int r = 0; r < NY; ++r) xi[be].fastAccessDx(r) = 0.0;
+      for (int al = 0; al < 2; ++al)
+        for (int c = 0; c < 3; ++c) {
+          xi[be].fastAccessDx(c) += Hiv[be][al] * Y[2 + al][c];          // x_s
+          xi[be].fastAccessDx(3 + c) -= Hiv[be][al] * Y[2 + al][c];      // S
+          xi[be].fastAccessDx(3 * (2 + al) + c) += Hiv[be][al] * dv[c];  // S_al
+        }
+    }
+    // master quantities at the foot, first order in xi - xi*
+    F a[2][3], aa[3][3], d[3];
+    for (int c = 0; c < 3; ++c) {
+      const F rho = var(1, c) + var(2, c) * xi[0] + var(3, c) * xi[1];
+      a[0][c] = var(2, c) + var(4, c) * xi[0] + var(5, c) * xi[1];
+      a[1][c] = var(3, c) + var(5, c) * xi[0] + var(6, c) * xi[1];
+      aa[0][c] = var(4, c) + var(7, c) * xi[0] + var(8, c) * xi[1];   // a_11
+      aa[1][c] = var(5, c) + var(8, c) * xi[0] + var(9, c) * xi[1];   // a_12
+      aa[2][c] = var(6, c) + var(9, c) * xi[0] + var(10, c) * xi[1];  // a_22
+      d[c] = var(0, c) - rho;
+    }
+    auto dot = [](const F* x, const F* y) { return F(x[0] * y[0] + x[1] * y[1] + x[2] * y[2]); };
+    using std::sqrt;
+    const F H00 = dot(a[0], a[0]) - dot(d, aa[0]), H01 = dot(a[0], a[1]) - dot(d, aa[1]), H11 = dot(a[1], a[1]) - dot(d, aa[2]);
+    const F detH = H00 * H11 - H01 * H01;
+    const F Hi[2][2] = {{H11 / detH, -H01 / detH}, {-H01 / detH, H00 / detH}};
+    F dxi[2];
+    const bool same = fr.ref_face(i) == sp.mface(i);
+    for (int al = 0; al < 2; ++al) dxi[al] = (same ? sp.muv(i, al) - fr.ref_uv(i, al) : 0.0) + xi[al];
+    F len[2], e[2][3];
+    for (int al = 0; al < 2; ++al) {
+      len[al] = sqrt(dot(a[al], a[al]));
+      for (int c = 0; c < 3; ++c) e[al][c] = a[al][c] / len[al];
+    }
+    const F G01 = dot(e[0], e[1]);
+    // the pressure: <lambda - eps g>, g = d . n
+    F nrm[3] = {a[0][1] * a[1][2] - a[0][2] * a[1][1], a[0][2] * a[1][0] - a[0][0] * a[1][2], a[0][0] * a[1][1] - a[0][1] * a[1][0]};
+    const F nl = sqrt(dot(nrm, nrm));
+    F g = dot(d, nrm) * (mf.sign / nl);
+    F p = sp.lambda(i) - eps * g;
+    if (!(p.val() > 0)) p = F(0.0);
+    const double lamT[2] = {fr.lamT(i, 0), fr.lamT(i, 1)};
+    F tr[2], tau[2], norm;
+    coulomb3<F>(lamT, fr.epsT, fr.mu, p, len, G01, dxi, tr, tau, norm, st);
+    F t[3], P[2], Qs[3], Q[2][3];
+    for (int c = 0; c < 3; ++c) t[c] = tau[0] * e[0][c] + tau[1] * e[1][c];
+    // c_be = a_be + a_al,be dxi^al; P_ga = (t . c_be) H^-1_be,ga
+    F tc[2];
+    for (int be = 0; be < 2; ++be) {
+      F cb[3];
+      for (int c = 0; c < 3; ++c) cb[c] = a[be][c] + aa[be][c] * dxi[0] + aa[be + 1][c] * dxi[1];
+      tc[be] = dot(t, cb);
+    }
+    for (int ga = 0; ga < 2; ++ga) P[ga] = tc[0] * Hi[0][ga] + tc[1] * Hi[1][ga];
+    for (int c = 0; c < 3; ++c) {
+      Qs[c] = P[0] * a[0][c] + P[1] * a[1][c];
+      for (int ga = 0; ga < 2; ++ga) Q[ga][c] = t[c] * dxi[ga] + P[ga] * d[c];
+    }
+    // rows: value and d f_r / dy, then the columns through dy / du
+    const double w = sp.weight(i);
+    const int nd = 3 * (ns + nm);
+    double fs[4] = {0, 0, 0, 0};
+    const double nv[3] = {sp.normal(i, 0), sp.normal(i, 1), sp.normal(i, 2)};
+    for (int r = 0; r < nd; ++r) {
+      const int cp = r / 3, c = r % 3;
+      F fr_;
+      int lr;
+      if (cp < ns) {
+        fr_ = -w * Rs[cp] * Qs[c];
+        lr = dof_of(sf.lid(cps[cp]), c, 3);
+        fs[c] -= fr_.val();
+        fs[3] -= fr_.val() * nv[c];
+      } else {
+        const int b = cp - ns;
+        const F Rb = Rm[0][b] + Rm[1][b] * xi[0] + Rm[2][b] * xi[1];
+        const F Rb1 = Rm[1][b] + Rm[3][b] * xi[0] + Rm[4][b] * xi[1];
+        const F Rb2 = Rm[2][b] + Rm[4][b] * xi[0] + Rm[5][b] * xi[1];
+        fr_ = -w * (-Rb * Qs[c] + Rb1 * Q[0][c] + Rb2 * Q[1][c]);
+        lr = dof_of(mf.lid(cpm[b]), c, 3);
+      }
+      Kokkos::atomic_add(&f(lr), fr_.val());
+      for (int cb = 0; cb < ns + nm; ++cb) {
+        double vals[3];
+        int cols[3];
+        for (int cc = 0; cc < 3; ++cc) {
+          double v = 0;
+          if (cb < ns) {
+            v = Rs[cb] * fr_.fastAccessDx(cc);
+            cols[cc] = dof_of(sf.lid(cps[cb]), cc, 3);
+          } else {
+            const int b = cb - ns;
+            for (int kk = 0; kk < 10; ++kk) v += Rm[kk][b] * fr_.fastAccessDx(3 * (1 + kk) + cc);
+            cols[cc] = dof_of(mf.lid(cpm[b]), cc, 3);
+          }
+          vals[cc] = v;
+        }
+        K.sumIntoValues(lr, cols, 3, vals, true, true);
+      }
+    }
+    for (int c = 0; c < 4; ++c) Kokkos::atomic_add(&force(c), fs[c]);
+    for (int c = 0; c < 3; ++c) Kokkos::atomic_add(&fr.force(c), fs[c]);
+  }
+};
+
+}  // namespace iga
