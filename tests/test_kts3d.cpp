@@ -3,6 +3,9 @@
 //   Kts3Tangent    K_c against central differences of f_c, and f_c against differences of the
 //                  potential, on a curved rational master (a bump), with and without ALM
 //                  multipliers, after a slide over several master elements (finite kinematics)
+//   Friction3Tangent  K_c of Coulomb friction (kernels/contact_friction3.hpp) against central
+//                  differences, after a history, in stick and in slip (test_friction3d has
+//                  the friction solves)
 //   Mortar3Tangent the same for mortar (weighted-gap term and pressure field)
 //   StackedBoxes   the contact patch test: two blocks of different moduli under a uniform
 //                  pressure; KTS with nested meshes and mortar with non-nested ones (p = 1..4)
@@ -132,9 +135,9 @@ void check_tangent(int p, bool multipliers, std::array<double, 3> shift, const s
   Teuchos::reduceAll(*sys.comm(), Teuchos::REDUCE_MAX, 1, &worst_f, &worst_f_all);
   const FrictionCounts fc = pairs[0].friction_counts();
   std::printf("  %s p = %d%s, shift (%g, %g, %g): %d active (friction: %d stick, %d slip); max |K_c e_j - FD| = %.2e of max "
-              "|K_c e_j| = %.2e; max |f_c - dPi/du| = %.2e of |f_c| = %.2e\n",
+              "|K_c e_j| = %.2e; max |f_c - dPi/du| = %.2e of |f_c| = %.2e%s\n",
               method.c_str(), p, multipliers ? " (ALM multipliers)" : "", shift[0], shift[1], shift[2], c0.active, fc.stick, fc.slip,
-              worst, kscale, worst_f_all, c0.f->normInf());
+              worst, kscale, worst_f_all, c0.f->normInf(), mu > 0 ? " (friction: no potential, not checked)" : "");
   if (mu > 0) EXPECT_GT(slide[0] == 0 && slide[1] == 0 ? 1 : fc.stick + fc.slip, 0);
   EXPECT_LT(worst, 1e-6 * kscale);
   EXPECT_LT(worst_f_all, 1e-6 * c0.f->normInf());
