@@ -95,6 +95,27 @@ inline std::string extruded_nurbs(const Patch& P) {
   return os.str();
 }
 
+/// A solved RingAndBlock problem (2-D) extruded into a slab held at u_z = 0 on its front and
+/// back faces (plane strain), as a solid problem: `analysis` the keys of its analysis map after
+/// the type, `block_top` the block's north displacement as "x: .., y: .." (the ring's south is
+/// held), `contact` more keys of the KTS pair (4 quadrature points per direction).
+inline std::string extruded_ring_and_block(const Problem& P2, const std::string& analysis, const std::string& block_top,
+                                           const std::string& contact = "") {
+  std::ostringstream os;
+  os << "analysis: {type: solid" << analysis << "}\nbodies:\n";
+  const std::string faces = "front: {displacement: {z: 0}}, back: {displacement: {z: 0}}}";
+  const std::string bc[2] = {"{south: {displacement: {x: 0, y: 0, z: 0}}, " + faces,
+                             "{north: {displacement: {" + block_top + ", z: 0}}, " + faces};
+  for (int b = 0; b < 2; ++b) {
+    const Body& B = P2.bodies[b];
+    os << "  - name: " << B.name << "\n    material: {youngs_modulus: " << B.E << ", poisson_ratio: " << B.nu << "}\n"
+       << "    geometry:\n" << extruded_nurbs(B.patches[0]) << "    boundary: " << bc[b] << "\n";
+  }
+  os << "contact:\n  - {master: {body: ring, side: north}, slave: {body: block, side: south}, method: kts_penalty, "
+        "penalty: 1.0e4, quadrature_points: 4" << contact << "}\n";
+  return os.str();
+}
+
 /// The largest |A_ij - B_ij| over the owned rows of all ranks (the same pattern expected,
 /// entry by entry), and in `scale` the largest |A_ij|.
 inline double max_abs_difference(const Matrix& A, const Matrix& B, double& scale) {

@@ -162,19 +162,7 @@ TEST(FrictionSlab, EqualsThe2DPlaneStrainRun) {
   y2.insert(y2.rfind('}'), ", friction: 0.3");
   const Solved s2 = solve_text(y2);
   ASSERT_TRUE(s2.res.converged) << s2.res.message;
-  std::ostringstream os;
-  os << "analysis: {type: solid, stages: [1, 2]}\nbodies:\n";
-  const char* bc[2] = {"{south: {displacement: {x: 0, y: 0, z: 0}}, front: {displacement: {z: 0}}, back: {displacement: {z: 0}}}",
-                       "{north: {displacement: {x: [0.0, 0.004], y: -0.01, z: 0}}, front: {displacement: {z: 0}}, back: "
-                       "{displacement: {z: 0}}}"};
-  for (int b = 0; b < 2; ++b) {
-    const Body& B = s2.P.bodies[b];
-    os << "  - name: " << B.name << "\n    material: {youngs_modulus: " << B.E << ", poisson_ratio: " << B.nu << "}\n"
-       << "    geometry:\n" << extruded_nurbs(B.patches[0]) << "    boundary: " << bc[b] << "\n";
-  }
-  os << "contact:\n  - {master: {body: ring, side: north}, slave: {body: block, side: south}, method: kts_penalty, "
-        "penalty: 1.0e4, quadrature_points: 4, friction: 0.3}\n";
-  const Solved s3 = solve_text(os.str());
+  const Solved s3 = solve_text(extruded_ring_and_block(s2.P, ", stages: [1, 2]", "x: [0.0, 0.004], y: -0.01", ", friction: 0.3"));
   ASSERT_TRUE(s3.res.converged) << s3.res.message;
   const ContactSummary c2 = s2.res.contact[0].summary(), c3 = s3.res.contact[0].summary();   // collective
   if (s3.sys->comm()->getRank() != 0) return;
