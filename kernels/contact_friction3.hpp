@@ -6,9 +6,9 @@
 // Slip (objective: built from the convective coordinates of the foot, which a rigid motion
 // leaves unchanged, and the current tangent vectors)
 //   xi      the current closest-point projection of the slave point onto the master surface
-//   xi_n    the projection of the same slave point at the last converged load step (committed;
-//           on another master face than the current one, or none: dxi = 0, the slip counts
-//           from the current foot)
+//   xi_n    the projection of the same slave point at the last converged load step, where it
+//           was in contact (committed; a point not in contact then, or whose foot is now on
+//           another master face: dxi = 0 whatever u, no slip and no traction this step)
 //   dxi     = xi - xi_n,   a_al = rho_,al (xi),   slip vector g_T = a_al dxi^al
 // Traction: components tau^al on the unit covariant vectors e_al = a_al / |a_al|,
 //   t = tau^al e_al   (the traction on the slave body in the tangent plane; in plane strain
@@ -241,7 +241,9 @@ struct AssembleFriction3 {
     const F Hi[2][2] = {{H11 / detH, -H01 / detH}, {-H01 / detH, H00 / detH}};
     F dxi[2];
     const bool same = fr.ref_face(i) == sp.mface(i);
-    for (int al = 0; al < 2; ++al) dxi[al] = (same ? sp.muv(i, al) - fr.ref_uv(i, al) : 0.0) + xi[al];
+    // no reference on this face (the point was not in contact on it at the last converged
+    // step): no slip this step, dxi = 0 whatever u (UpdateFriction3)
+    for (int al = 0; al < 2; ++al) dxi[al] = same ? F(sp.muv(i, al) - fr.ref_uv(i, al) + xi[al]) : F(0.0);
     F len[2], e[2][3];
     for (int al = 0; al < 2; ++al) {
       len[al] = sqrt(dot(a[al], a[al]));

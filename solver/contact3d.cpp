@@ -311,7 +311,7 @@ void ContactSurfaces3::commit() {
   const auto f = fr;
   const SlavePoints3 p = sp;
   Kokkos::parallel_for("iga::CommitFriction3", Kokkos::RangePolicy<ExecSpace>(0, num_points()), KOKKOS_LAMBDA(const int i) {
-    f.ref_face(i) = p.valid(i) ? p.mface(i) : -1;
+    f.ref_face(i) = p.valid(i) && f.state(i) != 0 ? p.mface(i) : -1;   // a point in contact
     f.ref_uv(i, 0) = p.muv(i, 0);
     f.ref_uv(i, 1) = p.muv(i, 1);
   });
