@@ -31,6 +31,9 @@ run volume --set output.cells=volume
 # largest pressure = summary's max_pressure
 OMP_NUM_THREADS=1 "$exe" run "$here/../../examples/contact_patch_3d.yaml" --output "$tmp/contact3d" --quiet || { echo "FAIL: contact_patch_3d did not run"; fail=1; }
 pvpython "$here/check_results.py" "$tmp/contact3d" || { echo "FAIL: ParaView check of contact_patch_3d"; fail=1; }
+# 3-D friction (issue 37): the contact points carry tangential_traction, slip and state
+OMP_NUM_THREADS=1 "$exe" run "$here/../../examples/sliding_box_3d.yaml" --output "$tmp/friction3d" --quiet || { echo "FAIL: sliding_box_3d did not run"; fail=1; }
+pvpython "$here/check_results.py" "$tmp/friction3d" || { echo "FAIL: ParaView check of sliding_box_3d"; fail=1; }
 [ $fail = 0 ] || exit 1
 /usr/bin/python3 - "$tmp" <<'PY'
 import json, math, sys
