@@ -141,6 +141,24 @@ std::array<double, 2> Curve::eval(double u) const {
   return {r[0] / r[kMaxDim], r[1] / r[kMaxDim]};
 }
 
+std::array<double, 2> Curve::derivative(double u) const {
+  const int p = degree, nb = ncp();
+  const int span = find_span(nb, p, u, knots.data());
+  double ders[3][kMaxBasis1D];
+  bspline_ders(span, u, p, knots.data(), 1, ders);
+  double A[2] = {0, 0}, dA[2] = {0, 0}, W = 0, dW = 0;
+  for (int j = 0; j <= p; ++j) {
+    const ControlPoint& c = cp[span - p + j];
+    for (int k = 0; k < 2; ++k) {
+      A[k] += ders[0][j] * c.w * c.x[k];
+      dA[k] += ders[1][j] * c.w * c.x[k];
+    }
+    W += ders[0][j] * c.w;
+    dW += ders[1][j] * c.w;
+  }
+  return {(dA[0] - A[0] / W * dW) / W, (dA[1] - A[1] / W * dW) / W};
+}
+
 std::vector<int> Patch::element_spans(int d) const { return nonempty_spans(knots[d], degree[d]); }
 
 std::string Patch::validate() const {

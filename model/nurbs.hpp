@@ -52,6 +52,8 @@ struct Curve {
   /// Parameter intervals [knots[s], knots[s+1]] of non-zero length: the curve's elements.
   std::vector<int> element_spans() const;
   std::array<double, 2> eval(double u) const;
+  /// dC/du at u, exact (the rational quotient rule on the basis derivatives).
+  std::array<double, 2> derivative(double u) const;
 };
 
 struct Patch {
