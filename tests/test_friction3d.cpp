@@ -183,7 +183,7 @@ TEST(FrictionSlab, EqualsThe2DPlaneStrainRun) {
               c3.tangential[0], newton_total(s3), newton_total(s2));
   EXPECT_GT(c2.stick_length, 0.0);   // partial slip: both states present
   EXPECT_GT(c2.slip_length, 0.0);
-  EXPECT_LT(diff, 1e-10 * scale);
+  EXPECT_LT(diff, 1e-12 * scale);   // the same discrete problem: round-off (measured 1.2e-13)
   EXPECT_NEAR(c3.fx, c2.fx, 1e-9 * std::abs(c2.fy));
   EXPECT_NEAR(c3.fy, c2.fy, 1e-9 * std::abs(c2.fy));
   EXPECT_NEAR(c3.fz, 0.0, 1e-12 * std::abs(c2.fy));

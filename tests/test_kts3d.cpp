@@ -341,7 +341,7 @@ TEST(Slab, EqualsThe2DPlaneStrainRun) {
                   "Newton %d vs %d\n",
                   p, diff, scale, c3.fx, c3.fy, c2.fx, c2.fy, c3.active_points, c2.active_points, newton_total(s3),
                   newton_total(s2));
-      EXPECT_LT(diff, 1e-10 * scale);
+      EXPECT_LT(diff, 1e-12 * scale);   // the same discrete problem: round-off (measured 1.2e-13)
       EXPECT_NEAR(c3.fy, c2.fy, 1e-9 * std::abs(c2.fy));
       EXPECT_NEAR(c3.fx, c2.fx, 1e-9 * std::abs(c2.fy));
       EXPECT_NEAR(c3.fz, 0.0, 1e-12 * std::abs(c2.fy));
