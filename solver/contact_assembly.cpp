@@ -203,14 +203,17 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
   K->fillComplete(sys.owned_map(), sys.owned_map());
   // each pair's force on its slave body: this rank's points summed by the kernels, all ranks'
   for (auto& pd : pairs) {
+    // one reduction: [Fx, Fy, Fz | Fn, .. ] and, with 3-D friction, [Tx, Ty, Tz]
+    const bool fr3 = pd.s3_ && pd.s3_->friction;
     auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.force_);
-    double loc[4] = {h(0), h(1), h(2), h(3)};
-    Teuchos::reduceAll(*sys.comm(), Teuchos::REDUCE_SUM, 4, loc, pd.assembled_);
-    if (pd.s3_ && pd.s3_->friction) {
+    double loc[7] = {h(0), h(1), h(2), h(3), 0, 0, 0}, all[7];
+    if (fr3) {
       auto t = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.s3_->fr.force);
-      double lt[3] = {t(0), t(1), t(2)};
-      Teuchos::reduceAll(*sys.comm(), Teuchos::REDUCE_SUM, 3, lt, pd.s3_->assembled_t);
+      for (int k = 0; k < 3; ++k) loc[4 + k] = t(k);
     }
+    Teuchos::reduceAll(*sys.comm(), Teuchos::REDUCE_SUM, fr3 ? 7 : 4, loc, all);
+    std::copy(all, all + 4, pd.assembled_);
+    if (fr3) std::copy(all + 4, all + 7, pd.s3_->assembled_t);
   }
   ContactContribution out;
   out.K = sys.export_matrix(K);
