@@ -326,34 +326,29 @@ double ContactPairData::augment() {
 }
 
 void ContactPairData::commit() {
-  auto keep = [](auto& dst, const auto& src) {
-    if (!src.data()) return;
-    if (dst.extent(0) != src.extent(0)) dst = std::decay_t<decltype(dst)>(std::string(src.label()) + "_committed", src.extent(0));
-    Kokkos::deep_copy(dst, src);
-  };
   if (s3_) {
     s3_->commit();
     return;
   }
-  keep(committed_.lambda, sp_.lambda);
-  keep(committed_.mxi, sp_.mxi);
-  keep(committed_.melem, sp_.melem);
-  keep(committed_.mspan, sp_.mspan);
-  keep(committed_.valid, sp_.valid);
-  if (mortar_) keep(committed_.lbar, ms_.lbar);
+  keep_copy(committed_.lambda, sp_.lambda);
+  keep_copy(committed_.mxi, sp_.mxi);
+  keep_copy(committed_.melem, sp_.melem);
+  keep_copy(committed_.mspan, sp_.mspan);
+  keep_copy(committed_.valid, sp_.valid);
+  if (mortar_) keep_copy(committed_.lbar, ms_.lbar);
   // friction: the converged tractions start the next step's trial (and its ALM multipliers),
   // the accumulated slip moves on, and the converged projections become the references
   if (mortar_) {
     Kokkos::deep_copy(fr_.lamTA, fr_.tauA);
     Kokkos::deep_copy(fr_.slipA_c, fr_.slipA);
-    keep(committed_.lamTA, fr_.lamTA);
+    keep_copy(committed_.lamTA, fr_.lamTA);
     Kokkos::deep_copy(slave_c_.u, slave.u);
     Kokkos::deep_copy(master_c_.u, master.u);
     grid_c_ = build_search_grid(master_c_);
   } else {
     Kokkos::deep_copy(fr_.lamT, fr_.tau);
     Kokkos::deep_copy(fr_.slip_c, fr_.slip);
-    keep(committed_.lamT, fr_.lamT);
+    keep_copy(committed_.lamT, fr_.lamT);
     Kokkos::deep_copy(fr_.ref_mxi, sp_.mxi);
     Kokkos::deep_copy(fr_.ref_valid, sp_.valid);
   }

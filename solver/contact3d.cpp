@@ -2,6 +2,7 @@
 // displacements of both surfaces, search and projection (kernels/contact_kts3.hpp).
 #include "solver/contact3d.hpp"
 #include "solver/contact.hpp"
+#include "solver/contact_internal.hpp"
 #include "model/configuration_check.hpp"
 #include "solver/system_internal.hpp"
 #include "kernels/numbering.hpp"
@@ -299,14 +300,10 @@ void ContactSurfaces3::update_friction() {
 // traction and accumulated slip. Every rank copies every point: the others' entries are its own
 // zeros or stale values that its kernels never read (each rank updates only its own points).
 void ContactSurfaces3::commit() {
-  auto keep = [](auto& dst, const auto& src) {
-    if (dst.extent(0) != src.extent(0)) dst = std::decay_t<decltype(dst)>(std::string(src.label()) + "_committed", src.extent(0));
-    Kokkos::deep_copy(dst, src);
-  };
-  keep(committed_.lambda, mortar ? ms.lbar : sp.lambda);
+  contact_detail::keep_copy(committed_.lambda, mortar ? ms.lbar : sp.lambda);
   if (!friction) return;
   Kokkos::deep_copy(fr.lamT, fr.tau);
-  keep(committed_.lamT, fr.lamT);
+  contact_detail::keep_copy(committed_.lamT, fr.lamT);
   Kokkos::deep_copy(fr.slip_c, fr.slip);
   const auto f = fr;
   const SlavePoints3 p = sp;

@@ -1,6 +1,8 @@
 #pragma once
 // Internal to solver/contact*.cpp: the contact surface's device data and the search grid
 // over its elements (solver/contact_geometry.cpp).
+#include <string>
+#include <type_traits>
 #include <vector>
 
 #include "solver/contact.hpp"
@@ -13,5 +15,14 @@ namespace iga::contact_detail {
 CurveData make_curve(const System& sys, const ContactSurface& s, const SurfaceChain& ch, std::vector<GO>& gids);
 /// Search grid over the master element boxes (convex hull of their current control points).
 SearchGrid build_search_grid(const CurveData& m);
+
+/// History: dst <- src, (re)allocated to src's extent (label "<src>_committed"); an empty src
+/// keeps nothing.
+template <class V>
+void keep_copy(V& dst, const V& src) {
+  if (!src.data()) return;
+  if (dst.extent(0) != src.extent(0)) dst = V(std::string(src.label()) + "_committed", src.extent(0));
+  Kokkos::deep_copy(dst, src);
+}
 
 }  // namespace iga::contact_detail
