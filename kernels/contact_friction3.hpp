@@ -58,6 +58,13 @@ struct Friction3 {
   Kokkos::View<double*, MemSpace> gT;             // |g_T| (the ALM check of the stick points)
   Kokkos::View<int*, MemSpace> state;             // 0 open, 1 stick, 2 slip
   ForceSum force;                                 // [Tx, Ty, Tz, -]: the slave rows' sum of -f_c
+  // mortar (contact_mortar_friction3.hpp): per point the slip vector g_T; per slave control
+  // point A the weighted slip s_A, the trial, the traction (committed / augmented lamTA), the
+  // accumulated slip and the state
+  Kokkos::View<double* [3], MemSpace> gv;
+  Kokkos::View<double* [3], MemSpace> sA, trA, tauA, lamTA;
+  Kokkos::View<double*, MemSpace> slipA, slipA_c;
+  Kokkos::View<int*, MemSpace> stateA;
 };
 
 /// Rational basis of the element with spans s and its parameter derivatives to third order:
@@ -127,11 +134,14 @@ KOKKOS_INLINE_FUNCTION int coulomb3(const double lamT[2], double epsT, double mu
 }
 
 /// The law at this rank's slave points: state, traction, slip (after ProjectSlavePoints3).
+/// `mortar`: the slip vector g_T of every projected point only (fr.gv; the law is per slave
+/// control point, contact_mortar_friction3.hpp).
 struct UpdateFriction3 {
   ContactFaces m;
   SlavePoints3 sp;
   Friction3 fr;
   double eps = 0;
+  bool mortar = false;
 
   KOKKOS_INLINE_FUNCTION void operator()(const int i) const {
     fr.state(i) = 0;
@@ -139,6 +149,18 @@ struct UpdateFriction3 {
     for (int al = 0; al < 2; ++al) fr.tau(i, al) = 0;
     for (int c = 0; c < 3; ++c) fr.t(i, c) = 0;
     fr.slip(i) = fr.slip_c(i);
+    if (mortar) {
+      for (int c = 0; c < 3; ++c) fr.gv(i, c) = 0;
+      if (sp.face(i) < 0 || !sp.valid(i) || fr.ref_face(i) != sp.mface(i)) return;
+      const ContactFace& mf = m.f[sp.mface(i)];
+      int ms[2];
+      surface_element_spans(mf.sd, sp.melem(i), ms);
+      double d[6][3];
+      surface_derivatives(mf.sd, ms, sp.muv(i, 0), sp.muv(i, 1), d);
+      const double dxi[2] = {sp.muv(i, 0) - fr.ref_uv(i, 0), sp.muv(i, 1) - fr.ref_uv(i, 1)};
+      for (int c = 0; c < 3; ++c) fr.gv(i, c) = d[1][c] * dxi[0] + d[2][c] * dxi[1];
+      return;
+    }
     if (sp.face(i) < 0 || !sp.valid(i) || !kts_active(sp.lambda(i), eps, sp.gap(i), sp.touch)) return;
     const ContactFace& mf = m.f[sp.mface(i)];
     int ms[2];
@@ -169,16 +191,101 @@ struct UpdateFriction3 {
   }
 };
 
-/// Tangential residual and its exact tangent at the active points [p_begin, p_end) (header).
-template <class LocalMatrix, class FView>
-struct AssembleFriction3 {
+/// One slave point's variables for the slip's variation (header): the slave and master bases,
+/// the foot xi as a Fad over the 33 point variables y, and the master quantities at the foot
+/// (tangents a_al, their derivatives a_al,be, the distance d = x_s - rho) to first order in
+/// xi - xi*, and the slip in convective coordinates dxi (0 without a reference on this face).
+struct FrictionPoint3 {
   static constexpr int NY = 33;
   using F = Sacado::Fad::SFad<double, NY>;
+  int ns = 0, nm = 0;
+  double Rs[kMaxSurfaceBasis], Rm[10][kMaxSurfaceBasis];
+  int cps[kMaxSurfaceBasis], cpm[kMaxSurfaceBasis];
+  F xi[2], a[2][3], aa[3][3], d[3], dxi[2];
+
+  /// d v / d u of point dof (control point cb of [slave 0..ns, master 0..nm), component cc)
+  /// from the derivatives of v over y.
+  KOKKOS_INLINE_FUNCTION double column(const F& v, int cb, int cc) const {
+    if (cb < ns) return Rs[cb] * v.fastAccessDx(cc);
+    const int b = cb - ns;
+    double r = 0;
+    for (int kk = 0; kk < 10; ++kk) r += Rm[kk][b] * v.fastAccessDx(3 * (1 + kk) + cc);
+    return r;
+  }
+  /// The slip vector g_T = a_al dxi^al.
+  KOKKOS_INLINE_FUNCTION void slip(F g[3]) const {
+    for (int c = 0; c < 3; ++c) g[c] = a[0][c] * dxi[0] + a[1][c] * dxi[1];
+  }
+};
+
+KOKKOS_INLINE_FUNCTION void friction_point3(const ContactFaces& s, const ContactFaces& m, const SlavePoints3& sp,
+                                            const Friction3& fr, int i, FrictionPoint3& P) {
+  using F = FrictionPoint3::F;
+  constexpr int NY = FrictionPoint3::NY;
+  const ContactFace& sf = s.f[sp.face(i)];
+  const ContactFace& mf = m.f[sp.mface(i)];
+  double Rsu[kMaxSurfaceBasis], Rsv[kMaxSurfaceBasis];
+  int es[2], ms[2];
+  surface_element_spans(sf.sd, sp.elem(i), es);
+  surface_element_spans(mf.sd, sp.melem(i), ms);
+  P.ns = surface_basis(sf.sd, es, sp.uv(i, 0), sp.uv(i, 1), P.Rs, Rsu, Rsv, P.cps);
+  P.nm = surface_basis3(mf.sd, ms, sp.muv(i, 0), sp.muv(i, 1), P.Rm, P.cpm);
+  // the point variables' values: x_s and the master's derivatives S^(k) at the foot
+  double Y[11][3] = {};
+  for (int a = 0; a < P.ns; ++a)
+    for (int c = 0; c < 3; ++c) Y[0][c] += P.Rs[a] * sf.sd.cp(P.cps[a], c);
+  for (int kk = 0; kk < 10; ++kk)
+    for (int b = 0; b < P.nm; ++b)
+      for (int c = 0; c < 3; ++c) Y[1 + kk][c] += P.Rm[kk][b] * mf.sd.cp(P.cpm[b], c);
+  auto var = [&](int kk, int c) { return F(NY, 3 * kk + c, Y[kk][c]); };
+  // the foot's derivative over y: H dxi = a . (dx_s - dS) + d . dS_al
+  double dv[3], Hv[2][2];
+  for (int c = 0; c < 3; ++c) dv[c] = Y[0][c] - Y[1][c];
+  Hv[0][0] = dot3(Y[2], Y[2]) - dot3(dv, Y[4]);
+  Hv[0][1] = Hv[1][0] = dot3(Y[2], Y[3]) - dot3(dv, Y[5]);
+  Hv[1][1] = dot3(Y[3], Y[3]) - dot3(dv, Y[6]);
+  const double detv = Hv[0][0] * Hv[1][1] - Hv[0][1] * Hv[1][0];
+  const double Hiv[2][2] = {{Hv[1][1] / detv, -Hv[0][1] / detv}, {-Hv[1][0] / detv, Hv[0][0] / detv}};
+  for (int be = 0; be < 2; ++be) {
+    P.xi[be] = F(NY, 0.0);
+    for (int r = 0; r < NY; ++r) P.xi[be].fastAccessDx(r) = 0.0;
+    for (int al = 0; al < 2; ++al)
+      for (int c = 0; c < 3; ++c) {
+        P.xi[be].fastAccessDx(c) += Hiv[be][al] * Y[2 + al][c];          // x_s
+        P.xi[be].fastAccessDx(3 + c) -= Hiv[be][al] * Y[2 + al][c];      // S
+        P.xi[be].fastAccessDx(3 * (2 + al) + c) += Hiv[be][al] * dv[c];  // S_al
+      }
+  }
+  // master quantities at the foot, first order in xi - xi*
+  const F* xi = P.xi;
+  for (int c = 0; c < 3; ++c) {
+    const F rho = var(1, c) + var(2, c) * xi[0] + var(3, c) * xi[1];
+    P.a[0][c] = var(2, c) + var(4, c) * xi[0] + var(5, c) * xi[1];
+    P.a[1][c] = var(3, c) + var(5, c) * xi[0] + var(6, c) * xi[1];
+    P.aa[0][c] = var(4, c) + var(7, c) * xi[0] + var(8, c) * xi[1];   // a_11
+    P.aa[1][c] = var(5, c) + var(8, c) * xi[0] + var(9, c) * xi[1];   // a_12
+    P.aa[2][c] = var(6, c) + var(9, c) * xi[0] + var(10, c) * xi[1];  // a_22
+    P.d[c] = var(0, c) - rho;
+  }
+  // no reference on this face (the point was not in contact on it at the last converged
+  // step): no slip this step, dxi = 0 whatever u (UpdateFriction3)
+  const bool same = fr.ref_face(i) == sp.mface(i);
+  for (int al = 0; al < 2; ++al) P.dxi[al] = same ? F(sp.muv(i, al) - fr.ref_uv(i, al) + xi[al]) : F(0.0);
+}
+
+/// Tangential residual and its exact tangent at the active points [p_begin, p_end) (header).
+/// `mortar`: the traction t of each point is given (fr.t, the field sum_A tau_A R_A of
+/// contact_mortar_friction3.hpp), and this kernel assembles -w t . delta g_T and its
+/// derivative at fixed t; the derivative of t is assembled per slave control point.
+template <class LocalMatrix, class FView>
+struct AssembleFriction3 {
+  using F = FrictionPoint3::F;
   ContactFaces s, m;
   SlavePoints3 sp;
   Friction3 fr;
   double eps = 0;
   int p_begin = 0;
+  bool mortar = false;
   LocalMatrix K;
   FView f;
   ForceSum force;   // the pair's [Fx, Fy, Fz, Fn]; fr.force gets [Tx, Ty, Tz]
@@ -187,80 +294,43 @@ struct AssembleFriction3 {
     const int i = p_begin + k;
     if (sp.face(i) < 0 || !sp.valid(i)) return;
     const int st = fr.state(i);
-    if (st == 0) return;
+    if (mortar ? fr.t(i, 0) == 0 && fr.t(i, 1) == 0 && fr.t(i, 2) == 0 : st == 0) return;
     const ContactFace& sf = s.f[sp.face(i)];
     const ContactFace& mf = m.f[sp.mface(i)];
-    double Rs[kMaxSurfaceBasis], Rsu[kMaxSurfaceBasis], Rsv[kMaxSurfaceBasis], Rm[10][kMaxSurfaceBasis];
-    int cps[kMaxSurfaceBasis], cpm[kMaxSurfaceBasis], es[2], ms[2];
-    surface_element_spans(sf.sd, sp.elem(i), es);
-    surface_element_spans(mf.sd, sp.melem(i), ms);
-    const int ns = surface_basis(sf.sd, es, sp.uv(i, 0), sp.uv(i, 1), Rs, Rsu, Rsv, cps);
-    const int nm = surface_basis3(mf.sd, ms, sp.muv(i, 0), sp.muv(i, 1), Rm, cpm);
-    // the point variables' values: x_s and the master's derivatives S^(k) at the foot
-    double Y[11][3] = {};
-    for (int a = 0; a < ns; ++a)
-      for (int c = 0; c < 3; ++c) Y[0][c] += Rs[a] * sf.sd.cp(cps[a], c);
-    for (int kk = 0; kk < 10; ++kk)
-      for (int b = 0; b < nm; ++b)
-        for (int c = 0; c < 3; ++c) Y[1 + kk][c] += Rm[kk][b] * mf.sd.cp(cpm[b], c);
-    auto var = [&](int kk, int c) { return F(NY, 3 * kk + c, Y[kk][c]); };
-    // the foot's derivative over y: H dxi = a . (dx_s - dS) + d . dS_al
-    double dv[3], Hv[2][2];
-    for (int c = 0; c < 3; ++c) dv[c] = Y[0][c] - Y[1][c];
-    Hv[0][0] = dot3(Y[2], Y[2]) - dot3(dv, Y[4]);
-    Hv[0][1] = Hv[1][0] = dot3(Y[2], Y[3]) - dot3(dv, Y[5]);
-    Hv[1][1] = dot3(Y[3], Y[3]) - dot3(dv, Y[6]);
-    const double detv = Hv[0][0] * Hv[1][1] - Hv[0][1] * Hv[1][0];
-    const double Hiv[2][2] = {{Hv[1][1] / detv, -Hv[0][1] / detv}, {-Hv[1][0] / detv, Hv[0][0] / detv}};
-    F xi[2];
-    for (int be = 0; be < 2; ++be) {
-      xi[be] = F(NY, 0.0);
-      for (int r = 0; r < NY; ++r) xi[be].fastAccessDx(r) = 0.0;
-      for (int al = 0; al < 2; ++al)
-        for (int c = 0; c < 3; ++c) {
-          xi[be].fastAccessDx(c) += Hiv[be][al] * Y[2 + al][c];          // x_s
-          xi[be].fastAccessDx(3 + c) -= Hiv[be][al] * Y[2 + al][c];      // S
-          xi[be].fastAccessDx(3 * (2 + al) + c) += Hiv[be][al] * dv[c];  // S_al
-        }
-    }
-    // master quantities at the foot, first order in xi - xi*
-    F a[2][3], aa[3][3], d[3];
-    for (int c = 0; c < 3; ++c) {
-      const F rho = var(1, c) + var(2, c) * xi[0] + var(3, c) * xi[1];
-      a[0][c] = var(2, c) + var(4, c) * xi[0] + var(5, c) * xi[1];
-      a[1][c] = var(3, c) + var(5, c) * xi[0] + var(6, c) * xi[1];
-      aa[0][c] = var(4, c) + var(7, c) * xi[0] + var(8, c) * xi[1];   // a_11
-      aa[1][c] = var(5, c) + var(8, c) * xi[0] + var(9, c) * xi[1];   // a_12
-      aa[2][c] = var(6, c) + var(9, c) * xi[0] + var(10, c) * xi[1];  // a_22
-      d[c] = var(0, c) - rho;
-    }
+    FrictionPoint3 P;
+    friction_point3(s, m, sp, fr, i, P);
+    const F* xi = P.xi;
+    const F(*a)[3] = P.a;
+    const F(*aa)[3] = P.aa;
+    const F* d = P.d;
+    const F* dxi = P.dxi;
     auto dot = [](const F* x, const F* y) { return F(x[0] * y[0] + x[1] * y[1] + x[2] * y[2]); };
     using std::sqrt;
     const F H00 = dot(a[0], a[0]) - dot(d, aa[0]), H01 = dot(a[0], a[1]) - dot(d, aa[1]), H11 = dot(a[1], a[1]) - dot(d, aa[2]);
     const F detH = H00 * H11 - H01 * H01;
     const F Hi[2][2] = {{H11 / detH, -H01 / detH}, {-H01 / detH, H00 / detH}};
-    F dxi[2];
-    const bool same = fr.ref_face(i) == sp.mface(i);
-    // no reference on this face (the point was not in contact on it at the last converged
-    // step): no slip this step, dxi = 0 whatever u (UpdateFriction3)
-    for (int al = 0; al < 2; ++al) dxi[al] = same ? F(sp.muv(i, al) - fr.ref_uv(i, al) + xi[al]) : F(0.0);
-    F len[2], e[2][3];
-    for (int al = 0; al < 2; ++al) {
-      len[al] = sqrt(dot(a[al], a[al]));
-      for (int c = 0; c < 3; ++c) e[al][c] = a[al][c] / len[al];
+    F t[3];
+    if (mortar) {
+      for (int c = 0; c < 3; ++c) t[c] = F(fr.t(i, c));
+    } else {
+      F len[2], e[2][3];
+      for (int al = 0; al < 2; ++al) {
+        len[al] = sqrt(dot(a[al], a[al]));
+        for (int c = 0; c < 3; ++c) e[al][c] = a[al][c] / len[al];
+      }
+      const F G01 = dot(e[0], e[1]);
+      // the pressure: <lambda - eps g>, g = d . n
+      F nrm[3] = {a[0][1] * a[1][2] - a[0][2] * a[1][1], a[0][2] * a[1][0] - a[0][0] * a[1][2], a[0][0] * a[1][1] - a[0][1] * a[1][0]};
+      const F nl = sqrt(dot(nrm, nrm));
+      F g = dot(d, nrm) * (mf.sign / nl);
+      F p = sp.lambda(i) - eps * g;
+      if (!(p.val() > 0)) p = F(0.0);
+      const double lamT[2] = {fr.lamT(i, 0), fr.lamT(i, 1)};
+      F tr[2], tau[2], norm;
+      coulomb3<F>(lamT, fr.epsT, fr.mu, p, len, G01, dxi, tr, tau, norm, st);
+      for (int c = 0; c < 3; ++c) t[c] = tau[0] * e[0][c] + tau[1] * e[1][c];
     }
-    const F G01 = dot(e[0], e[1]);
-    // the pressure: <lambda - eps g>, g = d . n
-    F nrm[3] = {a[0][1] * a[1][2] - a[0][2] * a[1][1], a[0][2] * a[1][0] - a[0][0] * a[1][2], a[0][0] * a[1][1] - a[0][1] * a[1][0]};
-    const F nl = sqrt(dot(nrm, nrm));
-    F g = dot(d, nrm) * (mf.sign / nl);
-    F p = sp.lambda(i) - eps * g;
-    if (!(p.val() > 0)) p = F(0.0);
-    const double lamT[2] = {fr.lamT(i, 0), fr.lamT(i, 1)};
-    F tr[2], tau[2], norm;
-    coulomb3<F>(lamT, fr.epsT, fr.mu, p, len, G01, dxi, tr, tau, norm, st);
-    F t[3], P[2], Qs[3], Q[2][3];
-    for (int c = 0; c < 3; ++c) t[c] = tau[0] * e[0][c] + tau[1] * e[1][c];
+    F P_[2], Qs[3], Q[2][3];
     // c_be = a_be + a_al,be dxi^al; P_ga = (t . c_be) H^-1_be,ga
     F tc[2];
     for (int be = 0; be < 2; ++be) {
@@ -268,23 +338,24 @@ struct AssembleFriction3 {
       for (int c = 0; c < 3; ++c) cb[c] = a[be][c] + aa[be][c] * dxi[0] + aa[be + 1][c] * dxi[1];
       tc[be] = dot(t, cb);
     }
-    for (int ga = 0; ga < 2; ++ga) P[ga] = tc[0] * Hi[0][ga] + tc[1] * Hi[1][ga];
+    for (int ga = 0; ga < 2; ++ga) P_[ga] = tc[0] * Hi[0][ga] + tc[1] * Hi[1][ga];
     for (int c = 0; c < 3; ++c) {
-      Qs[c] = P[0] * a[0][c] + P[1] * a[1][c];
-      for (int ga = 0; ga < 2; ++ga) Q[ga][c] = t[c] * dxi[ga] + P[ga] * d[c];
+      Qs[c] = P_[0] * a[0][c] + P_[1] * a[1][c];
+      for (int ga = 0; ga < 2; ++ga) Q[ga][c] = t[c] * dxi[ga] + P_[ga] * d[c];
     }
     // rows: value and d f_r / dy, then the columns through dy / du
     const double w = sp.weight(i);
-    const int nd = 3 * (ns + nm);
+    const int ns = P.ns, nm = P.nm, nd = 3 * (ns + nm);
     double fs[4] = {0, 0, 0, 0};
     const double nv[3] = {sp.normal(i, 0), sp.normal(i, 1), sp.normal(i, 2)};
+    const double(*Rm)[kMaxSurfaceBasis] = P.Rm;
     for (int r = 0; r < nd; ++r) {
       const int cp = r / 3, c = r % 3;
       F fr_;
       int lr;
       if (cp < ns) {
-        fr_ = -w * Rs[cp] * Qs[c];
-        lr = dof_of(sf.lid(cps[cp]), c, 3);
+        fr_ = -w * P.Rs[cp] * Qs[c];
+        lr = dof_of(sf.lid(P.cps[cp]), c, 3);
         fs[c] -= fr_.val();
         fs[3] -= fr_.val() * nv[c];
       } else {
@@ -293,23 +364,15 @@ struct AssembleFriction3 {
         const F Rb1 = Rm[1][b] + Rm[3][b] * xi[0] + Rm[4][b] * xi[1];
         const F Rb2 = Rm[2][b] + Rm[4][b] * xi[0] + Rm[5][b] * xi[1];
         fr_ = -w * (-Rb * Qs[c] + Rb1 * Q[0][c] + Rb2 * Q[1][c]);
-        lr = dof_of(mf.lid(cpm[b]), c, 3);
+        lr = dof_of(mf.lid(P.cpm[b]), c, 3);
       }
       Kokkos::atomic_add(&f(lr), fr_.val());
       for (int cb = 0; cb < ns + nm; ++cb) {
         double vals[3];
         int cols[3];
         for (int cc = 0; cc < 3; ++cc) {
-          double v = 0;
-          if (cb < ns) {
-            v = Rs[cb] * fr_.fastAccessDx(cc);
-            cols[cc] = dof_of(sf.lid(cps[cb]), cc, 3);
-          } else {
-            const int b = cb - ns;
-            for (int kk = 0; kk < 10; ++kk) v += Rm[kk][b] * fr_.fastAccessDx(3 * (1 + kk) + cc);
-            cols[cc] = dof_of(mf.lid(cpm[b]), cc, 3);
-          }
-          vals[cc] = v;
+          vals[cc] = P.column(fr_, cb, cc);
+          cols[cc] = cb < ns ? dof_of(sf.lid(P.cps[cb]), cc, 3) : dof_of(mf.lid(P.cpm[cb - ns]), cc, 3);
         }
         K.sumIntoValues(lr, cols, 3, vals, true, true);
       }

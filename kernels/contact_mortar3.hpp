@@ -169,7 +169,12 @@ struct MortarSegments3 {
           u += du;
           v += dv;
           tt += dt;
-          if (kmath::fabs(du) + kmath::fabs(dv) < 1e-14 * hsz) { ok = true; break; }
+          // converged: a step below 1e-11 of the element's size plus the distance from its
+          // centre (the slave polynomial evaluated far beyond its element carries round-off of
+          // ~1e-13 of that distance: a master element five slave elements wide left corners
+          // unconverged at 1e-14 and lost their segments)
+          const double reach = hsz + kmath::fabs(u - uc) + kmath::fabs(v - vc);
+          if (kmath::fabs(du) + kmath::fabs(dv) < 1e-11 * reach) { ok = true; break; }
           if (kmath::fabs(u - uc) > 100 * hsz || kmath::fabs(v - vc) > 100 * hsz) break;   // running away
         }
         if (!ok || kmath::fabs(tt) > margin) continue;
@@ -273,6 +278,55 @@ struct MortarPointPressure3 {
   }
 };
 
+/// The dense dof range of slave control point A's mortar vectors (delta g_A, and with friction
+/// V_A): the slave control points within p of A, then the box of master control points that
+/// its slots' master elements use; 3 entries (x, y, z) per control point.
+struct MortarRange3 {
+  int s_lo[2] = {0, 0}, sn[2] = {0, 0}, m_lo[2] = {0, 0}, mn[2] = {0, 0}, ns = 0, sdn0 = 0, mdn0 = 0;
+  /// Returns the range's size, 0 when no slot of A's support has a projection.
+  KOKKOS_INLINE_FUNCTION int init(const SurfaceData& sd, const SurfaceData& md, const SlavePoints3& sp, int slots, int A) {
+    const int ia = A % sd.n[0], ja = A / sd.n[0];
+    s_lo[0] = ia - sd.p[0];
+    s_lo[1] = ja - sd.p[1];
+    sn[0] = 2 * sd.p[0] + 1;
+    sn[1] = 2 * sd.p[1] + 1;
+    sdn0 = sd.n[0];
+    mdn0 = md.n[0];
+    int lo[2] = {md.n[0], md.n[1]}, hi[2] = {-1, -1};
+    for_each_support_slot3(sd, sp, slots, A, [&](int i, double, int) {
+      int ms_[2];
+      surface_element_spans(md, sp.melem(i), ms_);
+      for (int d = 0; d < 2; ++d) {
+        lo[d] = ms_[d] - md.p[d] < lo[d] ? ms_[d] - md.p[d] : lo[d];
+        hi[d] = ms_[d] > hi[d] ? ms_[d] : hi[d];
+      }
+    });
+    if (hi[0] < 0) return 0;
+    for (int d = 0; d < 2; ++d) {
+      m_lo[d] = lo[d];
+      mn[d] = hi[d] - lo[d] + 1;
+    }
+    ns = sn[0] * sn[1];
+    return 3 * (ns + mn[0] * mn[1]);
+  }
+  /// The first entry of slave (master) control point cp (its surface index).
+  KOKKOS_INLINE_FUNCTION int slave(int cp) const { return 3 * ((cp % sdn0 - s_lo[0]) + sn[0] * (cp / sdn0 - s_lo[1])); }
+  KOKKOS_INLINE_FUNCTION int master(int cp) const { return 3 * (ns + (cp % mdn0 - m_lo[0]) + mn[0] * (cp / mdn0 - m_lo[1])); }
+  /// The contact matrix's dof of entry q (-1: a control point without an overlap dof).
+  KOKKOS_INLINE_FUNCTION int dof(int q, const ContactFace& sf, const ContactFace& mf) const {
+    const int cpq = q / 3, c = q % 3;
+    int lid;
+    if (cpq < ns) {
+      const int ci = s_lo[0] + cpq % sn[0], cj = s_lo[1] + cpq / sn[0];
+      lid = sf.lid(ci + sdn0 * cj);
+    } else {
+      const int r = cpq - ns, ci = m_lo[0] + r % mn[0], cj = m_lo[1] + r / mn[0];
+      lid = mf.lid(ci + mdn0 * cj);
+    }
+    return lid < 0 ? -1 : dof_of(lid, c, 3);
+  }
+};
+
 /// K_c += eps / w_A delta g_A (x) delta g_A for the active slave control points [a_begin, ...):
 /// delta g_A accumulated on a dense range (the slave control points within p of A, then the
 /// box of master control points its slots' master elements use) in scratch row k, compacted
@@ -292,25 +346,14 @@ struct AssembleMortarGap3 {
     if (!ms.active(A)) return;
     const SurfaceData& sd = s.f[0].sd;
     const SurfaceData& md = m.f[0].sd;
-    const int ia = A % sd.n[0], ja = A / sd.n[0];
-    const int s_lo[2] = {ia - sd.p[0], ja - sd.p[1]}, sn[2] = {2 * sd.p[0] + 1, 2 * sd.p[1] + 1};
-    int m_lo[2] = {md.n[0], md.n[1]}, m_hi[2] = {-1, -1};
-    const SlavePoints3& p = sp;
-    for_each_support_slot3(sd, sp, slots, A, [&](int i, double, int) {
-      int ms_[2];
-      surface_element_spans(md, p.melem(i), ms_);
-      for (int d = 0; d < 2; ++d) {
-        m_lo[d] = ms_[d] - md.p[d] < m_lo[d] ? ms_[d] - md.p[d] : m_lo[d];
-        m_hi[d] = ms_[d] > m_hi[d] ? ms_[d] : m_hi[d];
-      }
-    });
-    if (m_hi[0] < 0) return;
-    const int mn[2] = {m_hi[0] - m_lo[0] + 1, m_hi[1] - m_lo[1] + 1};
-    const int ns = sn[0] * sn[1], size = 3 * (ns + mn[0] * mn[1]);
+    MortarRange3 rg;
+    const int size = rg.init(sd, md, sp, slots, A);
+    if (size == 0) return;
     if (size > sc.cap()) {
       Kokkos::atomic_fetch_max(&ms.flags(1), size);
       return;
     }
+    const SlavePoints3& p = sp;
     for (int q = 0; q < size; ++q) sc.v0(k, q) = 0;
     const MortarScratch& S = sc;
     for_each_support_slot3(sd, sp, slots, A, [&](int i, double RA, int e) {
@@ -321,33 +364,20 @@ struct AssembleMortarGap3 {
       int es[2];
       surface_element_spans(sd, e, es);
       const int nsb = surface_basis(sd, es, p.uv(i, 0), p.uv(i, 1), R, Ru, Rv, cp);
-      for (int a = 0; a < nsb; ++a) {
-        const int ci = cp[a] % sd.n[0] - s_lo[0], cj = cp[a] / sd.n[0] - s_lo[1];
-        for (int c = 0; c < 3; ++c) S.v0(k, 3 * (ci + sn[0] * cj) + c) += w * R[a] * n[c];
-      }
+      for (int a = 0; a < nsb; ++a)
+        for (int c = 0; c < 3; ++c) S.v0(k, rg.slave(cp[a]) + c) += w * R[a] * n[c];
       int mspn[2];
       surface_element_spans(md, p.melem(i), mspn);
       const int nmb = surface_basis(md, mspn, p.muv(i, 0), p.muv(i, 1), R, Ru, Rv, cp);
-      for (int b = 0; b < nmb; ++b) {
-        const int ci = cp[b] % md.n[0] - m_lo[0], cj = cp[b] / md.n[0] - m_lo[1];
-        for (int c = 0; c < 3; ++c) S.v0(k, 3 * (ns + ci + mn[0] * cj) + c) -= w * R[b] * n[c];
-      }
+      for (int b = 0; b < nmb; ++b)
+        for (int c = 0; c < 3; ++c) S.v0(k, rg.master(cp[b]) + c) -= w * R[b] * n[c];
     });
     // compact to the touched entries with an overlap dof, then sort by dof (insertion sort)
     int nnz = 0;
     for (int q = 0; q < size; ++q) {
       if (sc.v0(k, q) == 0) continue;
-      const int cpq = q / 3, c = q % 3;
-      int lid;
-      if (cpq < ns) {
-        const int ci = s_lo[0] + cpq % sn[0], cj = s_lo[1] + cpq / sn[0];
-        lid = s.f[0].lid(ci + sd.n[0] * cj);
-      } else {
-        const int r = cpq - ns, ci = m_lo[0] + r % mn[0], cj = m_lo[1] + r / mn[0];
-        lid = m.f[0].lid(ci + md.n[0] * cj);
-      }
-      if (lid < 0) continue;
-      const int dof = dof_of(lid, c, 3);
+      const int dof = rg.dof(q, s.f[0], m.f[0]);
+      if (dof < 0) continue;
       const double val = sc.v0(k, q);
       int pos = nnz++;
       while (pos > 0 && sc.dof(k, pos - 1) > dof) {

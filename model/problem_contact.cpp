@@ -126,8 +126,6 @@ void read_contact_pairs(const Reader& R, const YAML::Node& root, Problem& P) {
         if (!(cp.friction >= 0) || !std::isfinite(cp.friction))
           R.fail(path + ".friction", n["friction"], "the Coulomb coefficient must be a number >= 0");
       }
-      if (R.dim == 3 && cp.friction > 0 && (cp.method == ContactMethod::MortarPenalty || cp.method == ContactMethod::MortarAlm))
-        R.fail(path + ".friction", n["friction"], "friction between solids is built for kts_penalty and kts_alm; 3-D mortar is frictionless");
       // KTS ALM with friction: the stick constraints of the quadrature points outnumber the
       // slave dofs, and where stick meets slip Uzawa drifts along them for a few hundred
       // updates (docs/friction.md): a larger default

@@ -84,13 +84,15 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
   fr.epsT = pair.tangential_penalty > 0 ? pair.tangential_penalty : pair.penalty;
   fr.force = ForceSum("friction_force");
   friction = fr.mu > 0;
-  if (friction && mortar) throw std::invalid_argument("3-D mortar contact is frictionless (friction with mortar between solids is not built yet)");
   if (mortar) {
     // quadrature slots per slave element, filled by MortarSegments3 at every update (they grow
     // to what an element needs); w_A = int R_A dGamma_0 by Gauss on the slave elements
     const HostFace& h = hs_[0];
     const int pmax = std::max({h.p[0], h.p[1], hm_[0].p[0], hm_[0].p[1]});
-    gauss = gauss_rule(pair.quadrature_points > 0 ? pair.quadrature_points : pmax + 1);
+    // with friction two more points per direction: the slip's integrand is a polynomial of
+    // higher degree, and a rule that does not integrate it exactly makes the residual move with
+    // the segments at first order (Newton stalls at 1e-7 on a flat p = 2 master with p + 1)
+    gauss = gauss_rule(pair.quadrature_points > 0 ? pair.quadrature_points : std::min(pmax + (friction ? 3 : 1), kMaxGauss));
     slots = 4 * 6 * gauss.n * gauss.n;   // room for 4 segments of 6 fan triangles to start with
     const int ne = h.ne[0] * h.ne[1], na = h.n[0] * h.n[1];
     allocate_points(ne * slots);
@@ -102,6 +104,27 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
     ms.covered = Kokkos::View<int*, MemSpace>("coveredA", na);
     ms.flags = Kokkos::View<int*, MemSpace>("flags", 2);
     seg_flags_ = Kokkos::View<int*, MemSpace>("segment_flags", 3);
+    if (friction) {
+      fr.sA = Kokkos::View<double* [3], MemSpace>("sA", na);
+      fr.trA = Kokkos::View<double* [3], MemSpace>("trA", na);
+      fr.tauA = Kokkos::View<double* [3], MemSpace>("tauA", na);
+      fr.lamTA = Kokkos::View<double* [3], MemSpace>("lamTA", na);
+      fr.slipA = Kokkos::View<double*, MemSpace>("slipA", na);
+      fr.slipA_c = Kokkos::View<double*, MemSpace>("slipA_c", na);
+      fr.stateA = Kokkos::View<int*, MemSpace>("stateA", na);
+      stateA_prev_ = Kokkos::View<int*, MemSpace>("stateA_prev", na);
+      // the converged configuration's faces: their own current points and displacements
+      for (int which = 0; which < 2; ++which) {
+        ContactFaces& c = which == 0 ? slave_c_ : master_c_;
+        c = which == 0 ? slave : master;
+        for (int k = 0; k < c.n; ++k) {
+          c.f[k].cur = Kokkos::View<double* [4], MemSpace>("face_x_committed", c.f[k].X.extent(0));
+          Kokkos::deep_copy(c.f[k].cur, c.f[k].X);
+          c.f[k].sd.cp = c.f[k].cur;
+          c.f[k].u = Kokkos::View<double* [3], MemSpace>("face_u_committed", c.f[k].X.extent(0));
+        }
+      }
+    }
     {
       const SurfaceData ref = reference_surface(slave.f[0]);
       const GaussRule g = gauss_rule(std::min(std::max(h.p[0], h.p[1]) + 2, kMaxGauss));
@@ -234,6 +257,21 @@ void ContactSurfaces3::allocate_points(int n) {
   fr.gT = Kokkos::View<double*, MemSpace>("gT", n);
   fr.state = Kokkos::View<int*, MemSpace>("friction_state", n);
   state_prev_ = Kokkos::View<int*, MemSpace>("friction_state_prev", n);
+  if (mortar && friction) {
+    fr.gv = Kokkos::View<double* [3], MemSpace>("slip_vector", n);
+    // the slots' projections in the converged configuration: the slots' own parameters,
+    // results of their own
+    ref_sp_ = sp;
+    ref_sp_.lambda = Kokkos::View<double*, MemSpace>("ref_lambda", n);
+    ref_sp_.valid = Kokkos::View<int*, MemSpace>("ref_valid", n);
+    ref_sp_.mface = Kokkos::View<int*, MemSpace>("ref_mface", n);
+    ref_sp_.melem = Kokkos::View<int*, MemSpace>("ref_melem", n);
+    ref_sp_.muv = Kokkos::View<double* [2], MemSpace>("ref_muv", n);
+    ref_sp_.gap = Kokkos::View<double*, MemSpace>("ref_gap", n);
+    ref_sp_.pressure = Kokkos::View<double*, MemSpace>("ref_pressure", n);
+    ref_sp_.x = Kokkos::View<double* [3], MemSpace>("ref_x", n);
+    ref_sp_.normal = Kokkos::View<double* [3], MemSpace>("ref_normal", n);
+  }
 }
 
 void ContactSurfaces3::mortar_scratch(int cap) {
@@ -242,6 +280,12 @@ void ContactSurfaces3::mortar_scratch(int cap) {
   scratch.v0 = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>("mortar_v0", na, cap);
   scratch.v1 = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>("mortar_v1", na, cap);
   scratch.row = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>("mortar_row", na, cap);
+  if (friction) {
+    fscratch.dof = Kokkos::View<int**, Kokkos::LayoutRight, MemSpace>("mortar_friction_dof", na, cap);
+    fscratch.v0 = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>("mortar_friction_v0", na, 4 * cap);
+    fscratch.v1 = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>("mortar_friction_v1", na, 4 * cap);
+    fscratch.row = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>("mortar_friction_row", na, cap);
+  }
 }
 
 double ContactSurfaces3::potential() const {
@@ -267,6 +311,12 @@ double ContactSurfaces3::max_active_gap() const {
     auto act = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms.active);
     for (size_t A = 0; A < g.extent(0); ++A)
       if (act(A)) r = std::max(r, std::abs(g(A) / w(A)));
+    if (friction) {   // the stick control points' weighted slip
+      auto sA = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr.sA);
+      auto stA = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr.stateA);
+      for (size_t A = 0; A < sA.extent(0); ++A)
+        if (stA(A) == 1) r = std::max(r, std::sqrt(sA(A, 0) * sA(A, 0) + sA(A, 1) * sA(A, 1) + sA(A, 2) * sA(A, 2)));
+    }
     return r;
   }
   ContactPointState st;
@@ -279,6 +329,10 @@ double ContactSurfaces3::max_active_gap() const {
 }
 
 void ContactSurfaces3::update_friction() {
+  if (mortar) {
+    update_mortar_friction();
+    return;
+  }
   UpdateFriction3 k;
   k.m = master; k.sp = sp; k.fr = fr; k.eps = pair.penalty;
   Kokkos::parallel_for("iga::UpdateFriction3", Kokkos::RangePolicy<ExecSpace>(p_begin, p_end), k);
@@ -296,12 +350,81 @@ void ContactSurfaces3::update_friction() {
   Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, 3, loc, counts);
 }
 
+// Mortar: every slot's reference foot (its slave point in the converged configuration
+// projected onto the converged master; none before the first converged step), its slip vector,
+// the law of every slave control point and the slots' traction field (every rank: the slots
+// and control points are not split for these), then the counts of this rank's control points.
+void ContactSurfaces3::update_mortar_friction() {
+  const int n = num_points();
+  if (have_committed_) {
+    // warm start: the current foot's element (the converged one is at most a step away)
+    Kokkos::deep_copy(ref_sp_.mface, sp.mface);
+    Kokkos::deep_copy(ref_sp_.melem, sp.melem);
+    Kokkos::deep_copy(ref_sp_.muv, sp.muv);
+    ProjectSlavePoints3 k;
+    k.s = slave_c_; k.m = master_c_; k.sp = ref_sp_; k.eps = pair.penalty;
+    Kokkos::parallel_for("iga::ProjectCommittedSlots3", Kokkos::RangePolicy<ExecSpace>(0, n), k);
+    const auto f = fr;
+    const SlavePoints3 r = ref_sp_;
+    Kokkos::parallel_for("iga::MortarFrictionReferences3", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(const int i) {
+      f.ref_face(i) = r.valid(i) ? r.mface(i) : -1;
+      f.ref_uv(i, 0) = r.muv(i, 0);
+      f.ref_uv(i, 1) = r.muv(i, 1);
+    });
+  } else {
+    Kokkos::deep_copy(fr.ref_face, -1);
+  }
+  UpdateFriction3 ku;
+  ku.m = master; ku.sp = sp; ku.fr = fr; ku.eps = pair.penalty; ku.mortar = true;
+  Kokkos::parallel_for("iga::MortarSlip3", Kokkos::RangePolicy<ExecSpace>(0, n), ku);
+  MortarFrictionLaw3 kl;
+  kl.s = slave; kl.sp = sp; kl.ms = ms; kl.fr = fr; kl.slots = slots;
+  Kokkos::parallel_for("iga::MortarFrictionLaw3", Kokkos::RangePolicy<ExecSpace>(0, static_cast<int>(ms.wA.extent(0))), kl);
+  MortarFrictionPoints3 kp;
+  kp.s = slave; kp.sp = sp; kp.ms = ms; kp.fr = fr;
+  Kokkos::parallel_for("iga::MortarFrictionPoints3", Kokkos::RangePolicy<ExecSpace>(0, n), kp);
+  const auto st = fr.stateA, prev = stateA_prev_;
+  int loc[3] = {0, 0, 0};
+  Kokkos::parallel_reduce("iga::MortarFrictionCounts3", Kokkos::RangePolicy<ExecSpace>(a_begin, a_end),
+                          KOKKOS_LAMBDA(const int A, int& stick, int& slip, int& sw) {
+                            stick += st(A) == 1;
+                            slip += st(A) == 2;
+                            sw += st(A) != prev(A);
+                          },
+                          loc[0], loc[1], loc[2]);
+  Kokkos::deep_copy(stateA_prev_, fr.stateA);
+  Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, 3, loc, counts);
+}
+
 // History: the multipliers (the projection is searched anew) and friction's committed foot,
 // traction and accumulated slip. Every rank copies every point: the others' entries are its own
 // zeros or stale values that its kernels never read (each rank updates only its own points).
 void ContactSurfaces3::commit() {
   contact_detail::keep_copy(committed_.lambda, mortar ? ms.lbar : sp.lambda);
   if (!friction) return;
+  if (mortar) {
+    Kokkos::deep_copy(fr.lamTA, fr.tauA);
+    contact_detail::keep_copy(committed_.lamTA, fr.lamTA);
+    Kokkos::deep_copy(fr.slipA_c, fr.slipA);
+    // the converged configuration: the reference of the next step's slots
+    double hmax = 0;
+    for (int which = 0; which < 2; ++which) {
+      ContactFaces& c = which == 0 ? slave_c_ : master_c_;
+      const ContactFaces& cur = which == 0 ? slave : master;
+      for (int k = 0; k < c.n; ++k) {
+        Kokkos::deep_copy(c.f[k].u, cur.f[k].u);
+        update_face_points(c.f[k]);
+      }
+    }
+    Kokkos::fence();
+    for (int k = 0; k < master_c_.n; ++k) {
+      master_c_.search[k] = SurfaceSearch::build(master_c_.f[k].sd);
+      hmax = std::max(hmax, master_c_.search[k].h);
+    }
+    master_c_.radius = 2 * hmax;
+    have_committed_ = true;
+    return;
+  }
   Kokkos::deep_copy(fr.lamT, fr.tau);
   contact_detail::keep_copy(committed_.lamT, fr.lamT);
   Kokkos::deep_copy(fr.slip_c, fr.slip);
@@ -318,18 +441,21 @@ void ContactSurfaces3::commit() {
 void ContactSurfaces3::restore() {
   if (!committed_.lambda.data()) return;   // nothing committed yet: the initial state stands
   Kokkos::deep_copy(mortar ? ms.lbar : sp.lambda, committed_.lambda);
-  if (friction) Kokkos::deep_copy(fr.lamT, committed_.lamT);
+  if (friction && mortar) Kokkos::deep_copy(fr.lamTA, committed_.lamTA);
+  else if (friction) Kokkos::deep_copy(fr.lamT, committed_.lamT);
 }
 
 void ContactSurfaces3::augment() {
   if (mortar) Kokkos::deep_copy(ms.lbar, ms.lambda);
   else Kokkos::deep_copy(sp.lambda, sp.pressure);
-  if (friction) Kokkos::deep_copy(fr.lamT, fr.tau);
+  if (friction && mortar) Kokkos::deep_copy(fr.lamTA, fr.tauA);
+  else if (friction) Kokkos::deep_copy(fr.lamT, fr.tau);
 }
 
 void ContactSurfaces3::reset_multipliers() {
   Kokkos::deep_copy(mortar ? ms.lbar : sp.lambda, 0.0);
-  if (friction) Kokkos::deep_copy(fr.lamT, 0.0);
+  if (friction && mortar) Kokkos::deep_copy(fr.lamTA, 0.0);
+  else if (friction) Kokkos::deep_copy(fr.lamT, 0.0);
 }
 
 std::vector<GO> ContactSurfaces3::surface_gids() const {
@@ -407,7 +533,7 @@ void ContactSurfaces3::refresh() {
   // in). Mortar: every slot, which the weighted gaps of this rank's control points read
   const int first = mortar ? 0 : p_begin, last = mortar ? num_points() : p_end;
   Kokkos::parallel_for("iga::ProjectSlavePoints3", Kokkos::RangePolicy<ExecSpace>(first, last), k);
-  if (friction) update_friction();
+  if (friction && !mortar) update_friction();
   if (mortar) {
     MortarGaps3 kg;
     kg.s = slave; kg.sp = sp; kg.ms = ms; kg.eps = pair.penalty; kg.touch = sp.touch; kg.slots = slots;
@@ -415,6 +541,7 @@ void ContactSurfaces3::refresh() {
     MortarPointPressure3 kp;
     kp.s = slave; kp.sp = sp; kp.ms = ms;
     Kokkos::parallel_for("iga::MortarPointPressure3", Kokkos::RangePolicy<ExecSpace>(0, num_points()), kp);
+    if (friction) update_friction();   // the law per control point needs lambda_A
   }
   Kokkos::fence();
 }

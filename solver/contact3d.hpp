@@ -5,8 +5,7 @@
 // see the same pair interface in 2-D and 3-D.
 #include <vector>
 
-#include "kernels/contact_friction3.hpp"
-#include "kernels/contact_mortar3.hpp"
+#include "kernels/contact_mortar_friction3.hpp"
 #include "solver/system.hpp"
 
 namespace iga {
@@ -52,10 +51,12 @@ class ContactSurfaces3 {
   /// largest slip increment |g_T| of the stick points (KTS).
   double max_active_gap() const;
 
-  // friction (KTS, kernels/contact_friction3.hpp): the law at this rank's points after each
-  // projection; the history (committed foot, traction, slip) moves on at commit() and comes
-  // back at restore(); augment(): lamT <- tau (ALM)
+  // friction (KTS: kernels/contact_friction3.hpp, the law at this rank's points after each
+  // projection; mortar: kernels/contact_mortar_friction3.hpp, the law per slave control point
+  // after the weighted gaps): the history (committed foot or configuration, traction, slip)
+  // moves on at commit() and comes back at restore(); augment(): lamT <- tau (ALM)
   Friction3 fr;
+  MortarScratch fscratch;   // mortar friction: V_A and delta g_A per slave control point
   bool friction = false;
   int counts[3] = {0, 0, 0};        // stick, slip, state switches since the last update (all ranks)
   double assembled_t[3] = {0, 0, 0};   // [Tx, Ty, Tz] of the last assembly (all ranks)
@@ -68,11 +69,20 @@ class ContactSurfaces3 {
   void allocate_points(int n);
   RCP<const Comm> comm_;
   void update_friction();
+  void update_mortar_friction();
   Kokkos::View<int*, MemSpace> state_prev_;
   struct Committed {
     Kokkos::View<double*, MemSpace> lambda;
     Kokkos::View<double* [2], MemSpace> lamT;
+    Kokkos::View<double* [3], MemSpace> lamTA;
   } committed_;
+  // mortar friction: the faces in the last converged configuration (the slots' reference feet
+  // are projected onto it at every update), the slots' projections there, and the per-A states
+  // of the previous update
+  ContactFaces slave_c_, master_c_;
+  SlavePoints3 ref_sp_;
+  bool have_committed_ = false;
+  Kokkos::View<int*, MemSpace> stateA_prev_;
   Kokkos::View<int*, MemSpace> seg_flags_;
   Kokkos::View<int**, Kokkos::LayoutRight, MemSpace> cand_;   // mortar: candidate master elements per slave element
   int rank_ = 0, nranks_ = 1;

@@ -135,12 +135,29 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
         if (c3.friction) Kokkos::deep_copy(c3.fr.force, 0.0);
         if (c3.friction && c3.p_end > c3.p_begin) {
           AssembleFriction3<decltype(lcl), decltype(fv)> k;
-          k.s = c3.slave; k.m = c3.master; k.sp = c3.sp; k.fr = c3.fr; k.eps = c3.pair.penalty;
+          k.s = c3.slave; k.m = c3.master; k.sp = c3.sp; k.fr = c3.fr; k.eps = c3.pair.penalty; k.mortar = c3.mortar;
           k.p_begin = c3.p_begin; k.K = lcl; k.f = fv; k.force = pd.force_;
           Kokkos::parallel_for("iga::AssembleFriction3", Kokkos::RangePolicy<ExecSpace>(0, c3.p_end - c3.p_begin), k);
         }
         if (c3.mortar && c3.a_end > c3.a_begin) {
           Kokkos::deep_copy(c3.ms.flags, 0);
+          if (c3.friction) {
+            const int na = c3.a_end - c3.a_begin;
+            Kokkos::View<MortarRange3*, MemSpace> range("mortar_friction_range", na);
+            Kokkos::View<int*, MemSpace> size("mortar_friction_size", na);
+            MortarFrictionRanges3 kr;
+            kr.s = c3.slave; kr.m = c3.master; kr.sp = c3.sp; kr.ms = c3.ms; kr.fr = c3.fr; kr.sc = c3.fscratch;
+            kr.range = range; kr.size = size; kr.slots = c3.slots; kr.a_begin = c3.a_begin;
+            Kokkos::parallel_for("iga::MortarFrictionRanges3", Kokkos::RangePolicy<ExecSpace>(0, na), kr);
+            MortarFrictionVectors3 kv;
+            kv.s = c3.slave; kv.m = c3.master; kv.sp = c3.sp; kv.ms = c3.ms; kv.fr = c3.fr; kv.sc = c3.fscratch;
+            kv.range = range; kv.size = size; kv.a_begin = c3.a_begin; kv.a_end = c3.a_end;
+            Kokkos::parallel_for("iga::MortarFrictionVectors3", Kokkos::RangePolicy<ExecSpace>(0, c3.num_points()), kv);
+            AssembleMortarFriction3<decltype(lcl)> k;
+            k.s = c3.slave; k.m = c3.master; k.ms = c3.ms; k.fr = c3.fr; k.sc = c3.fscratch;
+            k.range = range; k.size = size; k.eps = c3.pair.penalty; k.a_begin = c3.a_begin; k.K = lcl;
+            Kokkos::parallel_for("iga::AssembleMortarFriction3", Kokkos::RangePolicy<ExecSpace>(0, na), k);
+          }
           AssembleMortarGap3<decltype(lcl)> k;
           k.s = c3.slave; k.m = c3.master; k.sp = c3.sp; k.ms = c3.ms; k.sc = c3.scratch; k.eps = c3.pair.penalty;
           k.slots = c3.slots; k.a_begin = c3.a_begin; k.K = lcl;

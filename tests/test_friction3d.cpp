@@ -1,4 +1,5 @@
-// 3-D Coulomb friction, knot-to-surface (kernels/contact_friction3.hpp, solver/contact3d.cpp):
+// 3-D Coulomb friction, knot-to-surface (kernels/contact_friction3.hpp) and mortar
+// (kernels/contact_mortar_friction3.hpp), solver/contact3d.cpp:
 //   GrossSliding3  a box pressed onto a rigid flat base and dragged along x or along y (nu = 0,
 //                  so the problem is plane strain in the plane of the drag and every point
 //                  slides along it): every point slips with |t| = mu p against the drag,
@@ -61,14 +62,15 @@ std::string box_on_base(bool skew, const std::string& method, const std::string&
 }  // namespace
 
 // Gross sliding: the drag (0.05, ten times the elastic slip mu p / eps_T) makes every contact
-// point slip; with nu = 0 the box deforms in the plane of the drag only, so every point's
+// point slip (KTS: every slave point; mortar: every slave control point, so that the traction
+// field sum_A tau_A R_A is -mu p e_drag at every slot); with nu = 0 the box deforms in the plane of the drag only, so every point's
 // traction is mu p along -drag exactly (the return mapping's result, whatever the trial's
 // history), and their sum is mu F_n along -drag: both to round-off.
 TEST(GrossSliding3, EveryPointSlipsWithTheCoulombTraction) {
   for (bool skew : {false, true})
     for (int dir : {0, 1})
-      for (const char* method : {"kts_penalty", "kts_alm"}) {
-        if (std::string(method) == "kts_alm" && skew) continue;
+      for (const char* method : {"kts_penalty", "kts_alm", "mortar_penalty", "mortar_alm"}) {
+        if (std::string(method).find("alm") != std::string::npos && skew) continue;
         const std::string x = dir == 0 ? "[0.0, 0.05]" : "0", y = dir == 1 ? "[0.0, 0.05]" : "0";
         const Solved s = solve_text(box_on_base(skew, method, "[1, 2]", x, y));
         ASSERT_TRUE(s.res.converged) << s.res.message;
@@ -112,9 +114,11 @@ TEST(GrossSliding3, EveryPointSlipsWithTheCoulombTraction) {
 // the orthogonal one at every step (the committed traction and the slip live on the master's
 // convective basis: orthogonal on one, at 45 degrees on the other).
 TEST(TurningLoad3, TheTractionFollowsTheSlipOnAnyParametrisation) {
+  for (const char* method : {"kts_penalty", "mortar_penalty"}) {
+  std::printf("  %s\n", method);
   std::vector<std::array<double, 4>> hist[2];   // per base: Tx, Ty, Tz, F_n per step
   for (bool skew : {false, true}) {
-    const Problem P = parse_problem(box_on_base(skew, "kts_penalty", "[1, 2, 8]", "[0.0, 0.05, 0.05]", "[0.0, 0.0, 0.1]"),
+    const Problem P = parse_problem(box_on_base(skew, method, "[1, 2, 8]", "[0.0, 0.05, 0.05]", "[0.0, 0.0, 0.1]"),
                                     "turn.yaml");
     System sys(P, Tpetra::getDefaultComm());
     const SolveResult res = solve(sys, {}, [&](const StepState& st) {
@@ -146,6 +150,7 @@ TEST(TurningLoad3, TheTractionFollowsTheSlipOnAnyParametrisation) {
   EXPECT_LT(std::abs(end[0]) / std::hypot(end[0], end[1]), 2e-3);
   EXPECT_NEAR(std::hypot(end[0], end[1]), kMu * end[3], 1e-5 * end[3]);
   EXPECT_LT(diff, 1e-9 * kMu * end[3]);
+  }
 }
 
 // The 2-D ring-and-block contact with friction (mu = 0.3, the block pressed by 0.01 and then

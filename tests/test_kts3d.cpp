@@ -68,7 +68,7 @@ std::string bump_and_box(int p, int n, const std::string& method, const std::str
 // traction there), so that the state has references, committed tractions and slip increments;
 // only K_c against differences of f_c (friction has no potential).
 void check_tangent(int p, bool multipliers, std::array<double, 3> shift, const std::string& analysis = "", bool mortar = false,
-                   double mu = 0, std::array<double, 2> slide = {0, 0}) {
+                   double mu = 0, std::array<double, 2> slide = {0, 0}, int stride = 5) {
   const std::string method = std::string(mortar ? "mortar" : "kts") + (multipliers ? "_alm" : "_penalty");
   const Problem P = parse_problem(bump_and_box(p, 6, method, analysis, mu), "tangent3d.yaml");
   System sys(P, Tpetra::getDefaultComm());
@@ -98,10 +98,10 @@ void check_tangent(int p, bool multipliers, std::array<double, 3> shift, const s
   }
   const ContactContribution c0 = assemble_contact(sys, pairs);
   ASSERT_GT(c0.active, mortar ? 5 : 20);   // slave control points (mortar) or points
-  // a spread of the surfaces' dofs (every one would take minutes): every 5th, all components
+  // a spread of the surfaces' dofs (every one would take minutes): every `stride`-th, all components
   std::vector<GO> dofs;
   const auto gids = pairs[0].s3_->surface_gids();
-  for (size_t k = 0; k < gids.size(); k += 5)
+  for (size_t k = 0; k < gids.size(); k += stride)
     for (int c = 0; c < 3; ++c) dofs.push_back(3 * gids[k] + c);
   const double h = 1e-7;
   double worst = 0, worst_f = 0, kscale = 0;
@@ -229,6 +229,23 @@ TEST(Mortar3Tangent, MatchesFiniteDifferences) {
   check_tangent(3, false, {0.0, 0.0, -0.02}, "", true);
 }
 
+// Mortar friction (contact_mortar_friction3.hpp): the slots' part at fixed traction and the
+// per-control-point derivative of the traction (stick: eps_T / w_A V_A V_A^T; slip: the turn of
+// the slip direction and the pressure's change), after a history, on the curved master (p = 3):
+// penalty in stick and in slip, ALM, and after a slide with finite kinematics.
+// The tangent is taken at fixed segments. On a C^1 master (p = 2) the difference to central
+// differences is 4e-6 .. 2e-5 of the largest column, independent of the step (1e-6 .. 1e-8), of
+// the Gauss points per segment (3 .. 8) and of the cells per master element (2 .. 8), and it
+// falls to 4e-9 with the segmentation held fixed (measured ad hoc): a first-order effect of
+// the segments' motion that we have not explained (docs/friction.md); a C^2 master is
+// consistent to 3e-8, which this test asserts.
+TEST(Mortar3FrictionTangent, MatchesFiniteDifferencesInStickAndSlip) {
+  // every 13th surface control point (a mortar friction update costs ~ 0.3 s here)
+  check_tangent(3, false, {0.0, 0.0, -0.02}, "", true, 0.3, {1e-4, -5e-5}, 13);
+  check_tangent(3, true, {0.0, 0.0, -0.02}, "", true, 0.3, {0.04, -0.03}, 13);
+  check_tangent(3, false, {-0.35, 0.3, -0.03}, ", kinematics: finite", true, 0.3, {0.05, 0.02}, 13);
+}
+
 // Nested meshes (every master knot is a slave knot): each slave element sees one polynomial
 // piece of the master, the slave Gauss rule integrates the master forces exactly, and the
 // uniform state is exact: p = eps |g| = 1, the slave points at X + (nu p / E) (x, y) and
@@ -259,7 +276,10 @@ TEST(StackedBoxes, NestedMeshesPassThePatchTestToRoundOff) {
 TEST(StackedBoxes, MortarPassesThePatchTestToRoundOff) {
   for (int p : {1, 2, 3, 4})
     for (const char* method : {"mortar_penalty", "mortar_alm"})
-      for (auto [nb, nt] : {std::pair<int, int>{2, 3}, {3, 5}}) {
+      // {1, 8}: one master element eight slave elements wide (its corners far beyond the slave
+      // elements: the segmentation's shots must converge there, which at 1e-14 of the slave
+      // element's size they did not, losing segments)
+      for (auto [nb, nt] : {std::pair<int, int>{2, 3}, {3, 5}, {1, 8}}) {
         const Solved s = solve_text(stacked(p, nb, nt, method));
         ASSERT_TRUE(s.res.converged);
         const ContactSummary sm = s.res.contact[0].summary();
