@@ -327,6 +327,18 @@ struct MortarRange3 {
   }
 };
 
+/// A slot's part of delta g_A = int R_A N dGamma_0 on A's dense range: add(entry, value) for
+/// the slave control points (w R_a n) and the master ones (-w R_b n) of the slot's elements
+/// (w: R_A times the slot's weight; Rs, Rm the bases at the slot and at its foot).
+template <class Add>
+KOKKOS_INLINE_FUNCTION void add_gap_variation(const MortarRange3& rg, const double* Rs, const int* cps, int ns, const double* Rm,
+                                              const int* cpm, int nm, const double n[3], double w, const Add& add) {
+  for (int a = 0; a < ns; ++a)
+    for (int c = 0; c < 3; ++c) add(rg.slave(cps[a]) + c, w * Rs[a] * n[c]);
+  for (int b = 0; b < nm; ++b)
+    for (int c = 0; c < 3; ++c) add(rg.master(cpm[b]) + c, -w * Rm[b] * n[c]);
+}
+
 /// K_c += eps / w_A delta g_A (x) delta g_A for the active slave control points [a_begin, ...):
 /// delta g_A accumulated on a dense range (the slave control points within p of A, then the
 /// box of master control points its slots' master elements use) in scratch row k, compacted
@@ -359,18 +371,14 @@ struct AssembleMortarGap3 {
     for_each_support_slot3(sd, sp, slots, A, [&](int i, double RA, int e) {
       const double w = RA * p.weight(i);
       const double n[3] = {p.normal(i, 0), p.normal(i, 1), p.normal(i, 2)};
-      double R[kMaxSurfaceBasis], Ru[kMaxSurfaceBasis], Rv[kMaxSurfaceBasis];
-      int cp[kMaxSurfaceBasis];
-      int es[2];
+      double R[kMaxSurfaceBasis], Rm[kMaxSurfaceBasis], Ru[kMaxSurfaceBasis], Rv[kMaxSurfaceBasis];
+      int cp[kMaxSurfaceBasis], cpm[kMaxSurfaceBasis];
+      int es[2], mspn[2];
       surface_element_spans(sd, e, es);
       const int nsb = surface_basis(sd, es, p.uv(i, 0), p.uv(i, 1), R, Ru, Rv, cp);
-      for (int a = 0; a < nsb; ++a)
-        for (int c = 0; c < 3; ++c) S.v0(k, rg.slave(cp[a]) + c) += w * R[a] * n[c];
-      int mspn[2];
       surface_element_spans(md, p.melem(i), mspn);
-      const int nmb = surface_basis(md, mspn, p.muv(i, 0), p.muv(i, 1), R, Ru, Rv, cp);
-      for (int b = 0; b < nmb; ++b)
-        for (int c = 0; c < 3; ++c) S.v0(k, rg.master(cp[b]) + c) -= w * R[b] * n[c];
+      const int nmb = surface_basis(md, mspn, p.muv(i, 0), p.muv(i, 1), Rm, Ru, Rv, cpm);
+      add_gap_variation(rg, R, cp, nsb, Rm, cpm, nmb, n, w, [&](int q, double v) { S.v0(k, q) += v; });
     });
     // compact to the touched entries with an overlap dof, then sort by dof (insertion sort)
     int nnz = 0;

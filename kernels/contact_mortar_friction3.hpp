@@ -194,12 +194,8 @@ struct MortarFrictionVectors3 {
       const MortarRange3& rg = range(k);
       const int sz = size(k);
       const double w = Rs[a] * sp.weight(i);
-      if (fr.stateA(A) == 2 && ms.lambda(A) > 0) {   // delta g_A, as AssembleMortarGap3
-        for (int b = 0; b < ns; ++b)
-          for (int c = 0; c < 3; ++c) Kokkos::atomic_add(&sc.v0(k, 3 * sz + rg.slave(cps[b]) + c), w * Rs[b] * n[c]);
-        for (int b = 0; b < nm; ++b)
-          for (int c = 0; c < 3; ++c) Kokkos::atomic_add(&sc.v0(k, 3 * sz + rg.master(cpm[b]) + c), -w * Rm[b] * n[c]);
-      }
+      if (fr.stateA(A) == 2 && ms.lambda(A) > 0)   // delta g_A, as AssembleMortarGap3
+        add_gap_variation(rg, Rs, cps, ns, Rm, cpm, nm, n, w, [&](int q, double v) { Kokkos::atomic_add(&sc.v0(k, 3 * sz + q), v); });
       if (!ref) continue;
       for (int cb = 0; cb < P.ns + P.nm; ++cb) {
         const int q0 = cb < P.ns ? rg.slave(P.cps[cb]) : rg.master(P.cpm[cb - P.ns]);
