@@ -255,6 +255,14 @@ struct MortarGaps3 {
   }
 };
 
+/// The slave basis R (and the control points cp) at slot i of a mortar pair's slave face.
+KOKKOS_INLINE_FUNCTION int slot_basis(const SurfaceData& sd, const SlavePoints3& sp, int i, double* R, int* cp) {
+  int es[2];
+  surface_element_spans(sd, sp.elem(i), es);
+  double Ru[kMaxSurfaceBasis], Rv[kMaxSurfaceBasis];
+  return surface_basis(sd, es, sp.uv(i, 0), sp.uv(i, 1), R, Ru, Rv, cp);
+}
+
 /// The pressure field at the slots, p = sum_A lambda_A R_A (the slot's `pressure`).
 struct MortarPointPressure3 {
   ContactFaces s;
@@ -266,12 +274,9 @@ struct MortarPointPressure3 {
       sp.pressure(i) = 0;
       return;
     }
-    const SurfaceData& sd = s.f[0].sd;
-    int es[2];
-    surface_element_spans(sd, sp.elem(i), es);
-    double R[kMaxSurfaceBasis], Ru[kMaxSurfaceBasis], Rv[kMaxSurfaceBasis];
+    double R[kMaxSurfaceBasis];
     int cp[kMaxSurfaceBasis];
-    const int n = surface_basis(sd, es, sp.uv(i, 0), sp.uv(i, 1), R, Ru, Rv, cp);
+    const int n = slot_basis(s.f[0].sd, sp, i, R, cp);
     double pr = 0;
     for (int a = 0; a < n; ++a) pr += ms.lambda(cp[a]) * R[a];
     sp.pressure(i) = pr;

@@ -97,12 +97,9 @@ struct MortarFrictionPoints3 {
     fr.state(i) = 0;
     fr.gT(i) = kmath::sqrt(fr.gv(i, 0) * fr.gv(i, 0) + fr.gv(i, 1) * fr.gv(i, 1) + fr.gv(i, 2) * fr.gv(i, 2));
     if (sp.face(i) < 0 || !sp.valid(i)) return;
-    const SurfaceData& sd = s.f[0].sd;
-    int es[2];
-    surface_element_spans(sd, sp.elem(i), es);
-    double R[kMaxSurfaceBasis], Ru[kMaxSurfaceBasis], Rv[kMaxSurfaceBasis];
+    double R[kMaxSurfaceBasis];
     int cp[kMaxSurfaceBasis];
-    const int n = surface_basis(sd, es, sp.uv(i, 0), sp.uv(i, 1), R, Ru, Rv, cp);
+    const int n = slot_basis(s.f[0].sd, sp, i, R, cp);
     double slip = 0, best = -1;
     int st = 0;
     for (int a = 0; a < n; ++a) {
@@ -166,9 +163,8 @@ struct MortarFrictionVectors3 {
     const SurfaceData& sd = s.f[0].sd;
     const SurfaceData& md = m.f[0].sd;
     double Rs[kMaxSurfaceBasis], Ru[kMaxSurfaceBasis], Rv[kMaxSurfaceBasis], Rm[kMaxSurfaceBasis];
-    int cps[kMaxSurfaceBasis], cpm[kMaxSurfaceBasis], es[2], mspn[2];
-    surface_element_spans(sd, sp.elem(i), es);
-    const int ns = surface_basis(sd, es, sp.uv(i, 0), sp.uv(i, 1), Rs, Ru, Rv, cps);
+    int cps[kMaxSurfaceBasis], cpm[kMaxSurfaceBasis], mspn[2];
+    const int ns = slot_basis(sd, sp, i, Rs, cps);
     bool any = false, slip = false;
     for (int a = 0; a < ns; ++a) {
       const int k = cps[a] - a_begin;
