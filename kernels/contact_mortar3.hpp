@@ -11,8 +11,17 @@
 // Residual and tangent (as in 2-D): f_c = -\int p N dGamma_0 and K_c = -\int p G dGamma_0 per
 //   quadrature slot (AssembleKts3 with the slot's mortar pressure), plus
 //   sum_{A active} eps / w_A delta g_A (x) delta g_A per slave control point
-//   (AssembleMortarGap3), delta g_A = \int R_A N dGamma_0. The segments move with u, but the
-//   integrand is continuous across their edges, so the linearisation stays consistent.
+//   (AssembleMortarGap3), delta g_A = \int R_A N dGamma_0. The segments move with u; where
+//   two segments meet the integrand is continuous and their motions cancel, but where the
+//   master face ends inside a slave element (a die overhanging a slab) the covered part of
+//   that element grows or shrinks with u, and the tangent has the boundary terms
+//     - \oint p N (x) V' dl_0  (AssembleMortarEdge3, per edge point)
+//     + sum_{A active} eps / w_A delta g_A (x) \oint R_A g V' dl_0   (AssembleMortarGap3)
+//   over the image of the master's boundary in the slave parameter plane, dl_0 its reference
+//   measure and V' the derivative of its outward normal velocity (edge_velocity: the shots of
+//   the boundary cells' corners differentiated). The residual stays -\int p N: it is then not
+//   the gradient of the potential there (the boundary term of delta g_A is not in it), and the
+//   tangent is not symmetric.
 // Segments (MortarSegments3, one slave element per thread): the master elements whose boxes
 //   meet the slave element's box (grown by its own size) are candidates; each candidate's
 //   corners (shared with its neighbours) are shot along the master normal onto the slave
@@ -30,7 +39,8 @@
 //   has face = -1. flags(0): the most slots an element needed when short, flags(1): the most
 //   candidate master elements of one slave element when its row was short (the host grows
 //   either and segments again); flags(2): a clipping overflow (cannot happen with four-cornered
-//   cells). MortarState::flags(1): the most dofs of one delta g_A when its scratch row was short.
+//   cells); flags(3): the most edge points one element needed when short (MortarEdges3).
+//   MortarState::flags(1): the most dofs of one delta g_A when its scratch row was short.
 // Cost per slave element: candidates x 12 x (Newton ~ 5 x (p + 1)^2 40 flops) for the shots,
 //   a clip (~ 16^2 comparisons + exact orientation tests) and n^2 x vertices slot points.
 #include "kernels/contact_clip.hpp"
@@ -48,9 +58,25 @@ KOKKOS_INLINE_FUNCTION SurfaceData reference_surface(const ContactFace& f) {
   return r;
 }
 
+constexpr int kEdgeData = 16;   // doubles per edge point (MortarEdges3::d)
+
+/// Points on the image of the master face's boundary inside slave elements, where the covered
+/// part of a slave element ends: the quadrature of the tangent's boundary terms (header). Per
+/// slave element `per` entries (element-major), elem = -1 unused. d(i, .): u, v (the slave
+/// parameters of the point), s (its place on the edge a -> b), w (Gauss weight x the clipped
+/// edge's length in s x |X_u x X_v| of the reference slave face), nu_u, nu_v (the outward
+/// normal of the covered region in the slave parameter plane, times |b - a|), then for corner
+/// a and corner b: the shot (u, v, t) and the master parameters (xi, eta) of the corner.
+struct MortarEdges3 {
+  Kokkos::View<int*, MemSpace> elem, melem;   // slave element; master element of the edge's cell
+  Kokkos::View<double* [kEdgeData], MemSpace> d;
+  int per = 0;
+};
+
 struct MortarSegments3 {
   ContactFaces s, m;
   SlavePoints3 sp;
+  MortarEdges3 ed;
   GaussRule gauss;
   int slots = 1;
   int sub = 1;   // cells per direction of a master element (its edges' images: straight per cell)
@@ -67,6 +93,8 @@ struct MortarSegments3 {
       sp.face(e * slots + k) = -1;
       sp.valid(e * slots + k) = 0;
     }
+    for (int k = 0; k < ed.per; ++k) ed.elem(e * ed.per + k) = -1;
+    int eused = 0;
     // the slave element's box (current control points)
     double box[6] = {1e300, 1e300, 1e300, -1e300, -1e300, -1e300};
     for (int j = es[1] - ss.p[1]; j <= es[1]; ++j)
@@ -137,6 +165,8 @@ struct MortarSegments3 {
       const int ci = cell % sub, cj = cell / sub;
       ClipPolygon poly;
       poly.n = 0;
+      double shot[4][5];   // per corner: u, v, t, xi, eta
+      bool shot_ok[4] = {false, false, false, false};
       for (int k = 0; k < 4; ++k) {
         const double a = (ci + (k == 1 || k == 2 ? 1.0 : 0.0)) / sub, b = (cj + (k >= 2 ? 1.0 : 0.0)) / sub;
         const double xi[2] = {mlo[0] + a * (mhi[0] - mlo[0]), mlo[1] + b * (mhi[1] - mlo[1])};
@@ -181,8 +211,15 @@ struct MortarSegments3 {
         poly.v[poly.n][0] = u;
         poly.v[poly.n][1] = v;
         ++poly.n;
+        shot_ok[k] = true;
+        shot[k][0] = u;
+        shot[k][1] = v;
+        shot[k][2] = tt;
+        shot[k][3] = xi[0];
+        shot[k][4] = xi[1];
       }
       if (poly.n < 3) continue;
+      if (ed.per > 0) add_edge_points(e, E, ci, cj, mspn, lo, hi, hsz, poly, shot, shot_ok, ref, es, eused);
       ClipPolygon P;
       if (clip_polygons(rect, poly, P) & kClipOverflow) Kokkos::atomic_fetch_max(&flags(2), 1);
       const double mc[2] = {mlo[0] + (ci + 0.5) / sub * (mhi[0] - mlo[0]), mlo[1] + (cj + 0.5) / sub * (mhi[1] - mlo[1])};
@@ -208,6 +245,252 @@ struct MortarSegments3 {
       }
     }
     if (used > slots) Kokkos::atomic_fetch_max(&flags(0), used);
+    if (eused > ed.per) Kokkos::atomic_fetch_max(&flags(3), eused);
+  }
+
+  /// The edge points of cell (ci, cj) of master element E where its edges are the master
+  /// face's boundary: each such edge a -> b (both corners shot) clipped to the slave element's
+  /// rectangle (Liang-Barsky), with the Gauss rule on the clipped part. An edge along the
+  /// rectangle's side counts for the element on its covered side only.
+  KOKKOS_INLINE_FUNCTION void add_edge_points(int e, int E, int ci, int cj, const int mspn[2], const double lo[2],
+                                              const double hi[2], double hsz, const ClipPolygon& poly,
+                                              const double (*shot)[5], const bool* shot_ok, const SurfaceData& ref,
+                                              const int es[2], int& eused) const {
+    const SurfaceData& ms = m.f[0].sd;
+    const bool boundary[4] = {cj == 0 && mspn[1] == ms.p[1], ci == sub - 1 && mspn[0] == ms.n[0] - 1,
+                              cj == sub - 1 && mspn[1] == ms.n[1] - 1, ci == 0 && mspn[0] == ms.p[0]};
+    double area = 0;   // the orientation of the cell's image
+    for (int k = 0; k < poly.n; ++k) {
+      const int k1 = (k + 1) % poly.n;
+      area += poly.v[k][0] * poly.v[k1][1] - poly.v[k1][0] * poly.v[k][1];
+    }
+    const double sigma = area > 0 ? 1.0 : -1.0;
+    for (int k = 0; k < 4; ++k) {
+      const int k1 = (k + 1) % 4;
+      if (!boundary[k] || !shot_ok[k] || !shot_ok[k1]) continue;
+      const double A[2] = {shot[k][0], shot[k][1]}, D[2] = {shot[k1][0] - A[0], shot[k1][1] - A[1]};
+      double s0 = 0, s1 = 1;
+      bool empty = false;
+      for (int d = 0; d < 2 && !empty; ++d) {
+        if (D[d] == 0) {
+          empty = A[d] < lo[d] || A[d] > hi[d];
+          continue;
+        }
+        double t0 = (lo[d] - A[d]) / D[d], t1 = (hi[d] - A[d]) / D[d];
+        if (t0 > t1) {
+          const double t = t0;
+          t0 = t1;
+          t1 = t;
+        }
+        s0 = t0 > s0 ? t0 : s0;
+        s1 = t1 < s1 ? t1 : s1;
+        empty = !(s1 - s0 > 1e-14);
+      }
+      if (empty) continue;
+      const double nu[2] = {sigma * D[1], -sigma * D[0]};
+      // the covered side (against nu) of the clipped edge's middle must be inside the rectangle
+      const double sm = 0.5 * (s0 + s1), ln = kmath::sqrt(nu[0] * nu[0] + nu[1] * nu[1]);
+      if (!(ln > 0)) continue;
+      bool inside = true;
+      for (int d = 0; d < 2; ++d) {
+        const double x = A[d] + sm * D[d] - 1e-9 * hsz * nu[d] / ln;
+        inside = inside && x > lo[d] && x < hi[d];
+      }
+      if (!inside) continue;
+      for (int q = 0; q < gauss.n; ++q) {
+        if (eused < ed.per) {
+          const int i = e * ed.per + eused;
+          const double sq = s0 + 0.5 * (s1 - s0) * (gauss.x[q] + 1);
+          const double u = A[0] + sq * D[0], v = A[1] + sq * D[1];
+          double d[6][3], nn[3];
+          surface_derivatives(ref, es, u, v, d);
+          cross3(d[1], d[2], nn);
+          ed.elem(i) = e;
+          ed.melem(i) = E;
+          ed.d(i, 0) = u;
+          ed.d(i, 1) = v;
+          ed.d(i, 2) = sq;
+          ed.d(i, 3) = gauss.w[q] * 0.5 * (s1 - s0) * kmath::sqrt(dot3(nn, nn));
+          ed.d(i, 4) = nu[0];
+          ed.d(i, 5) = nu[1];
+          for (int c = 0; c < 5; ++c) {
+            ed.d(i, 6 + c) = shot[k][c];
+            ed.d(i, 11 + c) = shot[k1][c];
+          }
+        }
+        ++eused;
+      }
+    }
+  }
+};
+
+/// Edge point i of a mortar pair: the slave basis at it (Rs, cps; element spans es), the
+/// closest point of the master element's polynomial to its slave point (basis Rm, cpm; spans
+/// ms; Newton from the boundary point between its corners, (1 - s) xi_a + s xi_b, not clamped
+/// to the element: the limit of the slots' projections as they approach the edge, which may
+/// lie a little beyond the master's boundary where that is curved), the master's outward
+/// normal n there and the gap g. Returns false where the master normal is not defined.
+KOKKOS_INLINE_FUNCTION bool edge_point(const ContactFace& sf, const ContactFace& mf, const MortarEdges3& ed, int i, int es[2],
+                                       int ms[2], double* Rs, int* cps, int& ns, double* Rm, int* cpm, int& nm, double n[3],
+                                       double& g) {
+  surface_element_spans(sf.sd, ed.elem(i), es);
+  surface_element_spans(mf.sd, ed.melem(i), ms);
+  const double s = ed.d(i, 2);
+  double xi = (1 - s) * ed.d(i, 9) + s * ed.d(i, 14), eta = (1 - s) * ed.d(i, 10) + s * ed.d(i, 15);
+  double Ru[kMaxSurfaceBasis], Rv[kMaxSurfaceBasis], ds[6][3], dm[6][3];
+  ns = surface_basis(sf.sd, es, ed.d(i, 0), ed.d(i, 1), Rs, Ru, Rv, cps);
+  surface_derivatives(sf.sd, es, ed.d(i, 0), ed.d(i, 1), ds);
+  const double hsz = mf.sd.U[0](ms[0] + 1) - mf.sd.U[0](ms[0]) + mf.sd.U[1](ms[1] + 1) - mf.sd.U[1](ms[1]);
+  for (int it = 0; it < 20; ++it) {
+    surface_derivatives(mf.sd, ms, xi, eta, dm);
+    double r[3];
+    for (int c = 0; c < 3; ++c) r[c] = ds[0][c] - dm[0][c];
+    const double F0 = dot3(r, dm[1]), F1 = dot3(r, dm[2]);
+    const double J00 = -dot3(dm[1], dm[1]) + dot3(r, dm[3]), J01 = -dot3(dm[1], dm[2]) + dot3(r, dm[4]),
+                 J11 = -dot3(dm[2], dm[2]) + dot3(r, dm[5]);
+    const double det = J00 * J11 - J01 * J01;
+    if (!(kmath::fabs(det) > 0)) break;
+    const double d0 = -(J11 * F0 - J01 * F1) / det, d1 = -(-J01 * F0 + J00 * F1) / det;
+    xi += d0;
+    eta += d1;
+    if (kmath::fabs(d0) + kmath::fabs(d1) < 1e-14 * hsz) break;
+  }
+  nm = surface_basis(mf.sd, ms, xi, eta, Rm, Ru, Rv, cpm);
+  surface_derivatives(mf.sd, ms, xi, eta, dm);
+  cross3(dm[1], dm[2], n);
+  const double l = kmath::sqrt(dot3(n, n));
+  if (!(l > 0)) return false;
+  g = 0;
+  for (int c = 0; c < 3; ++c) {
+    n[c] *= mf.sign / l;
+    g += (ds[0][c] - dm[0][c]) * n[c];
+  }
+  return true;
+}
+
+/// The derivative V' of edge point i's outward normal velocity V = nu . ((1 - s) da + s db)
+/// (da, db: the motions of its corners' shots in the slave parameter plane): add(master, a, cp,
+/// c, value) for component c of the element's slave (master = false) or master control point
+/// a (local index, as surface_basis orders them; cp its surface index). A corner solves F = x_s(u, v) - rho(xi_c) - t n(xi_c) = 0 at fixed xi_c, so
+/// [x_s,u x_s,v -n] (du, dv, dt) = -(sum_a R_a dx_a - sum_b R_b dx_b - t dn), with
+/// dn = (I - n n) (drho_xi x rho_eta + rho_xi x drho_eta) / |rho_xi x rho_eta| (n unsigned, as
+/// the shot's); the rows of the inverse by Cramer's rule, contracted with nu first.
+template <class Add>
+KOKKOS_INLINE_FUNCTION void edge_velocity(const SurfaceData& ss, const int es[2], const SurfaceData& md, const int ms[2],
+                                          const MortarEdges3& ed, int i, const Add& add) {
+  const double s = ed.d(i, 2), nu[2] = {ed.d(i, 4), ed.d(i, 5)};
+  for (int k = 0; k < 2; ++k) {
+    const int o = 6 + 5 * k;
+    const double wt = k == 0 ? 1 - s : s;
+    const double uc = ed.d(i, o), vc = ed.d(i, o + 1), t = ed.d(i, o + 2), xi = ed.d(i, o + 3), eta = ed.d(i, o + 4);
+    double R[kMaxSurfaceBasis], Ru[kMaxSurfaceBasis], Rv[kMaxSurfaceBasis];
+    double Rm[kMaxSurfaceBasis], Rm1[kMaxSurfaceBasis], Rm2[kMaxSurfaceBasis];
+    int cp[kMaxSurfaceBasis], cpm[kMaxSurfaceBasis];
+    const int ns = surface_basis(ss, es, uc, vc, R, Ru, Rv, cp);
+    const int nm = surface_basis(md, ms, xi, eta, Rm, Rm1, Rm2, cpm);
+    double ds[6][3], dm[6][3];
+    surface_derivatives(ss, es, uc, vc, ds);
+    surface_derivatives(md, ms, xi, eta, dm);
+    double n[3];
+    cross3(dm[1], dm[2], n);
+    const double l = kmath::sqrt(dot3(n, n));
+    if (!(l > 0)) continue;
+    for (int c = 0; c < 3; ++c) n[c] /= l;
+    const double mn[3] = {-n[0], -n[1], -n[2]};
+    double c12[3], c20[3];
+    cross3(ds[2], mn, c12);
+    cross3(mn, ds[1], c20);
+    const double det = dot3(ds[1], c12);
+    if (!(kmath::fabs(det) > 0)) continue;
+    double q[3];
+    for (int c = 0; c < 3; ++c) q[c] = (nu[0] * c12[c] + nu[1] * c20[c]) / det;
+    const double qn = dot3(q, n);
+    const double qp[3] = {q[0] - qn * n[0], q[1] - qn * n[1], q[2] - qn * n[2]};
+    double a1[3], a2[3];   // rho_eta x q_perp, q_perp x rho_xi
+    cross3(dm[2], qp, a1);
+    cross3(qp, dm[1], a2);
+    for (int a = 0; a < ns; ++a)
+      for (int c = 0; c < 3; ++c) add(false, a, cp[a], c, -wt * R[a] * q[c]);
+    for (int b = 0; b < nm; ++b)
+      for (int c = 0; c < 3; ++c) add(true, b, cpm[b], c, wt * (Rm[b] * q[c] + t / l * (Rm1[b] * a1[c] + Rm2[b] * a2[c])));
+  }
+}
+
+/// f(i, R_A(edge point i), its slave element) for the edge points of the slave elements in A's
+/// support.
+template <class F>
+KOKKOS_INLINE_FUNCTION void for_each_support_edge3(const SurfaceData& sd, const MortarEdges3& ed, int A, const F& f) {
+  if (ed.per == 0) return;
+  const int ia = A % sd.n[0], ja = A / sd.n[0];
+  for (int e1 = 0; e1 < sd.ne[1]; ++e1) {
+    const int s1 = sd.span[1](e1);
+    if (s1 < ja || s1 > ja + sd.p[1]) continue;
+    for (int e0 = 0; e0 < sd.ne[0]; ++e0) {
+      const int s0 = sd.span[0](e0);
+      if (s0 < ia || s0 > ia + sd.p[0]) continue;
+      const int e = e0 + sd.ne[0] * e1, la = (ia - (s0 - sd.p[0])) + (sd.p[0] + 1) * (ja - (s1 - sd.p[1]));
+      for (int i = e * ed.per; i < (e + 1) * ed.per; ++i) {
+        if (ed.elem(i) < 0) break;   // filled from the element's first entry on
+        double R[kMaxSurfaceBasis], Ru[kMaxSurfaceBasis], Rv[kMaxSurfaceBasis];
+        int cp[kMaxSurfaceBasis];
+        const int es[2] = {s0, s1};
+        surface_basis(sd, es, ed.d(i, 0), ed.d(i, 1), R, Ru, Rv, cp);
+        f(i, R[la], e);
+      }
+    }
+  }
+}
+
+/// The boundary term of the pressure part, K_c -= \oint p N (x) V' dl_0, at this rank's edge
+/// points [e_begin, ...) where the pressure field is positive.
+template <class LocalMatrix>
+struct AssembleMortarEdge3 {
+  ContactFaces s, m;
+  MortarEdges3 ed;
+  MortarState ms;
+  int e_begin = 0;
+  LocalMatrix K;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
+    const int i = e_begin + k;
+    if (ed.elem(i) < 0) return;
+    const ContactFace& sf = s.f[0];
+    const ContactFace& mf = m.f[0];
+    double Rs[kMaxSurfaceBasis], Rm[kMaxSurfaceBasis], n[3], g;
+    int cps[kMaxSurfaceBasis], cpm[kMaxSurfaceBasis], es[2], mspn[2], ns, nm;
+    if (!edge_point(sf, mf, ed, i, es, mspn, Rs, cps, ns, Rm, cpm, nm, n, g)) return;
+    double p = 0;
+    for (int a = 0; a < ns; ++a) p += ms.lambda(cps[a]) * Rs[a];
+    if (!(p > 0)) return;
+    // V' on the element pair's entries: 3 per slave cp (the element's order), then 3 per master cp
+    double vel[3 * 2 * kMaxSurfaceBasis];
+    for (int q = 0; q < 3 * (ns + nm); ++q) vel[q] = 0;
+    edge_velocity(sf.sd, es, mf.sd, mspn, ed, i,
+                  [&](bool master, int a, int, int c, double v) { vel[3 * (a + (master ? ns : 0)) + c] += v; });
+    const double w = ed.d(i, 3);
+    auto lid = [&](int r) {
+      const int cp = r / 3;
+      const int l = cp < ns ? sf.lid(cps[cp]) : mf.lid(cpm[cp - ns]);
+      return l < 0 ? -1 : dof_of(l, r % 3, 3);
+    };
+    for (int r = 0; r < 3 * (ns + nm); ++r) {
+      const int cp = r / 3, c = r % 3;
+      const double N = cp < ns ? Rs[cp] * n[c] : -Rm[cp - ns] * n[c];
+      const int lr = lid(r);
+      if (N == 0 || lr < 0) continue;
+      for (int b = 0; b < ns + nm; ++b) {
+        int cols[3];
+        double vals[3];
+        int nc = 0;
+        for (int cc = 0; cc < 3; ++cc) {
+          const int q = 3 * b + cc, lq = lid(q);
+          if (vel[q] == 0 || lq < 0) continue;
+          cols[nc] = lq;
+          vals[nc++] = -w * p * N * vel[q];
+        }
+        if (nc > 0) K.sumIntoValues(lr, cols, nc, vals, true, true);
+      }
+    }
   }
 };
 
@@ -285,11 +568,12 @@ struct MortarPointPressure3 {
 
 /// The dense dof range of slave control point A's mortar vectors (delta g_A, and with friction
 /// V_A): the slave control points within p of A, then the box of master control points that
-/// its slots' master elements use; 3 entries (x, y, z) per control point.
+/// its slots' and edge points' master elements use; 3 entries (x, y, z) per control point.
 struct MortarRange3 {
   int s_lo[2] = {0, 0}, sn[2] = {0, 0}, m_lo[2] = {0, 0}, mn[2] = {0, 0}, ns = 0, sdn0 = 0, mdn0 = 0;
   /// Returns the range's size, 0 when no slot of A's support has a projection.
-  KOKKOS_INLINE_FUNCTION int init(const SurfaceData& sd, const SurfaceData& md, const SlavePoints3& sp, int slots, int A) {
+  KOKKOS_INLINE_FUNCTION int init(const SurfaceData& sd, const SurfaceData& md, const SlavePoints3& sp, int slots,
+                                  const MortarEdges3& ed, int A) {
     const int ia = A % sd.n[0], ja = A / sd.n[0];
     s_lo[0] = ia - sd.p[0];
     s_lo[1] = ja - sd.p[1];
@@ -298,15 +582,17 @@ struct MortarRange3 {
     sdn0 = sd.n[0];
     mdn0 = md.n[0];
     int lo[2] = {md.n[0], md.n[1]}, hi[2] = {-1, -1};
-    for_each_support_slot3(sd, sp, slots, A, [&](int i, double, int) {
+    auto widen = [&](int E) {
       int ms_[2];
-      surface_element_spans(md, sp.melem(i), ms_);
+      surface_element_spans(md, E, ms_);
       for (int d = 0; d < 2; ++d) {
         lo[d] = ms_[d] - md.p[d] < lo[d] ? ms_[d] - md.p[d] : lo[d];
         hi[d] = ms_[d] > hi[d] ? ms_[d] : hi[d];
       }
-    });
+    };
+    for_each_support_slot3(sd, sp, slots, A, [&](int i, double, int) { widen(sp.melem(i)); });
     if (hi[0] < 0) return 0;
+    for_each_support_edge3(sd, ed, A, [&](int i, double, int) { widen(ed.melem(i)); });
     for (int d = 0; d < 2; ++d) {
       m_lo[d] = lo[d];
       mn[d] = hi[d] - lo[d] + 1;
@@ -352,6 +638,7 @@ template <class LocalMatrix>
 struct AssembleMortarGap3 {
   ContactFaces s, m;
   SlavePoints3 sp;
+  MortarEdges3 ed;
   MortarState ms;
   MortarScratch sc;
   double eps = 0;
@@ -364,7 +651,7 @@ struct AssembleMortarGap3 {
     const SurfaceData& sd = s.f[0].sd;
     const SurfaceData& md = m.f[0].sd;
     MortarRange3 rg;
-    const int size = rg.init(sd, md, sp, slots, A);
+    const int size = rg.init(sd, md, sp, slots, ed, A);
     if (size == 0) return;
     if (size > sc.cap()) {
       Kokkos::atomic_fetch_max(&ms.flags(1), size);
@@ -385,27 +672,43 @@ struct AssembleMortarGap3 {
       const int nmb = surface_basis(md, mspn, p.muv(i, 0), p.muv(i, 1), Rm, Ru, Rv, cpm);
       add_gap_variation(rg, R, cp, nsb, Rm, cpm, nmb, n, w, [&](int q, double v) { S.v0(k, q) += v; });
     });
-    // compact to the touched entries with an overlap dof, then sort by dof (insertion sort)
+    // the boundary part b_A = \oint R_A g V' dl_0 (where the master ends inside A's elements)
+    // in the row scratch; the columns are delta g_A + b_A
+    for (int q = 0; q < size; ++q) sc.row(k, q) = 0;
+    for_each_support_edge3(sd, ed, A, [&](int i, double RA, int) {
+      double Rs[kMaxSurfaceBasis], Rm[kMaxSurfaceBasis], n[3], g;
+      int cps[kMaxSurfaceBasis], cpm[kMaxSurfaceBasis], es[2], mspn[2], nsb, nmb;
+      if (RA == 0 || !edge_point(s.f[0], m.f[0], ed, i, es, mspn, Rs, cps, nsb, Rm, cpm, nmb, n, g)) return;
+      const double w = RA * g * ed.d(i, 3);
+      edge_velocity(sd, es, md, mspn, ed, i, [&](bool master, int, int cp, int c, double v) {
+        S.row(k, (master ? rg.master(cp) : rg.slave(cp)) + c) += w * v;
+      });
+    });
+    // compact to the touched entries with an overlap dof, then sort by dof (insertion sort):
+    // v1 the rows' delta g_A, v0 the columns' delta g_A + b_A
     int nnz = 0;
     for (int q = 0; q < size; ++q) {
-      if (sc.v0(k, q) == 0) continue;
+      const double dg = sc.v0(k, q), col = dg + sc.row(k, q);
+      if (dg == 0 && col == 0) continue;
       const int dof = rg.dof(q, s.f[0], m.f[0]);
       if (dof < 0) continue;
-      const double val = sc.v0(k, q);
-      int pos = nnz++;
+      int pos = nnz++;   // pos <= q: v0 at pos is read already
       while (pos > 0 && sc.dof(k, pos - 1) > dof) {
         sc.dof(k, pos) = sc.dof(k, pos - 1);
         sc.v1(k, pos) = sc.v1(k, pos - 1);
+        sc.v0(k, pos) = sc.v0(k, pos - 1);
         --pos;
       }
       sc.dof(k, pos) = dof;
-      sc.v1(k, pos) = val;
+      sc.v1(k, pos) = dg;
+      sc.v0(k, pos) = col;
     }
     const double c = eps / ms.wA(A);
     int* dof = &sc.dof(k, 0);
     double* row = &sc.row(k, 0);
     for (int r = 0; r < nnz; ++r) {
-      for (int q = 0; q < nnz; ++q) row[q] = c * sc.v1(k, r) * sc.v1(k, q);
+      if (sc.v1(k, r) == 0) continue;
+      for (int q = 0; q < nnz; ++q) row[q] = c * sc.v1(k, r) * sc.v0(k, q);
       K.sumIntoValues(dof[r], dof, nnz, row, true, true);
     }
   }

@@ -129,6 +129,7 @@ struct MortarFrictionRanges3 {
   MortarScratch sc;
   Kokkos::View<MortarRange3*, MemSpace> range;   // per A of this rank; size 0: nothing to add
   Kokkos::View<int*, MemSpace> size;
+  MortarEdges3 ed;   // the edge points: per = 0, none (the boundary terms of friction: not yet)
   int slots = 1, a_begin = 0;
 
   KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
@@ -136,7 +137,7 @@ struct MortarFrictionRanges3 {
     size(k) = 0;
     if (fr.stateA(A) == 0) return;
     MortarRange3 rg;
-    const int n = rg.init(s.f[0].sd, m.f[0].sd, sp, slots, A);
+    const int n = rg.init(s.f[0].sd, m.f[0].sd, sp, slots, ed, A);
     if (n > sc.cap()) {
       Kokkos::atomic_fetch_max(&ms.flags(1), n);
       return;

@@ -202,8 +202,12 @@ void choose_linear_method(const Reader& R, const YAML::Node& root, Problem& P) {
   const bool named = root["solver"] && root["solver"]["linear"] &&
                      (root["solver"]["linear"]["preconditioner"] || root["solver"]["linear"]["muelu_xml"]);
   if (!named && P.dim() == 3 && P.contact.empty()) P.linear.preconditioner = Preconditioner::ControlNet;
+  // 3-D mortar: where the master face ends inside a slave element, the covered part's motion
+  // gives the tangent non-symmetric terms (kernels/contact_mortar3.hpp)
   for (const ContactPair& c : P.contact)
-    if (c.friction > 0) P.linear.symmetric = false;
+    if (c.friction > 0 ||
+        (P.dim() == 3 && (c.method == ContactMethod::MortarPenalty || c.method == ContactMethod::MortarAlm)))
+      P.linear.symmetric = false;
   // a pressure following the deformed surface has a non-symmetric tangent
   bool follower = false;
   if (P.kinematics == Kinematics::Finite)

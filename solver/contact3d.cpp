@@ -96,6 +96,7 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
     slots = 4 * 6 * gauss.n * gauss.n;   // room for 4 segments of 6 fan triangles to start with
     const int ne = h.ne[0] * h.ne[1], na = h.n[0] * h.n[1];
     allocate_points(ne * slots);
+    allocate_edges(8 * gauss.n);
     ms.wA = Kokkos::View<double*, MemSpace>("wA", na);
     ms.gA = Kokkos::View<double*, MemSpace>("gA", na);
     ms.lbar = Kokkos::View<double*, MemSpace>("lbar", na);
@@ -103,7 +104,7 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
     ms.active = Kokkos::View<int*, MemSpace>("activeA", na);
     ms.covered = Kokkos::View<int*, MemSpace>("coveredA", na);
     ms.flags = Kokkos::View<int*, MemSpace>("flags", 2);
-    seg_flags_ = Kokkos::View<int*, MemSpace>("segment_flags", 3);
+    seg_flags_ = Kokkos::View<int*, MemSpace>("segment_flags", 4);
     if (friction) {
       fr.sA = Kokkos::View<double* [3], MemSpace>("sA", na);
       fr.trA = Kokkos::View<double* [3], MemSpace>("trA", na);
@@ -224,6 +225,18 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
     }
   }
   refresh();
+}
+
+void ContactSurfaces3::allocate_edges(int per) {
+  const int ne = hs_[0].ne[0] * hs_[0].ne[1];
+  edges.per = per;
+  edges.elem = Kokkos::View<int*, MemSpace>("edge_elem", ne * per);
+  edges.melem = Kokkos::View<int*, MemSpace>("edge_melem", ne * per);
+  edges.d = Kokkos::View<double* [kEdgeData], MemSpace>("edge_data", ne * per);
+  Kokkos::deep_copy(edges.elem, -1);
+  const auto r = block_range(ne * per, rank_, nranks_);
+  e_begin = static_cast<int>(r.first);
+  e_end = static_cast<int>(r.second);
 }
 
 void ContactSurfaces3::allocate_points(int n) {
@@ -505,18 +518,19 @@ void ContactSurfaces3::refresh() {
     const int ne = hs_[0].ne[0] * hs_[0].ne[1];
     for (;;) {
       MortarSegments3 ks;
-      ks.s = slave; ks.m = master; ks.sp = sp; ks.gauss = gauss; ks.slots = slots; ks.flags = seg_flags_;
+      ks.s = slave; ks.m = master; ks.sp = sp; ks.ed = edges; ks.gauss = gauss; ks.slots = slots; ks.flags = seg_flags_;
       // a curved master's element images are cut into 2 x 2 cells (straight edges per cell: the
       // tangent's consistency error, ~1e-6 with whole elements on a curved test surface, falls
       // by 4); a degree-1 master's elements whole
-      ks.sub = std::max(hm_[0].p[0], hm_[0].p[1]) > 1 ? 2 : 1;
+      ks.sub = cells > 0 ? cells : std::max(hm_[0].p[0], hm_[0].p[1]) > 1 ? 2 : 1;
       if (static_cast<int>(cand_.extent(0)) != ne) cand_ = decltype(cand_)("mortar_candidates", ne, kMortar3Candidates);
       ks.cand = cand_;
       Kokkos::deep_copy(seg_flags_, 0);
       Kokkos::parallel_for("iga::MortarSegments3", Kokkos::RangePolicy<ExecSpace>(0, ne), ks);
       auto fl = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), seg_flags_);
       if (fl(2) != 0) throw ContactError("3-D mortar: a clipped segment has more vertices than the segmentation holds");
-      if (fl(0) == 0 && fl(1) == 0) break;
+      if (fl(0) == 0 && fl(1) == 0 && fl(3) == 0) break;
+      if (fl(3) > 0) allocate_edges(std::max(fl(3), edges.per + edges.per / 2));
       if (fl(1) > 0) cand_ = decltype(cand_)("mortar_candidates", ne, std::max<int>(fl(1), cand_.extent(1) * 3 / 2));
       if (fl(0) > 0) {
         slots = std::max(fl(0), slots + slots / 2);
@@ -579,11 +593,14 @@ void ContactSurfaces3::groups(std::vector<std::vector<GO>>& out, int& active) co
   const HostFace& hs = hs_[0];
   const int ne = hs.ne[0] * hs.ne[1];
   std::vector<std::vector<GO>> per_elem(ne);
+  auto eelem = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), edges.elem);
+  auto emelem = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), edges.melem);
   for (int e = 0; e < ne; ++e) {
     std::set<int> melems;
     for (int i = e * slots; i < (e + 1) * slots; ++i)
       if (face(i) >= 0 && valid(i)) melems.insert(melem(i));
     if (melems.empty()) continue;
+    for (int i = e * edges.per; i < (e + 1) * edges.per && eelem(i) >= 0; ++i) melems.insert(emelem(i));
     element_cps(hs, e, 0, per_elem[e]);
     for (int E : melems) element_cps(hm_[0], E, 1, per_elem[e]);
   }

@@ -44,6 +44,11 @@ class ContactSurfaces3 {
   MortarState ms;
   MortarScratch scratch;
   int a_begin = 0, a_end = 0;
+  // the points where the master face ends inside slave elements (the tangent's boundary
+  // terms), `edges.per` per slave element; this rank's [e_begin, e_end)
+  MortarEdges3 edges;
+  int e_begin = 0, e_end = 0;
+  int cells = 0;   // cells per direction of a master element in the segmentation (0: 2 if curved, else 1)
   void mortar_scratch(int cap);
   /// sum_A w_A lambda_A^2 / (2 eps) (mortar), the penalty potential of the slots (KTS)
   double potential() const;
@@ -67,6 +72,7 @@ class ContactSurfaces3 {
 
  private:
   void allocate_points(int n);
+  void allocate_edges(int per);
   RCP<const Comm> comm_;
   void update_friction();
   void update_mortar_friction();

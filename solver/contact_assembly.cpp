@@ -132,6 +132,11 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
           Kokkos::parallel_for(c3.mortar ? "iga::AssembleMortarPressure3" : "iga::AssembleKts3",
                                Kokkos::RangePolicy<ExecSpace>(0, c3.p_end - c3.p_begin), k);
         }
+        if (c3.mortar && c3.e_end > c3.e_begin) {
+          AssembleMortarEdge3<decltype(lcl)> k;
+          k.s = c3.slave; k.m = c3.master; k.ed = c3.edges; k.ms = c3.ms; k.e_begin = c3.e_begin; k.K = lcl;
+          Kokkos::parallel_for("iga::AssembleMortarEdge3", Kokkos::RangePolicy<ExecSpace>(0, c3.e_end - c3.e_begin), k);
+        }
         if (c3.friction) Kokkos::deep_copy(c3.fr.force, 0.0);
         if (c3.friction && c3.p_end > c3.p_begin) {
           AssembleFriction3<decltype(lcl), decltype(fv)> k;
@@ -159,7 +164,7 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
             Kokkos::parallel_for("iga::AssembleMortarFriction3", Kokkos::RangePolicy<ExecSpace>(0, na), k);
           }
           AssembleMortarGap3<decltype(lcl)> k;
-          k.s = c3.slave; k.m = c3.master; k.sp = c3.sp; k.ms = c3.ms; k.sc = c3.scratch; k.eps = c3.pair.penalty;
+          k.s = c3.slave; k.m = c3.master; k.sp = c3.sp; k.ed = c3.edges; k.ms = c3.ms; k.sc = c3.scratch; k.eps = c3.pair.penalty;
           k.slots = c3.slots; k.a_begin = c3.a_begin; k.K = lcl;
           Kokkos::parallel_for("iga::AssembleMortarGap3", Kokkos::RangePolicy<ExecSpace>(0, c3.a_end - c3.a_begin), k);
           Kokkos::fence();
