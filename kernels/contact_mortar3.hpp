@@ -167,6 +167,7 @@ struct MortarSegments3 {
       poly.n = 0;
       double shot[4][5];   // per corner: u, v, t, xi, eta
       bool shot_ok[4] = {false, false, false, false};
+      int corner_sign[4] = {0, 0, 0, 0};   // per vertex: the map's orientation there
       for (int k = 0; k < 4; ++k) {
         const double a = (ci + (k == 1 || k == 2 ? 1.0 : 0.0)) / sub, b = (cj + (k >= 2 ? 1.0 : 0.0)) / sub;
         const double xi[2] = {mlo[0] + a * (mhi[0] - mlo[0]), mlo[1] + b * (mhi[1] - mlo[1])};
@@ -178,11 +179,14 @@ struct MortarSegments3 {
         if (!(l > 0)) continue;
         for (int c = 0; c < 3; ++c) n[c] /= l;
         // x_s(u, v) = rho + t n: Newton on (u, v, t) from the slave element's centre
-        double u = uc, v = vc, tt = 0;
+        double u = uc, v = vc, tt = 0, oc = 0;
         bool ok = false;
         for (int it = 0; it < 30; ++it) {
           double ds[6][3];
           surface_derivatives(ss, es, u, v, ds);
+          double cs[3];
+          cross3(ds[1], ds[2], cs);
+          oc = dot3(cs, n);
           double F[3];
           for (int c = 0; c < 3; ++c) F[c] = ds[0][c] - d[0][c] - tt * n[c];
           // J = [S_u, S_v, -n]; J delta = -F by Cramer's rule
@@ -212,13 +216,14 @@ struct MortarSegments3 {
         poly.v[poly.n][1] = v;
         ++poly.n;
         shot_ok[k] = true;
+        corner_sign[poly.n - 1] = oc > 0 ? 1 : oc < 0 ? -1 : 0;
         shot[k][0] = u;
         shot[k][1] = v;
         shot[k][2] = tt;
         shot[k][3] = xi[0];
         shot[k][4] = xi[1];
       }
-      if (poly.n < 3) continue;
+      if (poly.n < 3 || !cell_image_valid(poly, corner_sign)) continue;
       if (ed.per > 0) add_edge_points(e, E, ci, cj, mspn, lo, hi, hsz, poly, shot, shot_ok, ref, es, eused);
       ClipPolygon P;
       if (clip_polygons(rect, poly, P) & kClipOverflow) Kokkos::atomic_fetch_max(&flags(2), 1);
@@ -246,6 +251,36 @@ struct MortarSegments3 {
     }
     if (used > slots) Kokkos::atomic_fetch_max(&flags(0), used);
     if (eused > ed.per) Kokkos::atomic_fetch_max(&flags(3), eused);
+  }
+
+  /// Whether a cell's image is a simple polygon with the orientation of the map from the
+  /// master to the slave parameters, sign(S_u x S_v . n) at each corner, the same at every
+  /// corner. A corner shot onto the slave element's polynomial far beyond its element can land
+  /// on a spurious intersection (the polynomial extended several elements carries the
+  /// displacements' wiggles amplified): its image is then folded or inverted, and its hull would
+  /// cover slave area that this cell does not see (measured: a box overhanging a curved master,
+  /// its covered area 0.715 counted as 1.06 .. 1.37 with 2 .. 8 cells per master element).
+  KOKKOS_INLINE_FUNCTION static bool cell_image_valid(const ClipPolygon& poly, const int* corner_sign) {
+    const int sigma = corner_sign[0];
+    if (sigma == 0) return false;
+    for (int k = 1; k < poly.n; ++k)
+      if (corner_sign[k] != sigma) return false;
+    double area = 0;
+    for (int k = 0; k < poly.n; ++k) {
+      const int k1 = (k + 1) % poly.n;
+      area += poly.v[k][0] * poly.v[k1][1] - poly.v[k1][0] * poly.v[k][1];
+    }
+    if (!(area * sigma > 0)) return false;
+    if (poly.n == 4)   // opposite edges must not cross (a bow tie)
+      for (int k = 0; k < 2; ++k) {
+        const double* a = poly.v[k];
+        const double* b = poly.v[k + 1];
+        const double* c = poly.v[k + 2];
+        const double* d = poly.v[(k + 3) % 4];
+        const double o1 = orient2d(a, b, c), o2 = orient2d(a, b, d), o3 = orient2d(c, d, a), o4 = orient2d(c, d, b);
+        if (o1 * o2 < 0 && o3 * o4 < 0) return false;
+      }
+    return true;
   }
 
   /// The edge points of cell (ci, cj) of master element E where its edges are the master
@@ -324,27 +359,21 @@ struct MortarSegments3 {
   }
 };
 
-/// Edge point i of a mortar pair: the slave basis at it (Rs, cps; element spans es), the
-/// closest point of the master element's polynomial to its slave point (basis Rm, cpm; spans
-/// ms; Newton from the boundary point between its corners, (1 - s) xi_a + s xi_b, not clamped
-/// to the element: the limit of the slots' projections as they approach the edge, which may
-/// lie a little beyond the master's boundary where that is curved), the master's outward
-/// normal n there and the gap g. Returns false where the master normal is not defined.
-KOKKOS_INLINE_FUNCTION bool edge_point(const ContactFace& sf, const ContactFace& mf, const MortarEdges3& ed, int i, int es[2],
-                                       int ms[2], double* Rs, int* cps, int& ns, double* Rm, int* cpm, int& nm, double n[3],
-                                       double& g) {
-  surface_element_spans(sf.sd, ed.elem(i), es);
-  surface_element_spans(mf.sd, ed.melem(i), ms);
-  const double s = ed.d(i, 2);
-  double xi = (1 - s) * ed.d(i, 9) + s * ed.d(i, 14), eta = (1 - s) * ed.d(i, 10) + s * ed.d(i, 15);
-  double Ru[kMaxSurfaceBasis], Rv[kMaxSurfaceBasis], ds[6][3], dm[6][3];
-  ns = surface_basis(sf.sd, es, ed.d(i, 0), ed.d(i, 1), Rs, Ru, Rv, cps);
-  surface_derivatives(sf.sd, es, ed.d(i, 0), ed.d(i, 1), ds);
-  const double hsz = mf.sd.U[0](ms[0] + 1) - mf.sd.U[0](ms[0]) + mf.sd.U[1](ms[1] + 1) - mf.sd.U[1](ms[1]);
-  for (int it = 0; it < 20; ++it) {
-    surface_derivatives(mf.sd, ms, xi, eta, dm);
+/// The closest point to x of a surface's polynomial pieces, not clamped to an element or to
+/// the face: Newton from (xi, eta) on the piece with spans ms (follow: the piece of each
+/// iterate instead, its parameters clamped into the face to pick it, and returned in ms).
+/// dm: S and its derivatives at the foot.
+KOKKOS_INLINE_FUNCTION void closest_point_unclamped(const SurfaceData& md, const double x[3], double& xi, double& eta, int ms[2],
+                                                    bool follow, double dm[6][3]) {
+  const double hsz = md.U[0](md.n[0]) - md.U[0](md.p[0]) + md.U[1](md.n[1]) - md.U[1](md.p[1]);
+  for (int it = 0; it < 30; ++it) {
+    if (follow) {
+      ms[0] = find_span(md.n[0], md.p[0], xi, md.U[0].data());
+      ms[1] = find_span(md.n[1], md.p[1], eta, md.U[1].data());
+    }
+    surface_derivatives(md, ms, xi, eta, dm);
     double r[3];
-    for (int c = 0; c < 3; ++c) r[c] = ds[0][c] - dm[0][c];
+    for (int c = 0; c < 3; ++c) r[c] = x[c] - dm[0][c];
     const double F0 = dot3(r, dm[1]), F1 = dot3(r, dm[2]);
     const double J00 = -dot3(dm[1], dm[1]) + dot3(r, dm[3]), J01 = -dot3(dm[1], dm[2]) + dot3(r, dm[4]),
                  J11 = -dot3(dm[2], dm[2]) + dot3(r, dm[5]);
@@ -353,10 +382,34 @@ KOKKOS_INLINE_FUNCTION bool edge_point(const ContactFace& sf, const ContactFace&
     const double d0 = -(J11 * F0 - J01 * F1) / det, d1 = -(-J01 * F0 + J00 * F1) / det;
     xi += d0;
     eta += d1;
-    if (kmath::fabs(d0) + kmath::fabs(d1) < 1e-14 * hsz) break;
+    if (kmath::fabs(d0) + kmath::fabs(d1) < 1e-15 * hsz) break;
   }
+  if (follow) {
+    ms[0] = find_span(md.n[0], md.p[0], xi, md.U[0].data());
+    ms[1] = find_span(md.n[1], md.p[1], eta, md.U[1].data());
+  }
+  surface_derivatives(md, ms, xi, eta, dm);
+}
+
+/// Edge point i of a mortar pair: the slave basis at it (Rs, cps; element spans es), the
+/// closest point of the master element's polynomial to its slave point (basis Rm, cpm; spans
+/// ms; Newton from the boundary point between its corners, (1 - s) xi_a + s xi_b, not clamped
+/// to the element: the limit of the slots' projections as they approach the edge, which may
+/// lie a little beyond the master's boundary where that is curved), the master's outward
+/// normal n there and the gap g (foot: the master parameters, x: the slave point, when given).
+/// Returns false where the master normal is not defined.
+KOKKOS_INLINE_FUNCTION bool edge_point(const ContactFace& sf, const ContactFace& mf, const MortarEdges3& ed, int i, int es[2],
+                                       int ms[2], double* Rs, int* cps, int& ns, double* Rm, int* cpm, int& nm, double n[3],
+                                       double& g, double* foot = nullptr, double* x = nullptr) {
+  surface_element_spans(sf.sd, ed.elem(i), es);
+  surface_element_spans(mf.sd, ed.melem(i), ms);
+  const double s = ed.d(i, 2);
+  double xi = (1 - s) * ed.d(i, 9) + s * ed.d(i, 14), eta = (1 - s) * ed.d(i, 10) + s * ed.d(i, 15);
+  double Ru[kMaxSurfaceBasis], Rv[kMaxSurfaceBasis], ds[6][3], dm[6][3];
+  ns = surface_basis(sf.sd, es, ed.d(i, 0), ed.d(i, 1), Rs, Ru, Rv, cps);
+  surface_derivatives(sf.sd, es, ed.d(i, 0), ed.d(i, 1), ds);
+  closest_point_unclamped(mf.sd, ds[0], xi, eta, ms, false, dm);
   nm = surface_basis(mf.sd, ms, xi, eta, Rm, Ru, Rv, cpm);
-  surface_derivatives(mf.sd, ms, xi, eta, dm);
   cross3(dm[1], dm[2], n);
   const double l = kmath::sqrt(dot3(n, n));
   if (!(l > 0)) return false;
@@ -365,8 +418,47 @@ KOKKOS_INLINE_FUNCTION bool edge_point(const ContactFace& sf, const ContactFace&
     n[c] *= mf.sign / l;
     g += (ds[0][c] - dm[0][c]) * n[c];
   }
+  if (foot) {
+    foot[0] = xi;
+    foot[1] = eta;
+  }
+  if (x)
+    for (int c = 0; c < 3; ++c) x[c] = ds[0][c];
   return true;
 }
+
+/// The edge points as slave points (friction: their slip vectors and variations come from the
+/// slots' functions): the slave parameters and reference measure, the foot of edge_point.
+struct MortarEdgePoints3 {
+  ContactFaces s, m;
+  MortarEdges3 ed;
+  SlavePoints3 esp;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int i) const {
+    esp.valid(i) = 0;
+    esp.pressure(i) = 0;
+    esp.face(i) = -1;
+    if (ed.elem(i) < 0) return;
+    double Rs[kMaxSurfaceBasis], Rm[kMaxSurfaceBasis], n[3], g, foot[2], x[3];
+    int cps[kMaxSurfaceBasis], cpm[kMaxSurfaceBasis], es[2], ms[2], ns, nm;
+    esp.face(i) = 0;
+    esp.elem(i) = ed.elem(i);
+    esp.uv(i, 0) = ed.d(i, 0);
+    esp.uv(i, 1) = ed.d(i, 1);
+    esp.weight(i) = ed.d(i, 3);
+    if (!edge_point(s.f[0], m.f[0], ed, i, es, ms, Rs, cps, ns, Rm, cpm, nm, n, g, foot, x)) return;
+    esp.valid(i) = 1;
+    esp.mface(i) = 0;
+    esp.melem(i) = ed.melem(i);
+    esp.muv(i, 0) = foot[0];
+    esp.muv(i, 1) = foot[1];
+    esp.gap(i) = g;
+    for (int c = 0; c < 3; ++c) {
+      esp.x(i, c) = x[c];
+      esp.normal(i, c) = n[c];
+    }
+  }
+};
 
 /// The derivative V' of edge point i's outward normal velocity V = nu . ((1 - s) da + s db)
 /// (da, db: the motions of its corners' shots in the slave parameter plane): add(master, a, cp,

@@ -29,9 +29,15 @@
 //                                  + mu lambda_A / |tr_A| eps_T / w_A (V_A,c - that_c that . V_A)]
 //          (that = tr_A / |tr_A|, delta g_A = int R_A N dGamma_0; the first term only where
 //          lambda_A > 0).
+// Where the master ends inside a slave element (contact_mortar3.hpp, MortarEdges3), the covered
+//   part's motion adds, at the edge points (as slave points with their own references and slip
+//   vectors: ContactSurfaces3's edge points), K_c -= \oint (t . delta g_T) (x) V' dl_0
+//   (AssembleMortarFrictionEdge3) and, in the columns of tau_A's derivative, bT_A = \oint R_A g_T
+//   (x) V' dl_0 beside V_A and b_A = \oint R_A g V' beside delta g_A (MortarFrictionEdgeVectors3).
 // Data layout: Friction3's per-point gv and per-A sA, trA, tauA, lamTA, slipA(_c), stateA;
-// scratch rows per A (MortarScratch: dof and row `cap` wide, v0 and v1 4 cap wide: V_A,x,
-// V_A,y, V_A,z, delta g_A dense in v0, compacted in v1).
+// scratch rows per A (MortarScratch: dof and row `cap` wide, v0 and v1 8 cap wide: V_A,x,
+// V_A,y, V_A,z, delta g_A, then the boundary parts bT_A,x, bT_A,y, bT_A,z, b_A, dense in v0,
+// compacted in v1).
 // Cost per stick or slip A: its support's slots (about (p + 1)^2 slave elements x slots) x a
 // point's Fad set-up (~ 200 Fad operations of 34 flops) and 3 x 3 (ns + nm) columns, plus the
 // outer product (3 nnz^2 to 4 nnz^2 flops, nnz the touched dofs, about 3 (2p+1)^2 + 3 (p+3)^2).
@@ -129,7 +135,7 @@ struct MortarFrictionRanges3 {
   MortarScratch sc;
   Kokkos::View<MortarRange3*, MemSpace> range;   // per A of this rank; size 0: nothing to add
   Kokkos::View<int*, MemSpace> size;
-  MortarEdges3 ed;   // the edge points: per = 0, none (the boundary terms of friction: not yet)
+  MortarEdges3 ed;
   int slots = 1, a_begin = 0;
 
   KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
@@ -144,7 +150,7 @@ struct MortarFrictionRanges3 {
     }
     range(k) = rg;
     size(k) = n;
-    for (int q = 0; q < 4 * n; ++q) sc.v0(k, q) = 0;
+    for (int q = 0; q < 8 * n; ++q) sc.v0(k, q) = 0;
   }
 };
 
@@ -203,6 +209,136 @@ struct MortarFrictionVectors3 {
   }
 };
 
+/// The edge points' references: the slave point in the converged configuration (sc) projected
+/// onto the converged master (mc) without clamping, from the current foot (an edge point's foot
+/// lies on the master's boundary, where a clamped projection would lose half of them).
+struct MortarEdgeReferences3 {
+  ContactFaces sc, mc;
+  SlavePoints3 esp;
+  Friction3 efr;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int i) const {
+    efr.ref_face(i) = -1;
+    if (!esp.valid(i)) return;
+    int es[2], ms[2];
+    surface_element_spans(sc.f[0].sd, esp.elem(i), es);
+    double ds[6][3], dm[6][3];
+    surface_derivatives(sc.f[0].sd, es, esp.uv(i, 0), esp.uv(i, 1), ds);
+    double xi = esp.muv(i, 0), eta = esp.muv(i, 1);
+    closest_point_unclamped(mc.f[0].sd, ds[0], xi, eta, ms, true, dm);
+    efr.ref_face(i) = 0;
+    efr.ref_uv(i, 0) = xi;
+    efr.ref_uv(i, 1) = eta;
+  }
+};
+
+/// The boundary parts of the columns (header): per edge point, for each A of its slave element
+/// on this rank with a range, bT_A += w R_A g_T (x) V' and, where A slips with a pressure,
+/// b_A += w R_A g V'. esp / efr: the edge points as slave points and their slip vectors.
+struct MortarFrictionEdgeVectors3 {
+  ContactFaces s, m;
+  MortarEdges3 ed;
+  SlavePoints3 esp;
+  Friction3 efr;
+  MortarState ms;
+  Friction3 fr;
+  MortarScratch sc;
+  Kokkos::View<MortarRange3*, MemSpace> range;
+  Kokkos::View<int*, MemSpace> size;
+  int a_begin = 0, a_end = 0;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int i) const {
+    if (ed.elem(i) < 0 || !esp.valid(i)) return;
+    const SurfaceData& sd = s.f[0].sd;
+    const SurfaceData& md = m.f[0].sd;
+    double Rs[kMaxSurfaceBasis];
+    int cps[kMaxSurfaceBasis], es[2], mspn[2];
+    const int ns = slot_basis(sd, esp, i, Rs, cps);
+    surface_element_spans(sd, ed.elem(i), es);
+    surface_element_spans(md, ed.melem(i), mspn);
+    const double gT[3] = {efr.gv(i, 0), efr.gv(i, 1), efr.gv(i, 2)}, g = esp.gap(i);
+    for (int a = 0; a < ns; ++a) {
+      const int A = cps[a], k = A - a_begin;
+      if (A < a_begin || A >= a_end || size(k) == 0) continue;
+      const MortarRange3& rg = range(k);
+      const int sz = size(k);
+      const double w = Rs[a] * ed.d(i, 3);
+      const bool dlam = fr.stateA(A) == 2 && ms.lambda(A) > 0;
+      edge_velocity(sd, es, md, mspn, ed, i, [&](bool master, int, int cp, int c, double v) {
+        const int q = (master ? rg.master(cp) : rg.slave(cp)) + c;
+        for (int cc = 0; cc < 3; ++cc)
+          if (gT[cc] != 0) Kokkos::atomic_add(&sc.v0(k, (4 + cc) * sz + q), w * gT[cc] * v);
+        if (dlam) Kokkos::atomic_add(&sc.v0(k, 7 * sz + q), w * g * v);
+      });
+    }
+  }
+};
+
+/// The boundary term of the traction part, K_c -= \oint (t . delta g_T) (x) V' dl_0, at this
+/// rank's edge points [e_begin, ...) with a reference (elsewhere g_T = 0 whatever u).
+template <class LocalMatrix>
+struct AssembleMortarFrictionEdge3 {
+  ContactFaces s, m;
+  MortarEdges3 ed;
+  SlavePoints3 esp;
+  Friction3 efr;
+  Friction3 fr;
+  int e_begin = 0;
+  LocalMatrix K;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
+    using F = FrictionPoint3::F;
+    const int i = e_begin + k;
+    if (ed.elem(i) < 0 || !esp.valid(i) || efr.ref_face(i) != esp.mface(i)) return;
+    const SurfaceData& sd = s.f[0].sd;
+    double Rs[kMaxSurfaceBasis];
+    int cps[kMaxSurfaceBasis];
+    const int ns = slot_basis(sd, esp, i, Rs, cps);
+    double t[3] = {0, 0, 0};
+    for (int a = 0; a < ns; ++a)
+      for (int c = 0; c < 3; ++c) t[c] += fr.tauA(cps[a], c) * Rs[a];
+    if (t[0] == 0 && t[1] == 0 && t[2] == 0) return;
+    FrictionPoint3 P;
+    friction_point3(s, m, esp, efr, i, P);
+    F g[3];
+    P.slip(g);
+    F tg = t[0] * g[0] + t[1] * g[1] + t[2] * g[2];
+    const int nd = 3 * (P.ns + P.nm);
+    double vel[3 * 2 * kMaxSurfaceBasis];
+    for (int q = 0; q < nd; ++q) vel[q] = 0;
+    int es[2], mspn[2];
+    surface_element_spans(sd, ed.elem(i), es);
+    surface_element_spans(m.f[0].sd, ed.melem(i), mspn);
+    edge_velocity(sd, es, m.f[0].sd, mspn, ed, i,
+                  [&](bool master, int a, int, int c, double v) { vel[3 * (a + (master ? P.ns : 0)) + c] += v; });
+    const double w = ed.d(i, 3);
+    const ContactFace& sf = s.f[0];
+    const ContactFace& mf = m.f[0];
+    auto lid = [&](int r) {
+      const int cp = r / 3;
+      const int l = cp < P.ns ? sf.lid(P.cps[cp]) : mf.lid(P.cpm[cp - P.ns]);
+      return l < 0 ? -1 : dof_of(l, r % 3, 3);
+    };
+    for (int r = 0; r < nd; ++r) {
+      const double tr = P.column(tg, r / 3, r % 3);
+      const int lr = lid(r);
+      if (tr == 0 || lr < 0) continue;
+      for (int b = 0; b < P.ns + P.nm; ++b) {
+        int cols[3];
+        double vals[3];
+        int nc = 0;
+        for (int cc = 0; cc < 3; ++cc) {
+          const int q = 3 * b + cc, lq = lid(q);
+          if (vel[q] == 0 || lq < 0) continue;
+          cols[nc] = lq;
+          vals[nc++] = -w * tr * vel[q];
+        }
+        if (nc > 0) K.sumIntoValues(lr, cols, nc, vals, true, true);
+      }
+    }
+  }
+};
+
 template <class LocalMatrix>
 struct AssembleMortarFriction3 {
   ContactFaces s, m;
@@ -221,22 +357,29 @@ struct AssembleMortarFriction3 {
     if (st == 0 || sz == 0) return;
     const MortarRange3& rg = range(k);
     const bool dlam = st == 2 && ms.lambda(A) > 0;
-    // compact to the entries touched in any of the four vectors with an overlap dof, sorted by dof
+    // compact to the entries touched in any of the eight vectors with an overlap dof, sorted by
+    // dof; per entry: the rows' V_A (3) and delta g_A, then the columns' V_A + bT_A (3) and
+    // delta g_A + b_A
     int nnz = 0;
     for (int q = 0; q < sz; ++q) {
-      if (sc.v0(k, q) == 0 && sc.v0(k, sz + q) == 0 && sc.v0(k, 2 * sz + q) == 0 && sc.v0(k, 3 * sz + q) == 0) continue;
+      double val[8];
+      bool any = false;
+      for (int b = 0; b < 8; ++b) {
+        val[b] = sc.v0(k, b * sz + q);
+        any = any || val[b] != 0;
+      }
+      if (!any) continue;
       const int dof = rg.dof(q, s.f[0], m.f[0]);
       if (dof < 0) continue;
-      double val[4];
-      for (int b = 0; b < 4; ++b) val[b] = sc.v0(k, b * sz + q);
+      for (int b = 4; b < 8; ++b) val[b] += val[b - 4];
       int pos = nnz++;
       while (pos > 0 && sc.dof(k, pos - 1) > dof) {
         sc.dof(k, pos) = sc.dof(k, pos - 1);
-        for (int b = 0; b < 4; ++b) sc.v1(k, 4 * pos + b) = sc.v1(k, 4 * (pos - 1) + b);
+        for (int b = 0; b < 8; ++b) sc.v1(k, 8 * pos + b) = sc.v1(k, 8 * (pos - 1) + b);
         --pos;
       }
       sc.dof(k, pos) = dof;
-      for (int b = 0; b < 4; ++b) sc.v1(k, 4 * pos + b) = val[b];
+      for (int b = 0; b < 8; ++b) sc.v1(k, 8 * pos + b) = val[b];
     }
     const double wA = ms.wA(A), cT = fr.epsT / wA;
     double that[3] = {0, 0, 0}, cs = 0, cn = 0;
@@ -251,9 +394,10 @@ struct AssembleMortarFriction3 {
     int* dof = &sc.dof(k, 0);
     double* row = &sc.row(k, 0);
     for (int r = 0; r < nnz; ++r) {
-      const double* Vr = &sc.v1(k, 4 * r);
+      const double* Vr = &sc.v1(k, 8 * r);
+      if (Vr[0] == 0 && Vr[1] == 0 && Vr[2] == 0) continue;
       for (int q = 0; q < nnz; ++q) {
-        const double* Vq = &sc.v1(k, 4 * q);
+        const double* Vq = &sc.v1(k, 8 * q + 4);
         double v = 0;
         if (st == 1) {
           for (int c = 0; c < 3; ++c) v += Vr[c] * Vq[c];

@@ -227,19 +227,11 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
   refresh();
 }
 
-void ContactSurfaces3::allocate_edges(int per) {
-  const int ne = hs_[0].ne[0] * hs_[0].ne[1];
-  edges.per = per;
-  edges.elem = Kokkos::View<int*, MemSpace>("edge_elem", ne * per);
-  edges.melem = Kokkos::View<int*, MemSpace>("edge_melem", ne * per);
-  edges.d = Kokkos::View<double* [kEdgeData], MemSpace>("edge_data", ne * per);
-  Kokkos::deep_copy(edges.elem, -1);
-  const auto r = block_range(ne * per, rank_, nranks_);
-  e_begin = static_cast<int>(r.first);
-  e_end = static_cast<int>(r.second);
-}
+namespace {
 
-void ContactSurfaces3::allocate_points(int n) {
+/// Slave point arrays for n points (no projection yet).
+SlavePoints3 make_slave_points(int n) {
+  SlavePoints3 sp;
   sp.face = Kokkos::View<int*, MemSpace>("face", n);
   sp.elem = Kokkos::View<int*, MemSpace>("elem", n);
   sp.uv = Kokkos::View<double* [2], MemSpace>("uv", n);
@@ -256,9 +248,27 @@ void ContactSurfaces3::allocate_points(int n) {
   sp.pressure = Kokkos::View<double*, MemSpace>("pressure", n);
   sp.x = Kokkos::View<double* [3], MemSpace>("x", n);
   sp.normal = Kokkos::View<double* [3], MemSpace>("normal", n);
-  const auto r = block_range(n, rank_, nranks_);
-  p_begin = static_cast<int>(r.first);
-  p_end = static_cast<int>(r.second);
+  return sp;
+}
+
+/// The same points' projections in the converged configuration (mortar friction): their own
+/// parameters (shared views), results of their own.
+SlavePoints3 make_reference_points(const SlavePoints3& sp, int n) {
+  SlavePoints3 r = sp;
+  r.lambda = Kokkos::View<double*, MemSpace>("ref_lambda", n);
+  r.valid = Kokkos::View<int*, MemSpace>("ref_valid", n);
+  r.mface = Kokkos::View<int*, MemSpace>("ref_mface", n);
+  r.melem = Kokkos::View<int*, MemSpace>("ref_melem", n);
+  r.muv = Kokkos::View<double* [2], MemSpace>("ref_muv", n);
+  r.gap = Kokkos::View<double*, MemSpace>("ref_gap", n);
+  r.pressure = Kokkos::View<double*, MemSpace>("ref_pressure", n);
+  r.x = Kokkos::View<double* [3], MemSpace>("ref_x", n);
+  r.normal = Kokkos::View<double* [3], MemSpace>("ref_normal", n);
+  return r;
+}
+
+/// Friction's per-point arrays for n points (mortar: with the slip vectors).
+void make_friction_points(Friction3& fr, int n, bool mortar) {
   fr.ref_face = Kokkos::View<int*, MemSpace>("ref_face", n);
   Kokkos::deep_copy(fr.ref_face, -1);
   fr.ref_uv = Kokkos::View<double* [2], MemSpace>("ref_uv", n);
@@ -269,22 +279,39 @@ void ContactSurfaces3::allocate_points(int n) {
   fr.slip_c = Kokkos::View<double*, MemSpace>("slip_c", n);
   fr.gT = Kokkos::View<double*, MemSpace>("gT", n);
   fr.state = Kokkos::View<int*, MemSpace>("friction_state", n);
-  state_prev_ = Kokkos::View<int*, MemSpace>("friction_state_prev", n);
-  if (mortar && friction) {
-    fr.gv = Kokkos::View<double* [3], MemSpace>("slip_vector", n);
-    // the slots' projections in the converged configuration: the slots' own parameters,
-    // results of their own
-    ref_sp_ = sp;
-    ref_sp_.lambda = Kokkos::View<double*, MemSpace>("ref_lambda", n);
-    ref_sp_.valid = Kokkos::View<int*, MemSpace>("ref_valid", n);
-    ref_sp_.mface = Kokkos::View<int*, MemSpace>("ref_mface", n);
-    ref_sp_.melem = Kokkos::View<int*, MemSpace>("ref_melem", n);
-    ref_sp_.muv = Kokkos::View<double* [2], MemSpace>("ref_muv", n);
-    ref_sp_.gap = Kokkos::View<double*, MemSpace>("ref_gap", n);
-    ref_sp_.pressure = Kokkos::View<double*, MemSpace>("ref_pressure", n);
-    ref_sp_.x = Kokkos::View<double* [3], MemSpace>("ref_x", n);
-    ref_sp_.normal = Kokkos::View<double* [3], MemSpace>("ref_normal", n);
+  if (mortar) fr.gv = Kokkos::View<double* [3], MemSpace>("slip_vector", n);
+}
+
+}  // namespace
+
+void ContactSurfaces3::allocate_edges(int per) {
+  const int ne = hs_[0].ne[0] * hs_[0].ne[1];
+  edges.per = per;
+  edges.elem = Kokkos::View<int*, MemSpace>("edge_elem", ne * per);
+  edges.melem = Kokkos::View<int*, MemSpace>("edge_melem", ne * per);
+  edges.d = Kokkos::View<double* [kEdgeData], MemSpace>("edge_data", ne * per);
+  Kokkos::deep_copy(edges.elem, -1);
+  const auto r = block_range(ne * per, rank_, nranks_);
+  e_begin = static_cast<int>(r.first);
+  e_end = static_cast<int>(r.second);
+  if (friction) {   // the edge points as slave points, with references and slip vectors
+    esp = make_slave_points(ne * per);
+    ref_esp_ = make_reference_points(esp, ne * per);
+    efr = fr;
+    make_friction_points(efr, ne * per, true);
   }
+}
+
+void ContactSurfaces3::allocate_points(int n) {
+  const double touch = sp.touch;
+  sp = make_slave_points(n);
+  sp.touch = touch;
+  const auto r = block_range(n, rank_, nranks_);
+  p_begin = static_cast<int>(r.first);
+  p_end = static_cast<int>(r.second);
+  make_friction_points(fr, n, mortar && friction);
+  state_prev_ = Kokkos::View<int*, MemSpace>("friction_state_prev", n);
+  if (mortar && friction) ref_sp_ = make_reference_points(sp, n);
 }
 
 void ContactSurfaces3::mortar_scratch(int cap) {
@@ -295,8 +322,8 @@ void ContactSurfaces3::mortar_scratch(int cap) {
   scratch.row = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>("mortar_row", na, cap);
   if (friction) {
     fscratch.dof = Kokkos::View<int**, Kokkos::LayoutRight, MemSpace>("mortar_friction_dof", na, cap);
-    fscratch.v0 = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>("mortar_friction_v0", na, 4 * cap);
-    fscratch.v1 = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>("mortar_friction_v1", na, 4 * cap);
+    fscratch.v0 = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>("mortar_friction_v0", na, 8 * cap);
+    fscratch.v1 = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>("mortar_friction_v1", na, 8 * cap);
     fscratch.row = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>("mortar_friction_row", na, cap);
   }
 }
@@ -390,6 +417,21 @@ void ContactSurfaces3::update_mortar_friction() {
   UpdateFriction3 ku;
   ku.m = master; ku.sp = sp; ku.fr = fr; ku.eps = pair.penalty; ku.mortar = true;
   Kokkos::parallel_for("iga::MortarSlip3", Kokkos::RangePolicy<ExecSpace>(0, n), ku);
+  // the edge points (where the master ends inside slave elements): feet, references, slip vectors
+  const int ne_pts = static_cast<int>(edges.elem.extent(0));
+  MortarEdgePoints3 kep;
+  kep.s = slave; kep.m = master; kep.ed = edges; kep.esp = esp;
+  Kokkos::parallel_for("iga::MortarEdgePoints3", Kokkos::RangePolicy<ExecSpace>(0, ne_pts), kep);
+  if (have_committed_) {
+    MortarEdgeReferences3 ker;
+    ker.sc = slave_c_; ker.mc = master_c_; ker.esp = esp; ker.efr = efr;
+    Kokkos::parallel_for("iga::MortarEdgeReferences3", Kokkos::RangePolicy<ExecSpace>(0, ne_pts), ker);
+  } else {
+    Kokkos::deep_copy(efr.ref_face, -1);
+  }
+  UpdateFriction3 kue;
+  kue.m = master; kue.sp = esp; kue.fr = efr; kue.eps = pair.penalty; kue.mortar = true;
+  Kokkos::parallel_for("iga::MortarEdgeSlip3", Kokkos::RangePolicy<ExecSpace>(0, ne_pts), kue);
   MortarFrictionLaw3 kl;
   kl.s = slave; kl.sp = sp; kl.ms = ms; kl.fr = fr; kl.slots = slots;
   Kokkos::parallel_for("iga::MortarFrictionLaw3", Kokkos::RangePolicy<ExecSpace>(0, static_cast<int>(ms.wA.extent(0))), kl);

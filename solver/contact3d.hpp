@@ -49,6 +49,9 @@ class ContactSurfaces3 {
   MortarEdges3 edges;
   int e_begin = 0, e_end = 0;
   int cells = 0;   // cells per direction of a master element in the segmentation (0: 2 if curved, else 1)
+  // with friction: the edge points as slave points (their feet, references and slip vectors)
+  SlavePoints3 esp;
+  Friction3 efr;
   void mortar_scratch(int cap);
   /// sum_A w_A lambda_A^2 / (2 eps) (mortar), the penalty potential of the slots (KTS)
   double potential() const;
@@ -86,7 +89,7 @@ class ContactSurfaces3 {
   // are projected onto it at every update), the slots' projections there, and the per-A states
   // of the previous update
   ContactFaces slave_c_, master_c_;
-  SlavePoints3 ref_sp_;
+  SlavePoints3 ref_sp_, ref_esp_;
   bool have_committed_ = false;
   Kokkos::View<int*, MemSpace> stateA_prev_;
   Kokkos::View<int*, MemSpace> seg_flags_;

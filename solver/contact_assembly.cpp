@@ -136,6 +136,12 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
           AssembleMortarEdge3<decltype(lcl)> k;
           k.s = c3.slave; k.m = c3.master; k.ed = c3.edges; k.ms = c3.ms; k.e_begin = c3.e_begin; k.K = lcl;
           Kokkos::parallel_for("iga::AssembleMortarEdge3", Kokkos::RangePolicy<ExecSpace>(0, c3.e_end - c3.e_begin), k);
+          if (c3.friction) {
+            AssembleMortarFrictionEdge3<decltype(lcl)> kf;
+            kf.s = c3.slave; kf.m = c3.master; kf.ed = c3.edges; kf.esp = c3.esp; kf.efr = c3.efr; kf.fr = c3.fr;
+            kf.e_begin = c3.e_begin; kf.K = lcl;
+            Kokkos::parallel_for("iga::AssembleMortarFrictionEdge3", Kokkos::RangePolicy<ExecSpace>(0, c3.e_end - c3.e_begin), kf);
+          }
         }
         if (c3.friction) Kokkos::deep_copy(c3.fr.force, 0.0);
         if (c3.friction && c3.p_end > c3.p_begin) {
@@ -152,12 +158,18 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
             Kokkos::View<int*, MemSpace> size("mortar_friction_size", na);
             MortarFrictionRanges3 kr;
             kr.s = c3.slave; kr.m = c3.master; kr.sp = c3.sp; kr.ms = c3.ms; kr.fr = c3.fr; kr.sc = c3.fscratch;
-            kr.range = range; kr.size = size; kr.slots = c3.slots; kr.a_begin = c3.a_begin;
+            kr.range = range; kr.size = size; kr.ed = c3.edges; kr.slots = c3.slots; kr.a_begin = c3.a_begin;
             Kokkos::parallel_for("iga::MortarFrictionRanges3", Kokkos::RangePolicy<ExecSpace>(0, na), kr);
             MortarFrictionVectors3 kv;
             kv.s = c3.slave; kv.m = c3.master; kv.sp = c3.sp; kv.ms = c3.ms; kv.fr = c3.fr; kv.sc = c3.fscratch;
             kv.range = range; kv.size = size; kv.a_begin = c3.a_begin; kv.a_end = c3.a_end;
             Kokkos::parallel_for("iga::MortarFrictionVectors3", Kokkos::RangePolicy<ExecSpace>(0, c3.num_points()), kv);
+            MortarFrictionEdgeVectors3 kev;
+            kev.s = c3.slave; kev.m = c3.master; kev.ed = c3.edges; kev.esp = c3.esp; kev.efr = c3.efr; kev.ms = c3.ms;
+            kev.fr = c3.fr; kev.sc = c3.fscratch; kev.range = range; kev.size = size; kev.a_begin = c3.a_begin;
+            kev.a_end = c3.a_end;
+            Kokkos::parallel_for("iga::MortarFrictionEdgeVectors3",
+                                 Kokkos::RangePolicy<ExecSpace>(0, static_cast<int>(c3.edges.elem.extent(0))), kev);
             AssembleMortarFriction3<decltype(lcl)> k;
             k.s = c3.slave; k.m = c3.master; k.ms = c3.ms; k.fr = c3.fr; k.sc = c3.fscratch;
             k.range = range; k.size = size; k.eps = c3.pair.penalty; k.a_begin = c3.a_begin; k.K = lcl;

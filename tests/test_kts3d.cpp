@@ -238,6 +238,45 @@ TEST(Mortar3Tangent, MatchesFiniteDifferences) {
   check_tangent(3, false, {0.0, 0.0, -0.02}, "", true);
 }
 
+// The segmentation's covered area where the box overhangs the curved master's edge (the box at
+// x in [1.2, 2.3] over the block's x <= 2, pressed 0.1 into the bump; p = 3): the slots'
+// reference measure must not depend on the cells per master element beyond the straight-edge
+// approximation of the master's boundary (O(cell^2)). Corners of far master cells shot onto
+// the slave polynomial extended several elements used to land on spurious intersections, and
+// the hulls of their folded images covered the slave element again: 0.715, 1.06, 0.90, 1.37
+// for 1, 2, 4, 8 cells.
+TEST(Mortar3Segments, CoveredAreaDoesNotDependOnTheCells) {
+  const Problem P = parse_problem(bump_and_box(3, 6, "mortar_penalty"), "overhang.yaml");
+  System sys(P, Tpetra::getDefaultComm());
+  Vector u(sys.owned_map());
+  {
+    auto h = u.getLocalViewHost(Tpetra::Access::OverwriteAll);
+    for (size_t l = 0; l < u.getLocalLength(); ++l) {
+      const GO dof = sys.owned_map()->getGlobalElement(l);
+      std::mt19937 rng(static_cast<unsigned>(dof) + 51u);
+      std::uniform_real_distribution<double> d(-2e-3, 2e-3);
+      h(l, 0) = d(rng) + (sys.body_of(dof / 3) == 1 ? (dof % 3 == 0 ? 0.8 : dof % 3 == 2 ? -0.1 : 0.0) : 0.0);
+    }
+  }
+  std::vector<double> area;
+  for (int cells : {1, 2, 4, 8}) {
+    ContactPairData pair(sys, 0);
+    pair.s3_->cells = cells;
+    pair.update(u);
+    auto w = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pair.s3_->sp.weight);
+    auto valid = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pair.s3_->sp.valid);
+    double a = 0;
+    for (size_t i = 0; i < w.extent(0); ++i)
+      if (valid(i)) a += w(i);
+    std::printf("  %d cells per master element: covered area %.9f\n", cells, a);
+    area.push_back(a);
+  }
+  // the overlap of the box (1.1 x 0.9, at x >= 1.2) with the block (x <= 2) is 0.8 x 0.9; the
+  // master's normal at its edge tilts the boundary's image by a little
+  EXPECT_NEAR(area[0], 0.72, 0.02);
+  for (size_t k = 1; k < area.size(); ++k) EXPECT_NEAR(area[k], area.back(), 1e-3 * area.back());
+}
+
 // The box overhangs the master's edge x = 2 by 0.3: its last column of elements is partly
 // covered, and the covered part moves with u (the boundary terms of contact_mortar3.hpp; without
 // them the difference is 0.12 of the largest column). The boundary's image is straight per cell
@@ -265,6 +304,15 @@ TEST(Mortar3FrictionTangent, MatchesFiniteDifferencesInStickAndSlip) {
   check_tangent(3, false, {0.0, 0.0, -0.02}, "", true, 0.3, {1e-4, -5e-5}, 26);
   check_tangent(3, true, {0.0, 0.0, -0.02}, "", true, 0.3, {0.04, -0.03}, 26);
   check_tangent(3, false, {-0.35, 0.3, -0.03}, ", kinematics: finite", true, 0.3, {0.05, 0.02}, 26);
+}
+
+// The same with friction (the edge points' slip and traction terms, contact_mortar_friction3.hpp)
+// after a history (the box slid 0.8 from where it was committed at u = 0, then back a little:
+// stick; or on: slip): without the friction boundary terms 8.5 % and 9.9 % of the largest
+// column, with them 2.0e-7 and 4.8e-7 (the O(cell^2) bound as above).
+TEST(Mortar3FrictionTangent, MasterEndsInsideASlaveElement) {
+  check_tangent(3, false, {0.8, 0.0, -0.1}, "", true, 0.3, {-1e-4, 5e-5}, 26, 2, false, 1e-5);
+  check_tangent(3, false, {0.8, 0.0, -0.1}, "", true, 0.3, {0.04, -0.03}, 26, 2, false, 1e-5);
 }
 
 // Nested meshes (every master knot is a slave knot): each slave element sees one polynomial
