@@ -19,7 +19,10 @@
 //     + sum_{A active} eps / w_A delta g_A (x) \oint R_A g V' dl_0   (AssembleMortarGap3)
 //   over the image of the master's boundary in the slave parameter plane, dl_0 its reference
 //   measure and V' the derivative of its outward normal velocity (edge_velocity: the shots of
-//   the boundary cells' corners differentiated). The residual stays -\int p N: it is then not
+//   the boundary cells' corners differentiated). The same terms at master element edges where
+//   the integrand jumps (continuity below `smooth`: C^0 edges for the normal, and with friction
+//   C^1 edges too, since the slip's variation carries the master's second derivatives): each
+//   side's edge points evaluate their own element, and the two sums give the jump term. The residual stays -\int p N: it is then not
 //   the gradient of the potential there (the boundary term of delta g_A is not in it), and the
 //   tangent is not symmetric.
 // Segments (MortarSegments3, one slave element per thread): the master elements whose boxes
@@ -79,6 +82,7 @@ struct MortarSegments3 {
   MortarEdges3 ed;
   GaussRule gauss;
   int slots = 1;
+  int smooth = 1;   // edge points also on master element edges of continuity below this
   int sub = 1;   // cells per direction of a master element (its edges' images: straight per cell)
   Kokkos::View<int*, MemSpace> flags;
   Kokkos::View<int**, Kokkos::LayoutRight, MemSpace> cand;   // per slave element: candidate master elements
@@ -292,8 +296,22 @@ struct MortarSegments3 {
                                               const double (*shot)[5], const bool* shot_ok, const SurfaceData& ref,
                                               const int es[2], int& eused) const {
     const SurfaceData& ms = m.f[0].sd;
-    const bool boundary[4] = {cj == 0 && mspn[1] == ms.p[1], ci == sub - 1 && mspn[0] == ms.n[0] - 1,
-                              cj == sub - 1 && mspn[1] == ms.n[1] - 1, ci == 0 && mspn[0] == ms.p[0]};
+    // the master face's boundary, and master element edges across which the residual's
+    // integrand jumps: the master's continuity there below `smooth` (1: the normal, 2: its
+    // derivatives, which friction's slip variation carries). Both elements at such an edge
+    // write its points, each with its own side's integrand and outward normal: their sum is the
+    // jump term
+    auto rough = [&](int d, int span) {   // the knot U_d[span] of continuity below smooth
+      const double x = ms.U[d](span);
+      int mult = 0;
+      for (int k = span; k >= 0 && ms.U[d](k) == x; --k) ++mult;
+      for (int k = span + 1; k < ms.n[d] + ms.p[d] + 1 && ms.U[d](k) == x; ++k) ++mult;
+      return ms.p[d] - mult < smooth;
+    };
+    const bool boundary[4] = {cj == 0 && (mspn[1] == ms.p[1] || rough(1, mspn[1])),
+                              ci == sub - 1 && (mspn[0] == ms.n[0] - 1 || rough(0, mspn[0] + 1)),
+                              cj == sub - 1 && (mspn[1] == ms.n[1] - 1 || rough(1, mspn[1] + 1)),
+                              ci == 0 && (mspn[0] == ms.p[0] || rough(0, mspn[0]))};
     double area = 0;   // the orientation of the cell's image
     for (int k = 0; k < poly.n; ++k) {
       const int k1 = (k + 1) % poly.n;
