@@ -531,22 +531,38 @@ KOKKOS_INLINE_FUNCTION void edge_velocity(const SurfaceData& ss, const int es[2]
 template <class F>
 KOKKOS_INLINE_FUNCTION void for_each_support_edge3(const SurfaceData& sd, const MortarEdges3& ed, int A, const F& f) {
   if (ed.per == 0) return;
-  const int ia = A % sd.n[0], ja = A / sd.n[0];
-  for (int e1 = 0; e1 < sd.ne[1]; ++e1) {
-    const int s1 = sd.span[1](e1);
-    if (s1 < ja || s1 > ja + sd.p[1]) continue;
-    for (int e0 = 0; e0 < sd.ne[0]; ++e0) {
-      const int s0 = sd.span[0](e0);
-      if (s0 < ia || s0 > ia + sd.p[0]) continue;
-      const int e = e0 + sd.ne[0] * e1, la = (ia - (s0 - sd.p[0])) + (sd.p[0] + 1) * (ja - (s1 - sd.p[1]));
-      for (int i = e * ed.per; i < (e + 1) * ed.per; ++i) {
-        if (ed.elem(i) < 0) break;   // filled from the element's first entry on
-        double R[kMaxSurfaceBasis], Ru[kMaxSurfaceBasis], Rv[kMaxSurfaceBasis];
-        int cp[kMaxSurfaceBasis];
-        const int es[2] = {s0, s1};
-        surface_basis(sd, es, ed.d(i, 0), ed.d(i, 1), R, Ru, Rv, cp);
-        f(i, R[la], e);
+  for_each_support_element3(sd, A, [&](int e, int la, const int es[2]) {
+    for (int i = e * ed.per; i < (e + 1) * ed.per; ++i) {
+      if (ed.elem(i) < 0) break;   // filled from the element's first entry on
+      double R[kMaxSurfaceBasis], Ru[kMaxSurfaceBasis], Rv[kMaxSurfaceBasis];
+      int cp[kMaxSurfaceBasis];
+      surface_basis(sd, es, ed.d(i, 0), ed.d(i, 1), R, Ru, Rv, cp);
+      f(i, R[la], e);
+    }
+  });
+}
+
+/// K += -w row (x) vel on an element pair's entries (3 per slave cp, then 3 per master cp, nb
+/// control points in all): row(r) the row's value, vel the columns', lid(q) the contact
+/// matrix's dof of entry q (-1: none). The boundary terms' outer products.
+template <class LocalMatrix, class Row, class Lid>
+KOKKOS_INLINE_FUNCTION void add_edge_outer(const LocalMatrix& K, int nb, double w, const Row& row, const double* vel,
+                                           const Lid& lid) {
+  for (int r = 0; r < 3 * nb; ++r) {
+    const double v = row(r);
+    const int lr = lid(r);
+    if (v == 0 || lr < 0) continue;
+    for (int b = 0; b < nb; ++b) {
+      int cols[3];
+      double vals[3];
+      int nc = 0;
+      for (int cc = 0; cc < 3; ++cc) {
+        const int q = 3 * b + cc, lq = lid(q);
+        if (vel[q] == 0 || lq < 0) continue;
+        cols[nc] = lq;
+        vals[nc++] = -w * v * vel[q];
       }
+      if (nc > 0) K.sumIntoValues(lr, cols, nc, vals, true, true);
     }
   }
 }
@@ -583,31 +599,20 @@ struct AssembleMortarEdge3 {
       const int l = cp < ns ? sf.lid(cps[cp]) : mf.lid(cpm[cp - ns]);
       return l < 0 ? -1 : dof_of(l, r % 3, 3);
     };
-    for (int r = 0; r < 3 * (ns + nm); ++r) {
-      const int cp = r / 3, c = r % 3;
-      const double N = cp < ns ? Rs[cp] * n[c] : -Rm[cp - ns] * n[c];
-      const int lr = lid(r);
-      if (N == 0 || lr < 0) continue;
-      for (int b = 0; b < ns + nm; ++b) {
-        int cols[3];
-        double vals[3];
-        int nc = 0;
-        for (int cc = 0; cc < 3; ++cc) {
-          const int q = 3 * b + cc, lq = lid(q);
-          if (vel[q] == 0 || lq < 0) continue;
-          cols[nc] = lq;
-          vals[nc++] = -w * p * N * vel[q];
-        }
-        if (nc > 0) K.sumIntoValues(lr, cols, nc, vals, true, true);
-      }
-    }
+    add_edge_outer(
+        K, ns + nm, w * p,
+        [&](int r) {   // N
+          const int cp = r / 3, c = r % 3;
+          return cp < ns ? Rs[cp] * n[c] : -Rm[cp - ns] * n[c];
+        },
+        vel, lid);
   }
 };
 
-/// f(i, R_A(slot i), slot element) for the valid slots of the slave elements in A's support.
+/// f(e, la, es) for the slave elements e in the support of slave control point A: la the local
+/// index of A in e, es the element's spans.
 template <class F>
-KOKKOS_INLINE_FUNCTION void for_each_support_slot3(const SurfaceData& sd, const SlavePoints3& sp, int slots, int A,
-                                                   const F& f) {
+KOKKOS_INLINE_FUNCTION void for_each_support_element3(const SurfaceData& sd, int A, const F& f) {
   const int ia = A % sd.n[0], ja = A / sd.n[0];
   for (int e1 = 0; e1 < sd.ne[1]; ++e1) {
     const int s1 = sd.span[1](e1);
@@ -615,17 +620,25 @@ KOKKOS_INLINE_FUNCTION void for_each_support_slot3(const SurfaceData& sd, const 
     for (int e0 = 0; e0 < sd.ne[0]; ++e0) {
       const int s0 = sd.span[0](e0);
       if (s0 < ia || s0 > ia + sd.p[0]) continue;
-      const int e = e0 + sd.ne[0] * e1, la = (ia - (s0 - sd.p[0])) + (sd.p[0] + 1) * (ja - (s1 - sd.p[1]));
-      for (int i = e * slots; i < (e + 1) * slots; ++i) {
-        if (sp.face(i) < 0 || !sp.valid(i)) continue;
-        double R[kMaxSurfaceBasis], Ru[kMaxSurfaceBasis], Rv[kMaxSurfaceBasis];
-        int cp[kMaxSurfaceBasis];
-        const int es[2] = {s0, s1};
-        surface_basis(sd, es, sp.uv(i, 0), sp.uv(i, 1), R, Ru, Rv, cp);
-        f(i, R[la], e);
-      }
+      const int es[2] = {s0, s1};
+      f(e0 + sd.ne[0] * e1, (ia - (s0 - sd.p[0])) + (sd.p[0] + 1) * (ja - (s1 - sd.p[1])), es);
     }
   }
+}
+
+/// f(i, R_A(slot i), slot element) for the valid slots of the slave elements in A's support.
+template <class F>
+KOKKOS_INLINE_FUNCTION void for_each_support_slot3(const SurfaceData& sd, const SlavePoints3& sp, int slots, int A,
+                                                   const F& f) {
+  for_each_support_element3(sd, A, [&](int e, int la, const int es[2]) {
+    for (int i = e * slots; i < (e + 1) * slots; ++i) {
+      if (sp.face(i) < 0 || !sp.valid(i)) continue;
+      double R[kMaxSurfaceBasis], Ru[kMaxSurfaceBasis], Rv[kMaxSurfaceBasis];
+      int cp[kMaxSurfaceBasis];
+      surface_basis(sd, es, sp.uv(i, 0), sp.uv(i, 1), R, Ru, Rv, cp);
+      f(i, R[la], e);
+    }
+  });
 }
 
 /// Weighted gaps, multipliers and the active set of every slave control point A.

@@ -319,23 +319,7 @@ struct AssembleMortarFrictionEdge3 {
       const int l = cp < P.ns ? sf.lid(P.cps[cp]) : mf.lid(P.cpm[cp - P.ns]);
       return l < 0 ? -1 : dof_of(l, r % 3, 3);
     };
-    for (int r = 0; r < nd; ++r) {
-      const double tr = P.column(tg, r / 3, r % 3);
-      const int lr = lid(r);
-      if (tr == 0 || lr < 0) continue;
-      for (int b = 0; b < P.ns + P.nm; ++b) {
-        int cols[3];
-        double vals[3];
-        int nc = 0;
-        for (int cc = 0; cc < 3; ++cc) {
-          const int q = 3 * b + cc, lq = lid(q);
-          if (vel[q] == 0 || lq < 0) continue;
-          cols[nc] = lq;
-          vals[nc++] = -w * tr * vel[q];
-        }
-        if (nc > 0) K.sumIntoValues(lr, cols, nc, vals, true, true);
-      }
-    }
+    add_edge_outer(K, P.ns + P.nm, w, [&](int r) { return P.column(tg, r / 3, r % 3); }, vel, lid);
   }
 };
 
