@@ -296,7 +296,6 @@ void ContactSurfaces3::allocate_edges(int per) {
   e_end = static_cast<int>(r.second);
   if (friction) {   // the edge points as slave points, with references and slip vectors
     esp = make_slave_points(ne * per);
-    ref_esp_ = make_reference_points(esp, ne * per);
     efr = fr;
     make_friction_points(efr, ne * per, true);
   }

@@ -89,7 +89,7 @@ class ContactSurfaces3 {
   // are projected onto it at every update), the slots' projections there, and the per-A states
   // of the previous update
   ContactFaces slave_c_, master_c_;
-  SlavePoints3 ref_sp_, ref_esp_;
+  SlavePoints3 ref_sp_;
   bool have_committed_ = false;
   Kokkos::View<int*, MemSpace> stateA_prev_;
   Kokkos::View<int*, MemSpace> seg_flags_;
