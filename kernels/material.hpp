@@ -30,7 +30,6 @@
 // Cost per point (D^2 = 4 or 9 stress components, D^4 = 16 or 81 tangent entries):
 //   kLinear ~ D^2 (D^2 + 3) / 2 .. 2-D 10, 3-D 54 flops (+ D^4 copies for A);
 //   SVK ~ 2-D 30, 3-D 90 + D^4 x 10 flops; neo-Hookean ~ 2-D 35, 3-D 80 flops + a log, + D^4 x 8 for A.
-#include <Kokkos_ArithTraits.hpp>
 #include <Kokkos_Core.hpp>
 
 #include "kernels/types.hpp"
@@ -49,13 +48,20 @@ KOKKOS_INLINE_FUNCTION int voigt(int iJ) {
     return v[iJ];
   }
 }
+// A row of the tangent, D^2 wide: A's parameter type below names D only through this (a
+// non-deduced context), so that D is deduced from H alone (nvcc's front end does not deduce
+// through the bound D * D)
+template <int D>
+struct TangentRow {
+  using type = double[D * D];
+};
 }  // namespace material_detail
 
 /// P (and A when Tangent) at H for material m in dimension D (deduced from H); returns false
 /// where the deformation is inadmissible (det F <= 0 for the neo-Hookean model).
 template <bool Tangent, int D>
 KOKKOS_INLINE_FUNCTION bool material_response(const Material& m, const double H[D][D], double P[D][D], double& P33,
-                                              double A[D * D][D * D]) {
+                                              typename material_detail::TangentRow<D>::type* A) {
   constexpr int NV = D == 2 ? 3 : 6;   // Voigt components
   if (m.model == Material::kLinear) {
     // engineering strain: normal components, then the shear pairs in Voigt order
@@ -126,7 +132,7 @@ KOKKOS_INLINE_FUNCTION bool material_response(const Material& m, const double H[
   double Fi[D][D];   // F^-1
   const double J = det_inverse<D>(F, Fi);
   if (!(J > 0.0)) {
-    const double nan = Kokkos::Details::ArithTraits<double>::nan();
+    const double nan = kmath::nan("");
     for (int i = 0; i < D; ++i)
       for (int K = 0; K < D; ++K) P[i][K] = nan;
     P33 = nan;

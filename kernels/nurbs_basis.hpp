@@ -17,9 +17,9 @@ namespace iga {
 
 // Device math: Kokkos 3.4 has it under Kokkos::Experimental, later versions under Kokkos.
 #if KOKKOS_VERSION >= 30700
-namespace kmath { using Kokkos::sqrt; using Kokkos::fabs; using Kokkos::floor; using Kokkos::log; }
+namespace kmath { using Kokkos::sqrt; using Kokkos::fabs; using Kokkos::floor; using Kokkos::log; using Kokkos::nan; }
 #else
-namespace kmath { using Kokkos::Experimental::sqrt; using Kokkos::Experimental::fabs; using Kokkos::Experimental::floor; using Kokkos::Experimental::log; }
+namespace kmath { using Kokkos::Experimental::sqrt; using Kokkos::Experimental::fabs; using Kokkos::Experimental::floor; using Kokkos::Experimental::log; using Kokkos::Experimental::nan; }
 #endif
 
 constexpr int kMaxDegree = 5;

@@ -19,11 +19,77 @@ using namespace iga;
 using iga::test3d::sphere_octant;
 using iga::test3d::surface_of;
 
+namespace {
+
+// The kernels' device functions called from the tests, each in a parallel_for on the execution
+// space (SurfaceData holds views of MemSpace, which the host cannot read on a GPU build; and
+// nvcc takes no device lambda inside a gtest body, a private member).
+
+void derivatives_on_device(const SurfaceData& sd, const int s[2], double u, double v, double d[6][3]) {
+  Kokkos::View<double[6][3], MemSpace> out("d");
+  const int s0 = s[0], s1 = s[1];
+  Kokkos::parallel_for("test::SurfaceDerivatives", Kokkos::RangePolicy<ExecSpace>(0, 1), KOKKOS_LAMBDA(const int) {
+    const int ss[2] = {s0, s1};
+    double dd[6][3];
+    surface_derivatives(sd, ss, u, v, dd);
+    for (int i = 0; i < 6; ++i)
+      for (int c = 0; c < 3; ++c) out(i, c) = dd[i][c];
+  });
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), out);
+  for (int i = 0; i < 6; ++i)
+    for (int c = 0; c < 3; ++c) d[i][c] = h(i, c);
+}
+
+// closest_on_surface for every point X(k, :): out(k, :) = element (-2: outside), distance, foot
+void project_on_device(const SurfaceData& sd, const SurfaceSearch& g, const Kokkos::View<double* [3], MemSpace>& X,
+                       const Kokkos::View<double* [5], MemSpace>& out) {
+  Kokkos::parallel_for("test::ProjectOnSphere", Kokkos::RangePolicy<ExecSpace>(0, X.extent(0)), KOKKOS_LAMBDA(const int k) {
+    const double x[3] = {X(k, 0), X(k, 1), X(k, 2)};
+    double uv[2], foot[3], d2;
+    bool inside = false;
+    const int e = closest_on_surface(sd, g, x, 0.5, uv, foot, d2, inside);
+    out(k, 0) = inside ? e : (e < 0 ? -1 : -2);
+    out(k, 1) = kmath::sqrt(d2);
+    for (int c = 0; c < 3; ++c) out(k, 2 + c) = foot[c];
+  });
+}
+
+// one point through closest_on_surface: the element (-1: none), inside or not, the foot
+int closest_on_device(const SurfaceData& sd, const SurfaceSearch& g, const double x[3], bool& inside, double foot[3]) {
+  Kokkos::View<double* [3], MemSpace> X("X", 1);
+  Kokkos::View<double* [5], MemSpace> out("out", 1);
+  auto hX = Kokkos::create_mirror_view(X);
+  for (int c = 0; c < 3; ++c) hX(0, c) = x[c];
+  Kokkos::deep_copy(X, hX);
+  project_on_device(sd, g, X, out);
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), out);
+  for (int c = 0; c < 3; ++c) foot[c] = h(0, 2 + c);
+  inside = h(0, 0) >= 0;
+  return h(0, 0) == -1 ? -1 : (inside ? static_cast<int>(h(0, 0)) : 0);
+}
+
+// the squared distance of x to the surface: the least over a projection on every element
+double nearest_over_all_elements(const SurfaceData& sd, const double x[3]) {
+  const double x0 = x[0], x1 = x[1], x2 = x[2];
+  double best = 0;
+  Kokkos::parallel_reduce("test::ProjectOnEveryElement", Kokkos::RangePolicy<ExecSpace>(0, sd.ne[0] * sd.ne[1]),
+                          KOKKOS_LAMBDA(const int e, double& m) {
+                            const double y[3] = {x0, x1, x2};
+                            double uv[2], foot[3];
+                            bool in;
+                            const double d2 = project_on_surface_element(sd, e, y, uv, foot, in);
+                            if (d2 < m) m = d2;
+                          },
+                          Kokkos::Min<double>(best));
+  return best;
+}
+
+}  // namespace
+
 
 TEST(SurfaceDerivatives, AgainstCentralDifferences) {
   const Patch F = sphere_octant(2.0, 3).face(Side::Back);
   const SurfaceData sd = surface_of(F);
-  // host copies: the kernels read the device views, which are host views on this build
   std::mt19937 gen(5);
   std::uniform_real_distribution<double> U(0.02, 0.98);
   double worst1 = 0, worst2 = 0;
@@ -31,11 +97,11 @@ TEST(SurfaceDerivatives, AgainstCentralDifferences) {
     const double u = U(gen), v = U(gen), h = 1e-5;
     const int s[2] = {find_span(sd.n[0], sd.p[0], u, F.knots[0].data()), find_span(sd.n[1], sd.p[1], v, F.knots[1].data())};
     double d[6][3], dp[6][3], dm[6][3], ep[6][3], em[6][3];
-    surface_derivatives(sd, s, u, v, d);
-    surface_derivatives(sd, s, u + h, v, dp);
-    surface_derivatives(sd, s, u - h, v, dm);
-    surface_derivatives(sd, s, u, v + h, ep);
-    surface_derivatives(sd, s, u, v - h, em);
+    derivatives_on_device(sd, s, u, v, d);
+    derivatives_on_device(sd, s, u + h, v, dp);
+    derivatives_on_device(sd, s, u - h, v, dm);
+    derivatives_on_device(sd, s, u, v + h, ep);
+    derivatives_on_device(sd, s, u, v - h, em);
     for (int c = 0; c < 3; ++c) {
       worst1 = std::max({worst1, std::abs((dp[0][c] - dm[0][c]) / (2 * h) - d[1][c]), std::abs((ep[0][c] - em[0][c]) / (2 * h) - d[2][c])});
       worst2 = std::max({worst2, std::abs((dp[1][c] - dm[1][c]) / (2 * h) - d[3][c]), std::abs((ep[1][c] - em[1][c]) / (2 * h) - d[4][c]),
@@ -67,15 +133,7 @@ TEST(SurfaceProjection, PointsAroundASphereFaceFindTheirRadialFoot) {
   }
   Kokkos::deep_copy(X, hX);
   Kokkos::View<double* [5], MemSpace> out("out", n);   // element, distance, foot
-  Kokkos::parallel_for("test::ProjectOnSphere", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(const int k) {
-    const double x[3] = {X(k, 0), X(k, 1), X(k, 2)};
-    double uv[2], foot[3], d2;
-    bool inside = false;
-    const int e = closest_on_surface(sd, g, x, 0.5, uv, foot, d2, inside);
-    out(k, 0) = inside ? e : -2;
-    out(k, 1) = kmath::sqrt(d2);
-    for (int c = 0; c < 3; ++c) out(k, 2 + c) = foot[c];
-  });
+  project_on_device(sd, g, X, out);
   auto ho = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), out);
   double worst_d = 0, worst_f = 0;
   int brute_checked = 0;
@@ -87,12 +145,7 @@ TEST(SurfaceProjection, PointsAroundASphereFaceFindTheirRadialFoot) {
     for (int c = 0; c < 3; ++c) worst_f = std::max(worst_f, std::abs(ho(k, 2 + c) - R * x[c] / r));
     // every 50th point: the search's answer is the best over all elements
     if (k % 50 == 0) {
-      double best = 1e300;
-      for (int e = 0; e < sd.ne[0] * sd.ne[1]; ++e) {
-        double uv[2], foot[3];
-        bool in;
-        best = std::min(best, project_on_surface_element(sd, e, x, uv, foot, in));
-      }
+      const double best = nearest_over_all_elements(sd, x);
       EXPECT_NEAR(std::sqrt(best), ho(k, 1), 1e-12);
       ++brute_checked;
     }
@@ -106,17 +159,17 @@ TEST(SurfaceProjection, PointsAroundASphereFaceFindTheirRadialFoot) {
   {
     const double lon = -5.0 * M_PI / 180, lat = 0.6, r = R + 0.02;
     const double x[3] = {r * std::cos(lat) * std::cos(lon), r * std::cos(lat) * std::sin(lon), r * std::sin(lat)};
-    double uv[2], foot[3], d2;
+    double foot[3];
     bool inside = true;
-    EXPECT_GE(closest_on_surface(sd, g, x, 0.5, uv, foot, d2, inside), 0);
+    EXPECT_GE(closest_on_device(sd, g, x, inside, foot), 0);
     EXPECT_FALSE(inside);
     EXPECT_NEAR(foot[1], 0.0, 1e-12);   // on the edge y = 0
   }
   // a point farther than the radius from the surface finds nothing
   {
     const double x[3] = {0.1, 0.1, 0.1};
-    double uv[2], foot[3], d2;
+    double foot[3];
     bool inside;
-    EXPECT_EQ(closest_on_surface(sd, g, x, 0.5, uv, foot, d2, inside), -1);
+    EXPECT_EQ(closest_on_device(sd, g, x, inside, foot), -1);
   }
 }

@@ -700,6 +700,34 @@ TEST(PolygonRule, MonomialsUpToTheDegreeOverClippedPolygons) {
 
 // ---------------------------------------------------------------------------------------------
 
+// Clips every pair (slave rectangle k, master quad k) both ways in a parallel_for on the execution
+// space and integrates 1 and u v with the rule g: res(k, :) = area, area swapped, rule of 1, rule
+// of u v (a free function: nvcc takes no device lambda inside a gtest body, a private member).
+static void clip_on_device(const Kokkos::View<double* [4], MemSpace>& slave, const Kokkos::View<double* [4][2], MemSpace>& master,
+                    const GaussRule& g, const Kokkos::View<double* [4], MemSpace>& res, const Kokkos::View<int*, MemSpace>& flags) {
+  const int N = static_cast<int>(slave.extent(0));
+  Kokkos::parallel_for("test::PolygonClip", Kokkos::RangePolicy<ExecSpace>(0, N), KOKKOS_LAMBDA(const int k) {
+    const ClipPolygon S = parameter_rectangle(slave(k, 0), slave(k, 1), slave(k, 2), slave(k, 3));
+    ClipPolygon M;
+    M.n = 4;
+    for (int a = 0; a < 4; ++a) {
+      M.v[a][0] = master(k, a, 0);
+      M.v[a][1] = master(k, a, 1);
+    }
+    ClipPolygon P, Q;
+    flags(k) = clip_polygons(S, M, P) | clip_polygons(M, S, Q);
+    double one = 0, uv = 0;
+    for_each_polygon_point(P, g, [&](const double* x, double w) {
+      one += w;
+      uv += w * x[0] * x[1];
+    });
+    res(k, 0) = polygon_area(P);
+    res(k, 1) = polygon_area(Q);
+    res(k, 2) = one;
+    res(k, 3) = uv;
+  });
+}
+
 TEST(ClipKernel, ManyPairsInAParallelFor) {
   // random slave rectangles and master quads (rotated, sheared, some far away) in views; a
   // Kokkos::parallel_for clips every pair both ways and integrates 1 and u v with the rule
@@ -725,26 +753,7 @@ TEST(ClipKernel, ManyPairsInAParallelFor) {
   Kokkos::View<double* [4], MemSpace> res("res", N);   // area, area swapped, rule of 1, rule of u v
   Kokkos::View<int*, MemSpace> flags("flags", N);
   const GaussRule g = gauss_rule(3);
-  Kokkos::parallel_for("test::PolygonClip", Kokkos::RangePolicy<ExecSpace>(0, N), KOKKOS_LAMBDA(const int k) {
-    const ClipPolygon S = parameter_rectangle(slave(k, 0), slave(k, 1), slave(k, 2), slave(k, 3));
-    ClipPolygon M;
-    M.n = 4;
-    for (int a = 0; a < 4; ++a) {
-      M.v[a][0] = master(k, a, 0);
-      M.v[a][1] = master(k, a, 1);
-    }
-    ClipPolygon P, Q;
-    flags(k) = clip_polygons(S, M, P) | clip_polygons(M, S, Q);
-    double one = 0, uv = 0;
-    for_each_polygon_point(P, g, [&](const double* x, double w) {
-      one += w;
-      uv += w * x[0] * x[1];
-    });
-    res(k, 0) = polygon_area(P);
-    res(k, 1) = polygon_area(Q);
-    res(k, 2) = one;
-    res(k, 3) = uv;
-  });
+  clip_on_device(slave, master, g, res, flags);
   Kokkos::fence();
   auto hr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), res);
   auto hf = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), flags);
