@@ -194,7 +194,10 @@ struct AssembleInternalT {
 
   static constexpr int MaxNen = kNen<D, P>;
   static constexpr int MaxDof = D * MaxNen;
-  static constexpr bool kStackKe = D == 2;   // 2-D: Ke on the stack (41 kB at P = 5)
+  // 2-D: Ke on the stack (41 kB at P = 5) where the memory is the host's; on a GPU (and in 3-D)
+  // in the work view Kw, since a per-thread frame that large is local memory there (ptxas:
+  // 47 kB per thread at P = 5; docs/verification.md, "Kernels on a GPU")
+  static constexpr bool kStackKe = D == 2 && Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemSpace>::accessible;
 
   template <bool Force, bool Tangent>
   KOKKOS_INLINE_FUNCTION void element(const int e, const int slot) const {
