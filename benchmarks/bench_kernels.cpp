@@ -314,7 +314,7 @@ void BM_SurfaceProjection(benchmark::State& st) {
 
 void BM_PolygonClip(benchmark::State& st) {
   const int n = static_cast<int>(st.range(0)), per_edge = static_cast<int>(st.range(1)) / 4;
-  const GaussRule g = gauss_rule(std::max(1, static_cast<int>(st.range(2))));
+  const TriangleRule g = triangle_rule_collapsed(gauss_rule(std::max(1, static_cast<int>(st.range(2)))));
   const bool rule = st.range(2) > 0;
   Kokkos::View<double* [4], MemSpace> slave("slave", n);
   Kokkos::View<double* [kClipMaxVertices][2], MemSpace> master("master", n);

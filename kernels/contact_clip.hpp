@@ -42,11 +42,14 @@
 //   (parameter coordinates are O(1)); FMA contraction does not change the result (every
 //   partial product of the split is exact).
 // Quadrature: P is cut into a fan of triangles (c, v_t, v_t+1), c the vertex average (strictly
-// inside P); on each the collapsed (Duffy) tensor rule of an n-point Gauss-Legendre rule g:
-// x = c + xi ((1 - eta) (v_t - c) + eta (v_t+1 - c)), weight w_xi w_eta xi 2|T|, xi, eta in
-// (0, 1), 2|T| = orient2d(v_t, v_t+1, c) (exactly signed: every weight > 0 however short the
-// edge). A polynomial of total degree d becomes degree d + 1 in xi and d in eta, so the rule
-// is exact for degree 2 n - 2 (polygon_rule_degree), with n_v n^2 points.
+// inside P); on each a rule r of the reference triangle (TriangleRule: points (r0, r1), weights
+// summing to 1/2): x = c + r0 (v_t - c) + r1 (v_t+1 - c), weight w 2|T|, 2|T| =
+// orient2d(v_t, v_t+1, c) (exactly signed: every weight > 0 however short the edge, where the
+// rule's weights are). With the collapsed (Duffy) tensor rule of an n-point Gauss rule
+// (triangle_rule_collapsed) a polynomial of total degree d becomes degree d + 1 in xi and d in
+// eta, so the rule is exact for degree 2 n - 2 (polygon_rule_degree), with n_v n^2 points; the
+// 3-D mortar uses a symmetric rule of Intrepid2 of the same degree (6, 12, 16 points for degree
+// 4, 6, 8 instead of 9, 16, 25; solver/contact3d.cpp, triangle_rule).
 //
 // Data layout: ClipPolygon holds n <= kClipMaxVertices vertices v[k] = (u, v) of the slave
 // parameter plane; results are strictly convex and counter-clockwise. The segment of an n_s-gon
@@ -60,7 +63,7 @@
 // Cost per pair: hulls ~ n^2 / 2 comparisons (insertion sort, n <= 16) + 2 n orientation
 // tests; clipping n_s (n_m + n_s) tests; ~ 10 flops per filtered test; nearly collinear
 // triples (sampled straight edges: every test of the hull) reach the exact fallback, ~ 70
-// flops with exact differences, ~ 500 without. Quadrature: n_v n^2 points, ~ 20 flops each.
+// flops with exact differences, ~ 500 without. Quadrature: n_v r.n points, ~ 10 flops each.
 // Measured (BM_PolygonClip, one core): ~ 3e6 clips/s of a rectangle and a 4-point master,
 // ~ 6e5 with 12 points sampled on the master's straight edges.
 #include "kernels/types.hpp"
@@ -78,6 +81,37 @@ struct ClipPolygon {
   int n = 0;
   double v[kClipMaxVertices][2] = {};
 };
+
+constexpr int kMaxTrianglePoints = kMaxGauss * kMaxGauss;   // the collapsed rule of kMaxGauss points
+
+/// A quadrature rule on the reference triangle (0, 0), (1, 0), (0, 1): points (x[k][0], x[k][1])
+/// and weights summing to 1/2. Filled on the host: triangle_rule_collapsed below (Kokkos only),
+/// or a symmetric rule of Intrepid2 (solver/contact3d.cpp, triangle_rule), which needs about 1.5
+/// times fewer points for the same degree.
+struct TriangleRule {
+  int n = 0;        // points
+  int degree = 0;   // polynomials of this total degree are integrated exactly
+  double x[kMaxTrianglePoints][2] = {};
+  double w[kMaxTrianglePoints] = {};
+};
+
+/// The collapsed (Duffy) tensor rule of the n-point Gauss rule g on the reference triangle:
+/// (xi, eta) in (0, 1)^2 -> (xi (1 - eta), xi eta), weight w_xi w_eta xi / 4; n^2 points, exact
+/// for degree 2 n - 2 (a polynomial of degree d becomes degree d + 1 in xi and d in eta).
+inline TriangleRule triangle_rule_collapsed(const GaussRule& g) {
+  TriangleRule t;
+  t.n = g.n * g.n;
+  t.degree = 2 * g.n - 2;
+  for (int i = 0; i < g.n; ++i)
+    for (int j = 0; j < g.n; ++j) {
+      const double xi = 0.5 * (1 + g.x[i]), eta = 0.5 * (1 + g.x[j]);
+      const int k = i * g.n + j;
+      t.x[k][0] = xi * (1 - eta);
+      t.x[k][1] = xi * eta;
+      t.w[k] = 0.25 * g.w[i] * g.w[j] * xi;
+    }
+  return t;
+}
 
 namespace clip_detail {
 
@@ -327,12 +361,12 @@ KOKKOS_INLINE_FUNCTION int clip_polygons(const ClipPolygon& slave, const ClipPol
   return 0;
 }
 
-/// The polynomial degree the polygon rule of an n-point Gauss rule integrates exactly.
+/// The polynomial degree the collapsed rule of an n-point Gauss rule integrates exactly.
 KOKKOS_INLINE_FUNCTION constexpr int polygon_rule_degree(int n) { return 2 * n - 2; }
 
-/// Number of points of the polygon rule: a fan of p.n triangles, g.n^2 points each.
-KOKKOS_INLINE_FUNCTION int polygon_rule_size(const ClipPolygon& p, const GaussRule& g) {
-  return p.n >= 3 ? p.n * g.n * g.n : 0;
+/// Number of points of the polygon rule: a fan of p.n triangles, t.n points each.
+KOKKOS_INLINE_FUNCTION int polygon_rule_size(const ClipPolygon& p, const TriangleRule& t) {
+  return p.n >= 3 ? p.n * t.n : 0;
 }
 
 /// The fan's apex: the vertex average (inside a convex polygon).
@@ -352,42 +386,41 @@ namespace clip_detail {
 KOKKOS_INLINE_FUNCTION double fan_area2(const ClipPolygon& p, const double c[2], int t) {
   return orient2d(p.v[t], p.v[t + 1 < p.n ? t + 1 : 0], c);
 }
-KOKKOS_INLINE_FUNCTION void fan_point(const ClipPolygon& p, const GaussRule& g, const double c[2], double area2, int t,
-                                      int i, int j, double x[2], double& w) {
+/// Point k of the triangle rule on fan triangle t: x = c + r0 (v_t - c) + r1 (v_t+1 - c),
+/// weight w_k 2|T|.
+KOKKOS_INLINE_FUNCTION void fan_point(const ClipPolygon& p, const TriangleRule& r, const double c[2], double area2, int t,
+                                      int k, double x[2], double& w) {
   const double* a = p.v[t];
   const double* b = p.v[t + 1 < p.n ? t + 1 : 0];
-  const double ax = a[0] - c[0], ay = a[1] - c[1], bx = b[0] - c[0], by = b[1] - c[1];
-  const double xi = 0.5 * (1 + g.x[i]), eta = 0.5 * (1 + g.x[j]);
-  x[0] = c[0] + xi * ((1 - eta) * ax + eta * bx);
-  x[1] = c[1] + xi * ((1 - eta) * ay + eta * by);
-  w = 0.25 * g.w[i] * g.w[j] * xi * area2;
+  x[0] = c[0] + r.x[k][0] * (a[0] - c[0]) + r.x[k][1] * (b[0] - c[0]);
+  x[1] = c[1] + r.x[k][0] * (a[1] - c[1]) + r.x[k][1] * (b[1] - c[1]);
+  w = r.w[k] * area2;
 }
 }  // namespace clip_detail
 
 /// Point k (0 <= k < polygon_rule_size) of the polygon rule: x in the slave parameter plane and
 /// its weight (parameter area). Recomputes the fan's apex (O(p.n)); for_each_polygon_point
 /// does that once.
-KOKKOS_INLINE_FUNCTION void polygon_rule_point(const ClipPolygon& p, const GaussRule& g, int k, double x[2], double& w) {
+KOKKOS_INLINE_FUNCTION void polygon_rule_point(const ClipPolygon& p, const TriangleRule& r, int k, double x[2], double& w) {
   double c[2];
   polygon_centre(p, c);
-  const int nn = g.n * g.n, t = k / nn, r = k - t * nn;
-  clip_detail::fan_point(p, g, c, clip_detail::fan_area2(p, c, t), t, r / g.n, r % g.n, x, w);
+  const int t = k / r.n;
+  clip_detail::fan_point(p, r, c, clip_detail::fan_area2(p, c, t), t, k - t * r.n, x, w);
 }
 
 /// f(x, w) for every point of the polygon rule (x: double[2] in the slave parameter plane).
 template <class F>
-KOKKOS_INLINE_FUNCTION void for_each_polygon_point(const ClipPolygon& p, const GaussRule& g, F&& f) {
+KOKKOS_INLINE_FUNCTION void for_each_polygon_point(const ClipPolygon& p, const TriangleRule& r, F&& f) {
   if (p.n < 3) return;
   double c[2];
   polygon_centre(p, c);
   for (int t = 0; t < p.n; ++t) {
     const double area2 = clip_detail::fan_area2(p, c, t);
-    for (int i = 0; i < g.n; ++i)
-      for (int j = 0; j < g.n; ++j) {
-        double x[2], w;
-        clip_detail::fan_point(p, g, c, area2, t, i, j, x, w);
-        f(x, w);
-      }
+    for (int k = 0; k < r.n; ++k) {
+      double x[2], w;
+      clip_detail::fan_point(p, r, c, area2, t, k, x, w);
+      f(x, w);
+    }
   }
 }
 

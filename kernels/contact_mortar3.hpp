@@ -32,8 +32,9 @@
 //   polynomial extended beyond its edges), giving a quadrilateral in the slave parameter plane
 //   whose straight edges approximate the image of the master element's edges (the images of
 //   neighbours tile the plane exactly, so the segments partition the slave element); clip_polygons cuts the slave element's parameter
-//   rectangle with its hull, and the fan rule of contact_clip.hpp (n points a direction,
-//   exact to degree 2 n - 2) fills the element's quadrature slots (parameters, weight = rule
+//   rectangle with its hull, and the fan rule of contact_clip.hpp (each fan triangle with a
+//   symmetric rule exact to degree 2 n - 2: `tri`, solver/contact3d.cpp's triangle_rule) fills
+//   the element's quadrature slots (parameters, weight = rule
 //   weight x |X_u x X_v| of the reference face, the master element as the projection's warm
 //   start). On a flat master each segment is exactly the slave region that sees that master
 //   element, so the slave and master forces are integrated exactly: the patch test holds to
@@ -80,7 +81,8 @@ struct MortarSegments3 {
   ContactFaces s, m;
   SlavePoints3 sp;
   MortarEdges3 ed;
-  GaussRule gauss;
+  GaussRule gauss;      // the edge points' rule (MortarEdges3)
+  TriangleRule tri;     // each fan triangle's rule (contact_clip.hpp)
   int slots = 1;
   int smooth = 1;   // edge points also on master element edges of continuity below this
   int sub = 1;   // cells per direction of a master element (its edges' images: straight per cell)
@@ -232,7 +234,7 @@ struct MortarSegments3 {
       ClipPolygon P;
       if (clip_polygons(rect, poly, P) & kClipOverflow) Kokkos::atomic_fetch_max(&flags(2), 1);
       const double mc[2] = {mlo[0] + (ci + 0.5) / sub * (mhi[0] - mlo[0]), mlo[1] + (cj + 0.5) / sub * (mhi[1] - mlo[1])};
-      for_each_polygon_point(P, gauss, [&](const double x[2], double w) {
+      for_each_polygon_point(P, tri, [&](const double x[2], double w) {
         if (used < slots) {
           const int i = e * slots + used;
           double d[6][3], nn[3];

@@ -15,9 +15,34 @@
 #include <stdexcept>
 #include <type_traits>
 
+#include <Intrepid2_CubatureDirectTriDefault.hpp>
 #include <Teuchos_CommHelpers.hpp>
 
 namespace iga {
+
+TriangleRule triangle_rule(int degree) {
+  using Cubature = Intrepid2::CubatureDirectTriDefault<Kokkos::HostSpace::device_type, double, double>;
+  constexpr int max_degree = Intrepid2::Parameters::MaxCubatureDegreeTri;
+  for (int d = std::max(degree, 0); d <= max_degree; ++d) {
+    Cubature c(d);
+    const int n = c.getNumPoints();
+    if (n > kMaxTrianglePoints) break;
+    Kokkos::DynRankView<double, Kokkos::HostSpace> x("triangle_points", n, 2), w("triangle_weights", n);
+    c.getCubature(x, w);
+    TriangleRule t;
+    t.n = n;
+    t.degree = d;
+    bool ok = true;
+    for (int k = 0; k < n; ++k) {
+      t.x[k][0] = x(k, 0);
+      t.x[k][1] = x(k, 1);
+      t.w[k] = w(k);
+      ok = ok && w(k) > 0 && x(k, 0) > 0 && x(k, 1) > 0 && x(k, 0) + x(k, 1) < 1;
+    }
+    if (ok) return t;
+  }
+  return triangle_rule_collapsed(gauss_rule(std::min((degree + 3) / 2, kMaxGauss)));
+}
 
 static_assert(kMaxContactFaces <= kMaxFacesPerSurface, "the problem file allows more contact faces than the kernels hold");
 
@@ -93,7 +118,8 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
     // higher degree, and a rule that does not integrate it exactly makes the residual move with
     // the segments at first order (Newton stalls at 1e-7 on a flat p = 2 master with p + 1)
     gauss = gauss_rule(pair.quadrature_points > 0 ? pair.quadrature_points : std::min(pmax + (friction ? 3 : 1), kMaxGauss));
-    slots = 4 * 6 * gauss.n * gauss.n;   // room for 4 segments of 6 fan triangles to start with
+    tri = triangle_rule(polygon_rule_degree(gauss.n));
+    slots = 4 * 6 * tri.n;   // room for 4 segments of 6 fan triangles to start with
     const int ne = h.ne[0] * h.ne[1], na = h.n[0] * h.n[1];
     allocate_points(ne * slots);
     allocate_edges(8 * gauss.n);
@@ -559,7 +585,7 @@ void ContactSurfaces3::refresh() {
     const int ne = hs_[0].ne[0] * hs_[0].ne[1];
     for (;;) {
       MortarSegments3 ks;
-      ks.s = slave; ks.m = master; ks.sp = sp; ks.ed = edges; ks.gauss = gauss; ks.slots = slots; ks.flags = seg_flags_;
+      ks.s = slave; ks.m = master; ks.sp = sp; ks.ed = edges; ks.gauss = gauss; ks.tri = tri; ks.slots = slots; ks.flags = seg_flags_;
       // a curved master's element images are cut into 2 x 2 cells (straight edges per cell: the
       // tangent's consistency error, ~1e-6 with whole elements on a curved test surface, falls
       // by 4); a degree-1 master's elements whole

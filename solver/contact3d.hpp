@@ -10,6 +10,12 @@
 
 namespace iga {
 
+/// A rule of the reference triangle exact for polynomials of total degree `degree`: Intrepid2's
+/// default (symmetric) rule of the lowest degree >= `degree` whose weights are positive and
+/// whose points lie strictly inside (degree 4: 6 points, 8: 16; its degrees 3, 7, 10, 12, 15
+/// and 16 fail that and are passed over), or the collapsed Gauss rule where Intrepid2 has none.
+TriangleRule triangle_rule(int degree);
+
 struct ContactPointState;
 
 class ContactSurfaces3 {
@@ -40,7 +46,8 @@ class ContactSurfaces3 {
   // per-control-point state, this rank's slave control points and their scratch rows
   bool mortar = false;
   int slots = 0;
-  GaussRule gauss;
+  GaussRule gauss;      // n points: the edge points' rule, and the degree 2 n - 2 of tri
+  TriangleRule tri;     // the rule of each fan triangle of a segment (triangle_rule)
   MortarState ms;
   MortarScratch scratch;
   int a_begin = 0, a_end = 0;

@@ -118,7 +118,7 @@ ClipPolygon rotated_square(double cx, double cy, double half, double theta) {
   return p;
 }
 
-double rule_integral(const ClipPolygon& P, const GaussRule& g, int i, int j) {
+double rule_integral(const ClipPolygon& P, const TriangleRule& g, int i, int j) {
   double s = 0;
   for_each_polygon_point(P, g, [&](const double* x, double w) { s += w * std::pow(x[0], i) * std::pow(x[1], j); });
   return s;
@@ -380,7 +380,7 @@ std::vector<ClipPolygon> tiling(int kind, const double lo[2], const double hi[2]
 TEST(Partition, ClippedAreasOfATilingSumToTheSlave) {
   std::mt19937 gen(17);
   std::uniform_real_distribution<double> U(0, 1);
-  const GaussRule g = gauss_rule(3);   // degree 4
+  const TriangleRule g = triangle_rule_collapsed(gauss_rule(3));   // degree 4
   double worst_area = 0, worst_int = 0;
   int segments = 0;
   for (int trial = 0; trial < 200; ++trial) {
@@ -549,7 +549,7 @@ TEST(NearlyCollinear, AVertexJustAcrossAnEdgeLeavesNoSliver) {
   // apart; below kClipMergeTol they merge, above they stay a short edge; either way every
   // weight of the rule is positive and finite
   const ClipPolygon S = parameter_rectangle(0, 1, 0, 1);
-  const GaussRule g = gauss_rule(4);
+  const TriangleRule g = triangle_rule_collapsed(gauss_rule(4));
   for (int e = -17; e <= -9; ++e)
     for (const double sign : {1.0, -1.0}) {
       const double d = sign * std::pow(10.0, e);
@@ -572,7 +572,7 @@ TEST(NearlyCollinear, AVertexJustAcrossAnEdgeLeavesNoSliver) {
 
 TEST(Degenerate, TouchingAndSubRoundOffOverlapsAreEmptyWithoutNaN) {
   const ClipPolygon S = parameter_rectangle(0, 1, 0, 1);
-  const GaussRule g = gauss_rule(3);
+  const TriangleRule g = triangle_rule_collapsed(gauss_rule(3));
   const ClipPolygon cases[] = {
       parameter_rectangle(1, 2, 0, 1),                  // a shared edge
       parameter_rectangle(1, 2, 0.2, 0.7),              // part of an edge
@@ -662,7 +662,7 @@ TEST(PolygonRule, MonomialsUpToTheDegreeOverClippedPolygons) {
   for (const ClipPolygon& P : segs) ASSERT_GE(P.n, 4);
   double worst = 0;
   for (int n = 1; n <= 7; ++n) {
-    const GaussRule g = gauss_rule(n);
+    const TriangleRule g = triangle_rule_collapsed(gauss_rule(n));
     const int deg = polygon_rule_degree(n);
     double inexact = 0;   // the largest error at degree deg + 1: the degree is not higher
     for (const ClipPolygon& P : segs) {
@@ -704,7 +704,7 @@ TEST(PolygonRule, MonomialsUpToTheDegreeOverClippedPolygons) {
 // space and integrates 1 and u v with the rule g: res(k, :) = area, area swapped, rule of 1, rule
 // of u v (a free function: nvcc takes no device lambda inside a gtest body, a private member).
 static void clip_on_device(const Kokkos::View<double* [4], MemSpace>& slave, const Kokkos::View<double* [4][2], MemSpace>& master,
-                    const GaussRule& g, const Kokkos::View<double* [4], MemSpace>& res, const Kokkos::View<int*, MemSpace>& flags) {
+                    const TriangleRule& g, const Kokkos::View<double* [4], MemSpace>& res, const Kokkos::View<int*, MemSpace>& flags) {
   const int N = static_cast<int>(slave.extent(0));
   Kokkos::parallel_for("test::PolygonClip", Kokkos::RangePolicy<ExecSpace>(0, N), KOKKOS_LAMBDA(const int k) {
     const ClipPolygon S = parameter_rectangle(slave(k, 0), slave(k, 1), slave(k, 2), slave(k, 3));
@@ -752,7 +752,7 @@ TEST(ClipKernel, ManyPairsInAParallelFor) {
   Kokkos::deep_copy(master, hm);
   Kokkos::View<double* [4], MemSpace> res("res", N);   // area, area swapped, rule of 1, rule of u v
   Kokkos::View<int*, MemSpace> flags("flags", N);
-  const GaussRule g = gauss_rule(3);
+  const TriangleRule g = triangle_rule_collapsed(gauss_rule(3));
   clip_on_device(slave, master, g, res, flags);
   Kokkos::fence();
   auto hr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), res);

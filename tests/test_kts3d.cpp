@@ -13,6 +13,9 @@
 //                  round-off at the start
 //   Slab           a ring pressed by a block, extruded into a slab held at u_z = 0 on both
 //                  faces: the 3-D KTS run equals the 2-D plane-strain run to round-off
+//   TriangleRule   the mortar segments' rule (triangle_rule: Intrepid2's symmetric rules):
+//                  monomials exact to its degree, positive weights, interior points, fewer
+//                  points than the collapsed Gauss rule of the same degree
 // Run on 1 and 2 ranks (ctest test_kts3d, test_kts3d_2ranks).
 #include <gtest/gtest.h>
 
@@ -21,6 +24,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include "solver/contact3d.hpp"
 #include "support.hpp"
 
 using namespace iga;
@@ -197,6 +201,35 @@ UniformError stacked_uniform_error(const ContactPairData& c, bool alm) {
 }
 
 }  // namespace
+
+TEST(TriangleRule, ExactToItsDegreeWithFewerPointsThanTheCollapsedRule) {
+  // int_T x^i y^j over the reference triangle = i! j! / (i + j + 2)!
+  auto moment = [](int i, int j) { return std::tgamma(i + 1.0) * std::tgamma(j + 1.0) / std::tgamma(i + j + 3.0); };
+  for (int d = 0; d <= 14; ++d) {
+    const TriangleRule t = triangle_rule(d);
+    const TriangleRule c = triangle_rule_collapsed(gauss_rule((d + 3) / 2));
+    ASSERT_GE(t.degree, d);
+    EXPECT_LE(t.n, c.n) << "degree " << d;
+    double worst = 0;
+    for (int k = 0; k < t.n; ++k) {
+      EXPECT_GT(t.w[k], 0.0);
+      EXPECT_GT(t.x[k][0], 0.0);
+      EXPECT_GT(t.x[k][1], 0.0);
+      EXPECT_LT(t.x[k][0] + t.x[k][1], 1.0);
+    }
+    for (int i = 0; i <= t.degree; ++i)
+      for (int j = 0; i + j <= t.degree; ++j) {
+        double q = 0;
+        for (int k = 0; k < t.n; ++k) q += t.w[k] * std::pow(t.x[k][0], i) * std::pow(t.x[k][1], j);
+        worst = std::max(worst, std::abs(q - moment(i, j)) / moment(i, j));
+      }
+    std::printf("  degree %2d: rule of degree %2d, %2d points (collapsed Gauss: %2d), worst relative monomial error %.1e\n", d,
+                t.degree, t.n, c.n, worst);
+    EXPECT_LT(worst, 1e-12);   // Intrepid2's tables carry about 15 digits
+  }
+  EXPECT_EQ(triangle_rule(4).n, 6);   // the rules the mortar uses at p = 2: 6 and 16 points, not 9 and 25
+  EXPECT_EQ(triangle_rule(8).n, 16);
+}
 
 TEST(Kts3Tangent, MatchesFiniteDifferencesOnACurvedRationalMaster) {
   for (int p : {2, 3})
