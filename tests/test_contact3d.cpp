@@ -40,32 +40,34 @@ void derivatives_on_device(const SurfaceData& sd, const int s[2], double u, doub
     for (int c = 0; c < 3; ++c) d[i][c] = h(i, c);
 }
 
-// closest_on_surface for every point X(k, :): out(k, :) = element (-2: outside), distance, foot
+// closest_on_surface for every point X(k, :): out(k, :) = element (-1: none found), inside (1 or
+// 0), distance, foot
 void project_on_device(const SurfaceData& sd, const SurfaceSearch& g, const Kokkos::View<double* [3], MemSpace>& X,
-                       const Kokkos::View<double* [5], MemSpace>& out) {
+                       const Kokkos::View<double* [6], MemSpace>& out) {
   Kokkos::parallel_for("test::ProjectOnSphere", Kokkos::RangePolicy<ExecSpace>(0, X.extent(0)), KOKKOS_LAMBDA(const int k) {
     const double x[3] = {X(k, 0), X(k, 1), X(k, 2)};
     double uv[2], foot[3], d2;
     bool inside = false;
     const int e = closest_on_surface(sd, g, x, 0.5, uv, foot, d2, inside);
-    out(k, 0) = inside ? e : (e < 0 ? -1 : -2);
-    out(k, 1) = kmath::sqrt(d2);
-    for (int c = 0; c < 3; ++c) out(k, 2 + c) = foot[c];
+    out(k, 0) = e;
+    out(k, 1) = inside ? 1 : 0;
+    out(k, 2) = kmath::sqrt(d2);
+    for (int c = 0; c < 3; ++c) out(k, 3 + c) = foot[c];
   });
 }
 
-// one point through closest_on_surface: the element (-1: none), inside or not, the foot
+// one point through closest_on_surface: the element (-1: none found), inside or not, the foot
 int closest_on_device(const SurfaceData& sd, const SurfaceSearch& g, const double x[3], bool& inside, double foot[3]) {
   Kokkos::View<double* [3], MemSpace> X("X", 1);
-  Kokkos::View<double* [5], MemSpace> out("out", 1);
+  Kokkos::View<double* [6], MemSpace> out("out", 1);
   auto hX = Kokkos::create_mirror_view(X);
   for (int c = 0; c < 3; ++c) hX(0, c) = x[c];
   Kokkos::deep_copy(X, hX);
   project_on_device(sd, g, X, out);
   auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), out);
-  for (int c = 0; c < 3; ++c) foot[c] = h(0, 2 + c);
-  inside = h(0, 0) >= 0;
-  return h(0, 0) == -1 ? -1 : (inside ? static_cast<int>(h(0, 0)) : 0);
+  for (int c = 0; c < 3; ++c) foot[c] = h(0, 3 + c);
+  inside = h(0, 1) == 1;
+  return static_cast<int>(h(0, 0));
 }
 
 // the squared distance of x to the surface: the least over a projection on every element
@@ -132,21 +134,21 @@ TEST(SurfaceProjection, PointsAroundASphereFaceFindTheirRadialFoot) {
     hX(k, 2) = r * std::sin(lat);
   }
   Kokkos::deep_copy(X, hX);
-  Kokkos::View<double* [5], MemSpace> out("out", n);   // element, distance, foot
+  Kokkos::View<double* [6], MemSpace> out("out", n);   // element, inside, distance, foot
   project_on_device(sd, g, X, out);
   auto ho = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), out);
   double worst_d = 0, worst_f = 0;
   int brute_checked = 0;
   for (int k = 0; k < n; ++k) {
-    ASSERT_GE(ho(k, 0), 0) << "point " << k << " found no foot inside an element";
+    ASSERT_TRUE(ho(k, 0) >= 0 && ho(k, 1) == 1) << "point " << k << " found no foot inside an element";
     const double x[3] = {hX(k, 0), hX(k, 1), hX(k, 2)};
     const double r = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
-    worst_d = std::max(worst_d, std::abs(ho(k, 1) - std::abs(r - R)));
-    for (int c = 0; c < 3; ++c) worst_f = std::max(worst_f, std::abs(ho(k, 2 + c) - R * x[c] / r));
+    worst_d = std::max(worst_d, std::abs(ho(k, 2) - std::abs(r - R)));
+    for (int c = 0; c < 3; ++c) worst_f = std::max(worst_f, std::abs(ho(k, 3 + c) - R * x[c] / r));
     // every 50th point: the search's answer is the best over all elements
     if (k % 50 == 0) {
       const double best = nearest_over_all_elements(sd, x);
-      EXPECT_NEAR(std::sqrt(best), ho(k, 1), 1e-12);
+      EXPECT_NEAR(std::sqrt(best), ho(k, 2), 1e-12);
       ++brute_checked;
     }
   }
