@@ -290,11 +290,13 @@ struct AssembleFriction3 {
   FView f;
   ForceSum force;   // the pair's [Fx, Fy, Fz, Fn]; fr.force gets [Tx, Ty, Tz]
 
-  KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
-    const int i = p_begin + k;
-    if (sp.face(i) < 0 || !sp.valid(i)) return;
+  /// Slot i's residual (into f, atomically) and force share (into fs); its tangent block by
+  /// addK(r, lr, cb, cols, vals) (AssembleKts3::slot). False where nothing is assembled.
+  template <class AddK>
+  KOKKOS_INLINE_FUNCTION bool slot(const int i, AddK&& addK, double fs[4]) const {
+    if (sp.face(i) < 0 || !sp.valid(i)) return false;
     const int st = fr.state(i);
-    if (mortar ? fr.t(i, 0) == 0 && fr.t(i, 1) == 0 && fr.t(i, 2) == 0 : st == 0) return;
+    if (mortar ? fr.t(i, 0) == 0 && fr.t(i, 1) == 0 && fr.t(i, 2) == 0 : st == 0) return false;
     const ContactFace& sf = s.f[sp.face(i)];
     const ContactFace& mf = m.f[sp.mface(i)];
     FrictionPoint3 P;
@@ -346,7 +348,6 @@ struct AssembleFriction3 {
     // rows: value and d f_r / dy, then the columns through dy / du
     const double w = sp.weight(i);
     const int ns = P.ns, nm = P.nm, nd = 3 * (ns + nm);
-    double fs[4] = {0, 0, 0, 0};
     const double nv[3] = {sp.normal(i, 0), sp.normal(i, 1), sp.normal(i, 2)};
     const double(*Rm)[kMaxSurfaceBasis] = P.Rm;
     for (int r = 0; r < nd; ++r) {
@@ -374,11 +375,33 @@ struct AssembleFriction3 {
           vals[cc] = P.column(fr_, cb, cc);
           cols[cc] = cb < ns ? dof_of(sf.lid(P.cps[cb]), cc, 3) : dof_of(mf.lid(P.cpm[cb - ns]), cc, 3);
         }
-        K.sumIntoValues(lr, cols, 3, vals, true, true);
+        addK(r, lr, cb, cols, vals);
       }
     }
+    return true;
+  }
+
+  KOKKOS_INLINE_FUNCTION void add_forces(const double fs[4]) const {
     for (int c = 0; c < 4; ++c) Kokkos::atomic_add(&force(c), fs[c]);
     for (int c = 0; c < 3; ++c) Kokkos::atomic_add(&fr.force(c), fs[c]);
+  }
+
+  /// One point (KTS): its block straight into K.
+  KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
+    double fs[4] = {0, 0, 0, 0};
+    const bool on = slot(p_begin + k, [&](int, int lr, int, const int* cols, const double* vals) {
+      K.sumIntoValues(lr, cols, 3, vals, true, true);
+    }, fs);
+    if (on) add_forces(fs);
+  }
+
+  /// Mortar by segments (sum_segments, contact_kts3.hpp): the slots of slave element
+  /// e_first + league rank.
+  int p_end = 0, slots = 0, e_first = 0, nd_max = 0;
+  KOKKOS_INLINE_FUNCTION void operator()(const ContactTeam& t) const {
+    double fs[4] = {0, 0, 0, 0};
+    sum_segments(t, sp, e_first, slots, p_begin, p_end, nd_max, K, [&](int i, const auto& add) { return slot(i, add, fs); });
+    Kokkos::single(Kokkos::PerTeam(t), [&]() { add_forces(fs); });
   }
 };
 

@@ -204,6 +204,53 @@ struct ProjectSlavePoints3 {
   }
 };
 
+using ContactTeam = Kokkos::TeamPolicy<ExecSpace>::member_type;
+
+/// Team scratch (level 1) of sum_segments for blocks of at most nd_max dofs.
+inline size_t segment_block_bytes(int nd_max) { return sizeof(double) * nd_max * nd_max + 2 * sizeof(int) * nd_max + 64; }
+
+/// Mortar by segments: the slots of slave element e = e_first + the team's league rank (those
+/// in [p_begin, p_end); `slots` per element) that project onto one master element share their
+/// rows and columns. A run of them is summed into a block in team scratch memory (nd_max^2
+/// doubles, rows and columns) and scattered into K once: one lookup per entry per segment
+/// instead of per slot. slot(i, add) assembles slot i, calling add(r, lr, cb, cols, vals) for
+/// the three columns of control point cb in row r (dof lr) (false: nothing assembled). One
+/// thread of the team does it (team size 1 on the host).
+template <class LocalMatrix, class Slot>
+KOKKOS_INLINE_FUNCTION void sum_segments(const ContactTeam& t, const SlavePoints3& sp, int e_first, int slots, int p_begin,
+                                         int p_end, int nd_max, const LocalMatrix& K, const Slot& slot) {
+  const int e = e_first + t.league_rank();
+  const int i_lo = e * slots > p_begin ? e * slots : p_begin, i_hi = (e + 1) * slots < p_end ? (e + 1) * slots : p_end;
+  double* B = static_cast<double*>(t.team_scratch(1).get_shmem(sizeof(double) * nd_max * nd_max));
+  int* rows = static_cast<int*>(t.team_scratch(1).get_shmem(sizeof(int) * nd_max));
+  int* cols = static_cast<int*>(t.team_scratch(1).get_shmem(sizeof(int) * nd_max));
+  Kokkos::single(Kokkos::PerTeam(t), [&]() {
+    int run_face = -1, run_elem = -1, nd = 0;
+    auto flush = [&]() {
+      for (int r = 0; r < nd; ++r) K.sumIntoValues(rows[r], cols, nd, B + r * nd_max, true, true);
+      nd = 0;
+    };
+    auto add = [&](int r, int lr, int cb, const int* c3, const double* vals) {
+      rows[r] = lr;
+      for (int cc = 0; cc < 3; ++cc) {
+        cols[3 * cb + cc] = c3[cc];
+        B[r * nd_max + 3 * cb + cc] += vals[cc];
+      }
+      if (r + 1 > nd) nd = r + 1;
+    };
+    for (int i = i_lo; i < i_hi; ++i) {
+      if (sp.face(i) < 0 || !sp.valid(i)) continue;
+      if (nd > 0 && (sp.mface(i) != run_face || sp.melem(i) != run_elem)) flush();
+      if (nd == 0)
+        for (int k = 0; k < nd_max * nd_max; ++k) B[k] = 0.0;
+      run_face = sp.mface(i);
+      run_elem = sp.melem(i);
+      slot(i, add);
+    }
+    if (nd > 0) flush();
+  });
+}
+
 /// Residual and consistent tangent of the active slave points [p_begin, p_end) (see header).
 /// `mortar`: the pressure is the mortar field already in sp.pressure (contact_mortar3.hpp) and
 /// the eps N N^T part is assembled per slave control point instead (AssembleMortarGap3).
@@ -212,17 +259,20 @@ struct AssembleKts3 {
   ContactFaces s, m;
   SlavePoints3 sp;
   double eps = 0;
-  int p_begin = 0;
+  int p_begin = 0, p_end = 0;
   bool mortar = false;
   LocalMatrix K;
   FView f;
   ForceSum force;   // [Fx, Fy, Fz, Fn]: the force the assembly puts on the slave body
 
-  KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
-    const int i = p_begin + k;
-    if (sp.face(i) < 0 || !sp.valid(i)) return;
+  /// Slot i's residual (into f, atomically) and its force share (into fs); its tangent block
+  /// by addK(r, lr, cb, cols, vals): row r (dof lr) of the slot's 3 (ns + nm) dofs, the three
+  /// columns of control point cb. False where the slot is empty or not active.
+  template <class AddK>
+  KOKKOS_INLINE_FUNCTION bool slot(const int i, AddK&& addK, double fs[4]) const {
+    if (sp.face(i) < 0 || !sp.valid(i)) return false;
     const double g = sp.gap(i);
-    if (mortar ? !(sp.pressure(i) > 0) : !kts_active(sp.lambda(i), eps, g, sp.touch)) return;
+    if (mortar ? !(sp.pressure(i) > 0) : !kts_active(sp.lambda(i), eps, g, sp.touch)) return false;
     const double pl = sp.lambda(i) - eps * g;
     const double pr = mortar ? sp.pressure(i) : (pl > 0 ? pl : 0.0);
     const double epsN = mortar ? 0.0 : eps;
@@ -274,7 +324,6 @@ struct AssembleKts3 {
       }
     };
     const int nd = 3 * (ns + nm);
-    double fs[4] = {0, 0, 0, 0};
     for (int r = 0; r < nd; ++r) {
       double Nr, tr[2], nbr[2];
       int lr;
@@ -302,10 +351,30 @@ struct AssembleKts3 {
                            (Hnbr[0] * tc[0] + Hnbr[1] * tc[1]) - (Htr[0] * nbc[0] + Htr[1] * nbc[1]);
           vals[cc] = w * (epsN * Nr * Nc - pr * G);
         }
-        K.sumIntoValues(lr, cols, 3, vals, true, true);   // rows sorted (assemble_contact): binary search
+        addK(r, lr, cb, cols, vals);
       }
     }
-    for (int c = 0; c < 4; ++c) Kokkos::atomic_add(&force(c), fs[c]);
+    return true;
+  }
+
+  /// One slot (KTS; mortar without blocks): its block straight into K.
+  KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
+    double fs[4] = {0, 0, 0, 0};
+    const bool on = slot(p_begin + k, [&](int, int lr, int, const int* cols, const double* vals) {
+      K.sumIntoValues(lr, cols, 3, vals, true, true);   // rows sorted (assemble_contact): binary search
+    }, fs);
+    if (on)
+      for (int c = 0; c < 4; ++c) Kokkos::atomic_add(&force(c), fs[c]);
+  }
+
+  // Mortar by segments (sum_segments above): the slots of slave element e_first + league rank.
+  int slots = 0, e_first = 0, nd_max = 0;
+  KOKKOS_INLINE_FUNCTION void operator()(const ContactTeam& t) const {
+    double fs[4] = {0, 0, 0, 0};
+    sum_segments(t, sp, e_first, slots, p_begin, p_end, nd_max, K, [&](int i, const auto& add) { return slot(i, add, fs); });
+    Kokkos::single(Kokkos::PerTeam(t), [&]() {
+      for (int c = 0; c < 4; ++c) Kokkos::atomic_add(&force(c), fs[c]);
+    });
   }
 };
 

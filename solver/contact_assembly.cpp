@@ -125,12 +125,27 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
       if (pd.s3_) {
         ContactSurfaces3& c3 = *pd.s3_;
         c3.set_lids(cps);
+        // mortar: by segments, the slots of one slave element and master element summed into
+        // one block before the scatter (sum_segments; a team per slave element, scratch memory)
+        auto most = [](const ContactFaces& fs) {
+          int m = 0;
+          for (int j = 0; j < fs.n; ++j) m = std::max(m, (fs.f[j].sd.p[0] + 1) * (fs.f[j].sd.p[1] + 1));
+          return m;
+        };
+        const int nd_max = 3 * (most(c3.slave) + most(c3.master));
+        const int e_first = c3.mortar && c3.p_end > c3.p_begin ? c3.p_begin / c3.slots : 0;
+        const int league = c3.mortar && c3.p_end > c3.p_begin ? (c3.p_end - 1) / c3.slots - e_first + 1 : 0;
+        const auto segments = Kokkos::TeamPolicy<ExecSpace>(league, 1).set_scratch_size(1, Kokkos::PerTeam(segment_block_bytes(nd_max)));
         if (c3.p_end > c3.p_begin) {
           AssembleKts3<decltype(lcl), decltype(fv)> k;
           k.s = c3.slave; k.m = c3.master; k.sp = c3.sp; k.eps = c3.pair.penalty; k.mortar = c3.mortar;
           k.p_begin = c3.p_begin; k.K = lcl; k.f = fv; k.force = pd.force_;
-          Kokkos::parallel_for(c3.mortar ? "iga::AssembleMortarPressure3" : "iga::AssembleKts3",
-                               Kokkos::RangePolicy<ExecSpace>(0, c3.p_end - c3.p_begin), k);
+          if (c3.mortar) {
+            k.p_end = c3.p_end; k.slots = c3.slots; k.e_first = e_first; k.nd_max = nd_max;
+            Kokkos::parallel_for("iga::AssembleMortarPressure3", segments, k);
+          } else {
+            Kokkos::parallel_for("iga::AssembleKts3", Kokkos::RangePolicy<ExecSpace>(0, c3.p_end - c3.p_begin), k);
+          }
         }
         if (c3.mortar && c3.e_end > c3.e_begin) {
           AssembleMortarEdge3<decltype(lcl)> k;
@@ -148,7 +163,12 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
           AssembleFriction3<decltype(lcl), decltype(fv)> k;
           k.s = c3.slave; k.m = c3.master; k.sp = c3.sp; k.fr = c3.fr; k.eps = c3.pair.penalty; k.mortar = c3.mortar;
           k.p_begin = c3.p_begin; k.K = lcl; k.f = fv; k.force = pd.force_;
-          Kokkos::parallel_for("iga::AssembleFriction3", Kokkos::RangePolicy<ExecSpace>(0, c3.p_end - c3.p_begin), k);
+          if (c3.mortar) {
+            k.p_end = c3.p_end; k.slots = c3.slots; k.e_first = e_first; k.nd_max = nd_max;
+            Kokkos::parallel_for("iga::AssembleMortarFrictionSlots3", segments, k);
+          } else {
+            Kokkos::parallel_for("iga::AssembleFriction3", Kokkos::RangePolicy<ExecSpace>(0, c3.p_end - c3.p_begin), k);
+          }
         }
         if (c3.mortar && c3.a_end > c3.a_begin) {
           Kokkos::deep_copy(c3.ms.flags, 0);
