@@ -41,6 +41,7 @@ void instantiate_kernels() {
   launch_empty("iga::MortarGaps3", iga::MortarGaps3{});
   launch_empty("iga::MortarPointPressure3", iga::MortarPointPressure3{});
   launch_empty("iga::AssembleKts3", iga::AssembleKts3<Crs, FView>{});
+  Kokkos::parallel_for("iga::AssembleMortarPressure3", Kokkos::TeamPolicy<iga::ExecSpace>(0, 1), iga::AssembleKts3<Crs, FView>{});
   launch_empty("iga::AssembleMortarEdge3", iga::AssembleMortarEdge3<Crs>{});
   launch_empty("iga::AssembleMortarGap3", iga::AssembleMortarGap3<Crs>{});
   launch_empty("iga::ProjectSlavePoints", iga::ProjectSlavePoints{});
