@@ -357,24 +357,25 @@ struct AssembleKts3 {
     return true;
   }
 
-  /// One slot (KTS; mortar without blocks): its block straight into K.
+  KOKKOS_INLINE_FUNCTION void add_forces(const double fs[4]) const {
+    for (int c = 0; c < 4; ++c) Kokkos::atomic_add(&force(c), fs[c]);
+  }
+
+  /// One point (KTS): its block straight into K.
   KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
     double fs[4] = {0, 0, 0, 0};
     const bool on = slot(p_begin + k, [&](int, int lr, int, const int* cols, const double* vals) {
       K.sumIntoValues(lr, cols, 3, vals, true, true);   // rows sorted (assemble_contact): binary search
     }, fs);
-    if (on)
-      for (int c = 0; c < 4; ++c) Kokkos::atomic_add(&force(c), fs[c]);
+    if (on) add_forces(fs);
   }
 
-  // Mortar by segments (sum_segments above): the slots of slave element e_first + league rank.
+  /// Mortar by segments (sum_segments above): the slots of slave element e_first + league rank.
   int slots = 0, e_first = 0, nd_max = 0;
   KOKKOS_INLINE_FUNCTION void operator()(const ContactTeam& t) const {
     double fs[4] = {0, 0, 0, 0};
     sum_segments(t, sp, e_first, slots, p_begin, p_end, nd_max, K, [&](int i, const auto& add) { return slot(i, add, fs); });
-    Kokkos::single(Kokkos::PerTeam(t), [&]() {
-      for (int c = 0; c < 4; ++c) Kokkos::atomic_add(&force(c), fs[c]);
-    });
+    Kokkos::single(Kokkos::PerTeam(t), [&]() { add_forces(fs); });
   }
 };
 
