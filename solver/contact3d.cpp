@@ -176,6 +176,7 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
     const auto ra = block_range(na, sys.comm()->getRank(), sys.comm()->getSize());
     a_begin = static_cast<int>(ra.first);
     a_end = static_cast<int>(ra.second);
+    segment_range();
     mortar_scratch(kMortarInitialEntries * 3);
   }
   // slave points: nq x nq Gauss points per slave face element (default 2 (p + 1) per direction,
@@ -255,6 +256,33 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
 
 namespace {
 
+/// Every rank computed its own [begin, end) of v's first index: the others' entries are zeroed
+/// and the whole array summed over the ranks, so that every rank holds every entry (host view;
+/// any layout: the sum runs over the contiguous span).
+template <class V>
+void sum_over_ranks(const Comm& comm, const V& v, int begin, int end) {
+  using T = typename V::non_const_value_type;
+  const int n = static_cast<int>(v.extent(0));
+  for (int i = 0; i < n; ++i) {
+    if (i >= begin && i < end) continue;
+    if constexpr (V::rank == 1) v(i) = 0;
+    else
+      for (int c = 0; c < static_cast<int>(v.extent(1)); ++c) v(i, c) = 0;
+  }
+  const int len = static_cast<int>(v.span());
+  std::vector<T> out(len);
+  Teuchos::reduceAll(comm, Teuchos::REDUCE_SUM, len, v.data(), out.data());
+  std::copy(out.begin(), out.end(), v.data());
+}
+
+/// The same for a device view (through a host copy).
+template <class V>
+void sum_device_over_ranks(const Comm& comm, const V& v, int begin, int end) {
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), v);
+  sum_over_ranks(comm, h, begin, end);
+  Kokkos::deep_copy(v, h);
+}
+
 /// Slave point arrays for n points (no projection yet).
 SlavePoints3 make_slave_points(int n) {
   SlavePoints3 sp;
@@ -320,6 +348,7 @@ void ContactSurfaces3::allocate_edges(int per) {
   const auto r = block_range(ne * per, rank_, nranks_);
   e_begin = static_cast<int>(r.first);
   e_end = static_cast<int>(r.second);
+  segment_range();
   if (friction) {   // the edge points as slave points, with references and slip vectors
     esp = make_slave_points(ne * per);
     efr = fr;
@@ -334,9 +363,35 @@ void ContactSurfaces3::allocate_points(int n) {
   const auto r = block_range(n, rank_, nranks_);
   p_begin = static_cast<int>(r.first);
   p_end = static_cast<int>(r.second);
+  if (mortar) segment_range();
   make_friction_points(fr, n, mortar && friction);
   state_prev_ = Kokkos::View<int*, MemSpace>("friction_state_prev", n);
   if (mortar && friction) ref_sp_ = make_reference_points(sp, n);
+}
+
+// Mortar: the slave elements this rank segments and projects, [c_begin, c_end): those of its
+// slots [p_begin, p_end) and edge points [e_begin, e_end) (which it assembles), and those in
+// the support of its control points [a_begin, a_end) (whose weighted gaps and slips it sums).
+// Control point A = i + n0 j lies in the support of the element rows whose span s1 has
+// s1 - p1 <= j <= s1; the rows are whole (a superset), so the range stays one interval.
+void ContactSurfaces3::segment_range() {
+  const HostFace& h = hs_[0];
+  const int ne0 = h.ne[0], ne = h.ne[0] * h.ne[1];
+  int lo = ne, hi = 0;
+  auto take = [&](int first, int last) {   // elements [first, last)
+    if (last <= first) return;
+    lo = std::min(lo, first);
+    hi = std::max(hi, last);
+  };
+  if (slots > 0 && p_end > p_begin) take(p_begin / slots, (p_end - 1) / slots + 1);
+  if (edges.per > 0 && e_end > e_begin) take(e_begin / edges.per, (e_end - 1) / edges.per + 1);
+  if (a_end > a_begin) {
+    const int j_lo = a_begin / h.n[0], j_hi = (a_end - 1) / h.n[0];
+    for (int e1 = 0; e1 < h.ne[1]; ++e1)
+      if (h.span[1][e1] - h.p[1] <= j_hi && h.span[1][e1] >= j_lo) take(e1 * ne0, (e1 + 1) * ne0);
+  }
+  c_begin = std::min(lo, hi);
+  c_end = hi;
 }
 
 void ContactSurfaces3::mortar_scratch(int cap) {
@@ -420,7 +475,9 @@ void ContactSurfaces3::update_friction() {
 // the law of every slave control point and the slots' traction field (every rank: the slots
 // and control points are not split for these), then the counts of this rank's control points.
 void ContactSurfaces3::update_mortar_friction() {
-  const int n = num_points();
+  // this rank's segmented elements: their slots and edge points
+  const int first = c_begin * slots, last = c_end * slots;
+  const int e_first = c_begin * edges.per, e_last = c_end * edges.per;
   if (have_committed_) {
     // warm start: the current foot's element (the converged one is at most a step away)
     Kokkos::deep_copy(ref_sp_.mface, sp.mface);
@@ -428,10 +485,10 @@ void ContactSurfaces3::update_mortar_friction() {
     Kokkos::deep_copy(ref_sp_.muv, sp.muv);
     ProjectSlavePoints3 k;
     k.s = slave_c_; k.m = master_c_; k.sp = ref_sp_; k.eps = pair.penalty;
-    Kokkos::parallel_for("iga::ProjectCommittedSlots3", Kokkos::RangePolicy<ExecSpace>(0, n), k);
+    Kokkos::parallel_for("iga::ProjectCommittedSlots3", Kokkos::RangePolicy<ExecSpace>(first, last), k);
     const auto f = fr;
     const SlavePoints3 r = ref_sp_;
-    Kokkos::parallel_for("iga::MortarFrictionReferences3", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(const int i) {
+    Kokkos::parallel_for("iga::MortarFrictionReferences3", Kokkos::RangePolicy<ExecSpace>(first, last), KOKKOS_LAMBDA(const int i) {
       f.ref_face(i) = r.valid(i) ? r.mface(i) : -1;
       f.ref_uv(i, 0) = r.muv(i, 0);
       f.ref_uv(i, 1) = r.muv(i, 1);
@@ -441,28 +498,34 @@ void ContactSurfaces3::update_mortar_friction() {
   }
   UpdateFriction3 ku;
   ku.m = master; ku.sp = sp; ku.fr = fr; ku.eps = pair.penalty; ku.mortar = true;
-  Kokkos::parallel_for("iga::MortarSlip3", Kokkos::RangePolicy<ExecSpace>(0, n), ku);
+  Kokkos::parallel_for("iga::MortarSlip3", Kokkos::RangePolicy<ExecSpace>(first, last), ku);
   // the edge points (where the master ends inside slave elements): feet, references, slip vectors
-  const int ne_pts = static_cast<int>(edges.elem.extent(0));
   MortarEdgePoints3 kep;
   kep.s = slave; kep.m = master; kep.ed = edges; kep.esp = esp;
-  Kokkos::parallel_for("iga::MortarEdgePoints3", Kokkos::RangePolicy<ExecSpace>(0, ne_pts), kep);
+  Kokkos::parallel_for("iga::MortarEdgePoints3", Kokkos::RangePolicy<ExecSpace>(e_first, e_last), kep);
   if (have_committed_) {
     MortarEdgeReferences3 ker;
     ker.sc = slave_c_; ker.mc = master_c_; ker.esp = esp; ker.efr = efr;
-    Kokkos::parallel_for("iga::MortarEdgeReferences3", Kokkos::RangePolicy<ExecSpace>(0, ne_pts), ker);
+    Kokkos::parallel_for("iga::MortarEdgeReferences3", Kokkos::RangePolicy<ExecSpace>(e_first, e_last), ker);
   } else {
     Kokkos::deep_copy(efr.ref_face, -1);
   }
   UpdateFriction3 kue;
   kue.m = master; kue.sp = esp; kue.fr = efr; kue.eps = pair.penalty; kue.mortar = true;
-  Kokkos::parallel_for("iga::MortarEdgeSlip3", Kokkos::RangePolicy<ExecSpace>(0, ne_pts), kue);
+  Kokkos::parallel_for("iga::MortarEdgeSlip3", Kokkos::RangePolicy<ExecSpace>(e_first, e_last), kue);
   MortarFrictionLaw3 kl;
   kl.s = slave; kl.sp = sp; kl.ms = ms; kl.fr = fr; kl.slots = slots;
-  Kokkos::parallel_for("iga::MortarFrictionLaw3", Kokkos::RangePolicy<ExecSpace>(0, static_cast<int>(ms.wA.extent(0))), kl);
+  Kokkos::parallel_for("iga::MortarFrictionLaw3", Kokkos::RangePolicy<ExecSpace>(a_begin, a_end), kl);
+  if (nranks_ > 1) {   // every rank holds every control point's law
+    sum_device_over_ranks(*comm_, fr.sA, a_begin, a_end);
+    sum_device_over_ranks(*comm_, fr.trA, a_begin, a_end);
+    sum_device_over_ranks(*comm_, fr.tauA, a_begin, a_end);
+    sum_device_over_ranks(*comm_, fr.slipA, a_begin, a_end);
+    sum_device_over_ranks(*comm_, fr.stateA, a_begin, a_end);
+  }
   MortarFrictionPoints3 kp;
   kp.s = slave; kp.sp = sp; kp.ms = ms; kp.fr = fr;
-  Kokkos::parallel_for("iga::MortarFrictionPoints3", Kokkos::RangePolicy<ExecSpace>(0, n), kp);
+  Kokkos::parallel_for("iga::MortarFrictionPoints3", Kokkos::RangePolicy<ExecSpace>(first, last), kp);
   const auto st = fr.stateA, prev = stateA_prev_;
   int loc[3] = {0, 0, 0};
   Kokkos::parallel_reduce("iga::MortarFrictionCounts3", Kokkos::RangePolicy<ExecSpace>(a_begin, a_end),
@@ -594,8 +657,13 @@ void ContactSurfaces3::refresh() {
       if (static_cast<int>(cand_.extent(0)) != ne) cand_ = decltype(cand_)("mortar_candidates", ne, kMortar3Candidates);
       ks.cand = cand_;
       Kokkos::deep_copy(seg_flags_, 0);
-      Kokkos::parallel_for("iga::MortarSegments3", Kokkos::RangePolicy<ExecSpace>(0, ne), ks);
+      Kokkos::parallel_for("iga::MortarSegments3", Kokkos::RangePolicy<ExecSpace>(c_begin, c_end), ks);
       auto fl = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), seg_flags_);
+      if (nranks_ > 1) {   // every rank grows the same capacities (the slots' numbering is global)
+        int mx[4];
+        Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MAX, 4, fl.data(), mx);
+        std::copy(mx, mx + 4, fl.data());
+      }
       if (fl(2) != 0) throw ContactError("3-D mortar: a clipped segment has more vertices than the segmentation holds");
       if (fl(0) == 0 && fl(1) == 0 && fl(3) == 0) break;
       if (fl(3) > 0) allocate_edges(std::max(fl(3), edges.per + edges.per / 2));
@@ -611,18 +679,25 @@ void ContactSurfaces3::refresh() {
   k.m = master;
   k.sp = sp;
   k.eps = pair.penalty;
-  // KTS: this rank's points only (their assembly is this rank's; state() sums the others'
-  // in). Mortar: every slot, which the weighted gaps of this rank's control points read
-  const int first = mortar ? 0 : p_begin, last = mortar ? num_points() : p_end;
+  // this rank's points only: KTS its own (their assembly is this rank's; state() sums the
+  // others' in), mortar the slots of the elements it segmented (segment_range)
+  const int first = mortar ? c_begin * slots : p_begin, last = mortar ? c_end * slots : p_end;
   Kokkos::parallel_for("iga::ProjectSlavePoints3", Kokkos::RangePolicy<ExecSpace>(first, last), k);
   if (friction && !mortar) update_friction();
   if (mortar) {
+    // the weighted gaps of this rank's control points, then every rank holds all of them
     MortarGaps3 kg;
     kg.s = slave; kg.sp = sp; kg.ms = ms; kg.eps = pair.penalty; kg.touch = sp.touch; kg.slots = slots;
-    Kokkos::parallel_for("iga::MortarGaps3", Kokkos::RangePolicy<ExecSpace>(0, static_cast<int>(ms.wA.extent(0))), kg);
+    Kokkos::parallel_for("iga::MortarGaps3", Kokkos::RangePolicy<ExecSpace>(a_begin, a_end), kg);
+    if (nranks_ > 1) {
+      sum_device_over_ranks(*comm_, ms.gA, a_begin, a_end);
+      sum_device_over_ranks(*comm_, ms.lambda, a_begin, a_end);
+      sum_device_over_ranks(*comm_, ms.active, a_begin, a_end);
+      sum_device_over_ranks(*comm_, ms.covered, a_begin, a_end);
+    }
     MortarPointPressure3 kp;
     kp.s = slave; kp.sp = sp; kp.ms = ms;
-    Kokkos::parallel_for("iga::MortarPointPressure3", Kokkos::RangePolicy<ExecSpace>(0, num_points()), kp);
+    Kokkos::parallel_for("iga::MortarPointPressure3", Kokkos::RangePolicy<ExecSpace>(first, last), kp);
     if (friction) update_friction();   // the law per control point needs lambda_A
   }
   Kokkos::fence();
@@ -663,7 +738,7 @@ void ContactSurfaces3::groups(std::vector<std::vector<GO>>& out, int& active) co
   std::vector<std::vector<GO>> per_elem(ne);
   auto eelem = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), edges.elem);
   auto emelem = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), edges.melem);
-  for (int e = 0; e < ne; ++e) {
+  for (int e = c_begin; e < c_end; ++e) {   // the elements this rank segmented
     std::set<int> melems;
     for (int i = e * slots; i < (e + 1) * slots; ++i)
       if (face(i) >= 0 && valid(i)) melems.insert(melem(i));
@@ -721,29 +796,23 @@ void ContactSurfaces3::state(ContactPointState& s, bool projected_only) const {
   auto slip = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr.slip);
   auto gT = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr.gT);
   auto fst = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr.state);
-  if (!mortar && nranks_ > 1) {
-    // KTS projects each rank's own points: the others' entries zeroed here, then summed over
-    // the ranks, so that every rank holds every point's state
-    auto sum = [&](auto& v) {
-      using V = std::decay_t<decltype(v)>;
-      using T = typename V::non_const_value_type;
-      for (int i = 0; i < n; ++i) {
-        if (i >= p_begin && i < p_end) continue;
-        if constexpr (V::rank == 1) v(i) = 0;
-        else
-          for (int c = 0; c < static_cast<int>(v.extent(1)); ++c) v(i, c) = 0;
-      }
-      const int len = static_cast<int>(v.span());   // the whole contiguous array, any layout
-      std::vector<T> out(len);
-      Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, len, v.data(), out.data());
-      std::copy(out.begin(), out.end(), v.data());
-    };
+  if (nranks_ > 1) {
+    // each rank projects its own points (KTS) or segments its own elements (mortar): the
+    // others' entries are summed in over the ranks ([p_begin, p_end) are disjoint and cover all
+    // points), so that every rank holds every point's state
+    auto sum = [&](auto& v) { sum_over_ranks(*comm_, v, p_begin, p_end); };
     sum(x);
     sum(nrm);
     sum(gap);
     sum(pr);
     sum(lam);
     sum(valid);
+    if (mortar) {   // the slots themselves come from the segmentation
+      sum(X);
+      sum(uv);
+      sum(w);
+      sum(face);
+    }
     if (friction) {
       sum(trac);
       sum(slip);

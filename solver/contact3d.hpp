@@ -31,8 +31,9 @@ class ContactSurfaces3 {
   void groups(std::vector<std::vector<GO>>& out, int& active) const;
   /// Overlap LIDs of the faces' control points in the contact matrix's numbering cps.
   void set_lids(const std::vector<GO>& cps);
-  /// Every slave point's state on every rank (collective: KTS projects only this rank's
-  /// points, and the states of the others come by a sum over the ranks).
+  /// Every slave point's state on every rank (collective: each rank projects only its own
+  /// points (KTS) or segments its own slave elements (mortar), and the states of the others
+  /// come by a sum over the ranks).
   void state(ContactPointState& s, bool projected_only) const;
   double h_min() const { return h_min_; }
   /// Global control point ids of both surfaces (sorted, unique).
@@ -55,6 +56,9 @@ class ContactSurfaces3 {
   // terms), `edges.per` per slave element; this rank's [e_begin, e_end)
   MortarEdges3 edges;
   int e_begin = 0, e_end = 0;
+  // the slave elements this rank segments and projects (segment_range): its slots' and edge
+  // points' elements and the support of its control points
+  int c_begin = 0, c_end = 0;
   int cells = 0;   // cells per direction of a master element in the segmentation (0: 2 if curved, else 1)
   // with friction: the edge points as slave points (their feet, references and slip vectors)
   SlavePoints3 esp;
@@ -83,6 +87,7 @@ class ContactSurfaces3 {
  private:
   void allocate_points(int n);
   void allocate_edges(int per);
+  void segment_range();
   RCP<const Comm> comm_;
   void update_friction();
   void update_mortar_friction();

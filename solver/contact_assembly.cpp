@@ -183,13 +183,13 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
             MortarFrictionVectors3 kv;
             kv.s = c3.slave; kv.m = c3.master; kv.sp = c3.sp; kv.ms = c3.ms; kv.fr = c3.fr; kv.sc = c3.fscratch;
             kv.range = range; kv.size = size; kv.a_begin = c3.a_begin; kv.a_end = c3.a_end;
-            Kokkos::parallel_for("iga::MortarFrictionVectors3", Kokkos::RangePolicy<ExecSpace>(0, c3.num_points()), kv);
+            Kokkos::parallel_for("iga::MortarFrictionVectors3", Kokkos::RangePolicy<ExecSpace>(c3.c_begin * c3.slots, c3.c_end * c3.slots), kv);
             MortarFrictionEdgeVectors3 kev;
             kev.s = c3.slave; kev.m = c3.master; kev.ed = c3.edges; kev.esp = c3.esp; kev.efr = c3.efr; kev.ms = c3.ms;
             kev.fr = c3.fr; kev.sc = c3.fscratch; kev.range = range; kev.size = size; kev.a_begin = c3.a_begin;
             kev.a_end = c3.a_end;
             Kokkos::parallel_for("iga::MortarFrictionEdgeVectors3",
-                                 Kokkos::RangePolicy<ExecSpace>(0, static_cast<int>(c3.edges.elem.extent(0))), kev);
+                                 Kokkos::RangePolicy<ExecSpace>(c3.c_begin * c3.edges.per, c3.c_end * c3.edges.per), kev);
             AssembleMortarFriction3<decltype(lcl)> k;
             k.s = c3.slave; k.m = c3.master; k.ms = c3.ms; k.fr = c3.fr; k.sc = c3.fscratch;
             k.range = range; k.size = size; k.eps = c3.pair.penalty; k.a_begin = c3.a_begin; k.K = lcl;

@@ -14,14 +14,15 @@
 #    for the computed load within 5 % (as tests/test_contact).
 #  - patch3d (examples/contact_patch_3d.yaml): the 3-D contact patch test, exact (below).
 #  - sliding3d (examples/sliding_box_3d.yaml): 3-D gross sliding, T = (-mu F_n, 0, 0) exactly.
-# Usage: cli_ranks.sh EXE MPIEXEC PROBLEM lame|wheel|patch3d|sliding3d
+# Usage: cli_ranks.sh EXE MPIEXEC PROBLEM lame|wheel|patch3d|sliding3d [RUN OPTIONS...]
+# (RUN OPTIONS, e.g. --set contact.0.method=mortar_penalty, go to both runs)
 # MPI runs take one thread per rank (OMP_NUM_THREADS=1): 2 ranks x 1 thread fill 2 cores; with
 # the OpenMP build more threads oversubscribe them and Kokkos warns on stderr.
 set -euo pipefail
-exe="$1"; mpiexec="$2"; file="$3"; check="$4"
+exe="$1"; mpiexec="$2"; file="$3"; check="$4"; shift 4
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-"$exe" run "$file" --output "$tmp/r1" --quiet
-env OMP_NUM_THREADS=1 "$mpiexec" -n 2 "$exe" run "$file" --output "$tmp/r2" --quiet
+"$exe" run "$file" --output "$tmp/r1" --quiet "$@"
+env OMP_NUM_THREADS=1 "$mpiexec" -n 2 "$exe" run "$file" --output "$tmp/r2" --quiet "$@"
 /usr/bin/python3 - "$tmp" "$file" "$check" <<'PY'
 import csv, json, math, re, sys
 # the contact edge: the gap's zero crossing between the outermost active point and its inactive
@@ -56,7 +57,15 @@ same("reactions", reac(a), reac(b))
 same("max_displacement", [a["max_displacement"]], [b["max_displacement"]])
 assert len(a["contact"]) == len(b["contact"])
 for k, (ca, cb) in enumerate(zip(a["contact"], b["contact"])):
-    assert ca["active_points"] == cb["active_points"], (k, ca["active_points"], cb["active_points"])
+    if ca["method"].startswith("mortar") and "contact_area" in ca:
+        # 3-D mortar: the slots come from an exact clipping, which keeps a corner however small
+        # its turn; where a master edge lies along a slave element's edge, round-off of the
+        # solution (other sums on 2 ranks) adds or drops such corners and the fans of triangles
+        # (and so the number of slots) differ, the segments' union not: the slot count is not
+        # compared, the measures and forces are (below, to 1e-10)
+        print(f"  contact {k}: active slots {ca['active_points']} (1 rank), {cb['active_points']} (2 ranks)")
+    else:
+        assert ca["active_points"] == cb["active_points"], (k, ca["active_points"], cb["active_points"])
     for f in ("normal_force", "max_pressure", "contact_area" if "contact_area" in ca else "contact_length"):
         same(f"contact {k} {f}", [ca[f]], [cb[f]])
     same(f"contact {k} force", ca["force"], cb["force"])
