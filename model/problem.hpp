@@ -111,6 +111,9 @@ struct NewtonOptions {
   double tolerance = 1e-10;
   bool line_search = true;   // backtracking on the residual norm
   int max_cuts = 10;         // a failed load step is retried with half the increment, this many times
+  /// the first iterate of an increment: the last converged increment of the same stage
+  /// continued linearly (u_c + dt / dt_prev (u_c - u_prev)), not the committed state
+  bool extrapolate = false;
 };
 
 /// solver.linear.forcing: `tolerance` for every solve, or Eisenstat-Walker (the tolerance

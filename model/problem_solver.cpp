@@ -118,8 +118,9 @@ void read_solver(const Reader& R, const YAML::Node& root, Problem& P) {
     }
     if (s["newton"]) {
       const YAML::Node n = s["newton"];
-      R.keys(n, "solver.newton", {"max_iterations", "tolerance", "line_search", "max_cuts"});
+      R.keys(n, "solver.newton", {"max_iterations", "tolerance", "line_search", "max_cuts", "extrapolate"});
       if (n["line_search"]) P.newton.line_search = R.boolean(n["line_search"], "solver.newton.line_search");
+      if (n["extrapolate"]) P.newton.extrapolate = R.boolean(n["extrapolate"], "solver.newton.extrapolate");
       if (n["max_cuts"]) {
         P.newton.max_cuts = R.integer(n["max_cuts"], "solver.newton.max_cuts");
         if (P.newton.max_cuts < 0 || P.newton.max_cuts > 30) R.fail("solver.newton.max_cuts", n["max_cuts"], "must be 0..30");

@@ -394,6 +394,54 @@ void ContactSurfaces3::segment_range() {
   c_end = hi;
 }
 
+// Mortar on several ranks: the slots' assembly (the pressure and friction terms of
+// [p_begin, p_end)) follows the active slots, which gather where the bodies touch, not the
+// slot numbering: where the ranks' shares of the last update's active slots differ by more than
+// 10 %, the slave elements are split anew into ranges of equal active slots (every rank
+// computes the same split from the same counts).
+void ContactSurfaces3::balance_slots() {
+  const int ne = static_cast<int>(elem_load_.size());
+  if (nranks_ < 2 || ne == 0 || slots <= 0) return;
+  std::vector<long long> pre(ne + 1, 0);
+  for (int e = 0; e < ne; ++e) pre[e + 1] = pre[e] + elem_load_[e];
+  const long long W = pre[ne];
+  if (W == 0) return;
+  // the largest share of the present split (an element cut by a range counts for both)
+  long long most = 0;
+  {
+    int mine[2] = {p_begin / slots, (p_end + slots - 1) / slots};
+    std::vector<int> all(2 * nranks_);
+    Teuchos::gatherAll(*comm_, 2, mine, 2 * nranks_, all.data());
+    for (int r = 0; r < nranks_; ++r) {
+      const int a = std::clamp(all[2 * r], 0, ne), b = std::clamp(all[2 * r + 1], 0, ne);
+      most = std::max(most, b > a ? pre[b] - pre[a] : 0LL);
+    }
+  }
+  if (most * nranks_ <= 1.1 * W) return;
+  // the first element e of rank r's range: the first with pre[e] >= r W / n
+  auto first = [&](int r) {
+    int e = 0;
+    while (e < ne && pre[e] * nranks_ < static_cast<long long>(r) * W) ++e;
+    return e;
+  };
+  p_begin = first(rank_) * slots;
+  p_end = (rank_ + 1 == nranks_ ? ne : first(rank_ + 1)) * slots;
+  segment_range();
+}
+
+// Active slots per slave element after an update, every rank's (the ranks that segmented an
+// element counted the same slots: the maximum over the ranks).
+void ContactSurfaces3::count_element_loads() {
+  const int ne = hs_[0].ne[0] * hs_[0].ne[1];
+  std::vector<int> load(ne, 0);
+  auto valid = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.valid);
+  auto pr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.pressure);
+  for (int e = c_begin; e < c_end; ++e)
+    for (int i = e * slots; i < (e + 1) * slots; ++i) load[e] += valid(i) && pr(i) > 0;
+  elem_load_.assign(ne, 0);
+  Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MAX, ne, load.data(), elem_load_.data());
+}
+
 void ContactSurfaces3::mortar_scratch(int cap) {
   const int na = std::max(a_end - a_begin, 0);
   scratch.dof = Kokkos::View<int**, Kokkos::LayoutRight, MemSpace>("mortar_dof", na, cap);
@@ -644,6 +692,8 @@ void ContactSurfaces3::refresh() {
   }
   master.radius = 2 * hmax;
   if (mortar) {
+    // this rank's slots: a share of the last update's active slots (several ranks)
+    balance_slots();
     // segments; where an element needs more slots than it has, grow them and segment again
     const int ne = hs_[0].ne[0] * hs_[0].ne[1];
     for (;;) {
@@ -698,6 +748,7 @@ void ContactSurfaces3::refresh() {
     MortarPointPressure3 kp;
     kp.s = slave; kp.sp = sp; kp.ms = ms;
     Kokkos::parallel_for("iga::MortarPointPressure3", Kokkos::RangePolicy<ExecSpace>(first, last), kp);
+    if (nranks_ > 1) count_element_loads();
     if (friction) update_friction();   // the law per control point needs lambda_A
   }
   Kokkos::fence();

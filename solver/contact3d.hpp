@@ -88,6 +88,9 @@ class ContactSurfaces3 {
   void allocate_points(int n);
   void allocate_edges(int per);
   void segment_range();
+  void balance_slots();
+  void count_element_loads();
+  // mortar on several ranks: active slots per slave element (the last update's, every rank's)
   RCP<const Comm> comm_;
   void update_friction();
   void update_mortar_friction();
@@ -106,6 +109,7 @@ class ContactSurfaces3 {
   Kokkos::View<int*, MemSpace> stateA_prev_;
   Kokkos::View<int*, MemSpace> seg_flags_;
   Kokkos::View<int**, Kokkos::LayoutRight, MemSpace> cand_;   // mortar: candidate master elements per slave element
+  std::vector<int> elem_load_;
   int rank_ = 0, nranks_ = 1;
   struct HostFace {
     std::vector<GO> gid;        // per face control point

@@ -67,7 +67,7 @@ class NewtonCore {
   bool line_search(double norm, ContactContribution& cc, Outcome& out, double& alpha);
   bool newton(const LoadPoint& lp, int step, int cuts, int aug, double& ref, Outcome& out);
   bool augment(int aug, std::vector<double>& gap_history, Outcome& out);
-  Outcome increment(const LoadPoint& lp, int step, int cuts);
+  Outcome increment(const LoadPoint& lp, int step, int cuts, double dt);
   bool commit(int stage, const LoadPoint& lp, double t, int cuts, int newton_its);
   std::string cut_message(const Outcome& o, int j, int n, int k, int cuts, double t_try, double dt) const;
   SolveResult finish(bool failed, double t_conv);
@@ -87,6 +87,11 @@ class NewtonCore {
   int max_aug_ = 1;
   std::unique_ptr<TangentBuilder> tangent_;
   RCP<Vector> u_, u_conv_, r_, du_, u_trial_, f_, f_int_;
+  // solver.newton.extrapolate: the converged state before u_conv_ and its increment, while in
+  // the same stage (null otherwise)
+  RCP<Vector> u_prev_;
+  double dt_prev_ = 0;
+  double ref_prev_ = 0;   // the last converged increment's reference residual norm
   bool constant_K_;
   // inexact Newton (solver.linear.forcing; model/problem.cpp says when auto takes it)
   bool eisenstat_walker_;
@@ -433,17 +438,31 @@ bool NewtonCore::augment(int aug, std::vector<double>& gap_history, Outcome& out
 
 // One increment to the load point lp from the committed state: Newton (with line search)
 // inside the ALM updates. Outcome::why is "" on convergence, else why not.
-Outcome NewtonCore::increment(const LoadPoint& lp, int step, int cuts) {
+Outcome NewtonCore::increment(const LoadPoint& lp, int step, int cuts, double dt) {
   Outcome out;
   f_->update(1.0 - lp.s, *f_prev_, lp.s, *f_end_, 0.0);
   lp_now_ = lp;
   prec_.clear();
   double ref = 0;
-  if (!constant_K_ && !predictor(lp, ref, out)) return out;
+  // the first iterate: the last increment continued (solver.newton.extrapolate; not on a
+  // retry after a cut, nor at a stage's first increment), else the linearised predictor where
+  // the tangent depends on u
+  // The convergence test is relative to the increment's first residual: from an extrapolated
+  // start that residual is small, so the reference is the last increment's, scaled by the
+  // increment (the residual of a plain start grows with the load increment).
+  const bool extrapolate = P_.newton.extrapolate && !u_prev_.is_null() && cuts == 0 && dt_prev_ > 0 && ref_prev_ > 0;
+  if (extrapolate) {
+    const double a = dt / dt_prev_;
+    u_->update(-a, *u_prev_, 1.0 + a);
+    ref = ref_prev_ * a;
+  } else if (!constant_K_ && !predictor(lp, ref, out)) {
+    return out;
+  }
   sys_.set_dirichlet(*u_, lp);
   std::vector<double> gap_history;   // ALM: the gaps after each Newton solve, against their tolerances
   for (int aug = 0; aug < max_aug_; ++aug) {
     if (!newton(lp, step, cuts, aug, ref, out)) return out;
+    ref_prev_ = ref;
     if (!alm_) return out;
     if (augment(aug, gap_history, out) || !out.why.empty()) return out;
   }
@@ -516,6 +535,8 @@ SolveResult NewtonCore::run() {
     }
     const int n = P_.stages[k];
     const double dt_nominal = 1.0 / n;
+    u_prev_ = Teuchos::null;   // a new stage: no increment of it to continue yet
+    RCP<Vector> u_keep;
     for (int j = 1; j <= n && !failed && !stopped; ++j) {
       const double t_target = k + static_cast<double>(j) / n;
       double dt = std::min(dt_nominal, t_target - t_conv);
@@ -523,10 +544,15 @@ SolveResult NewtonCore::run() {
       while (t_conv < t_target - 1e-12 * dt_nominal) {
         const double t_try = std::min(t_conv + dt, t_target);
         const LoadPoint lp = LoadPoint::at(t_try, K_stages_);
-        Outcome o = increment(lp, res_.steps_converged + 1, cuts);
+        if (P_.newton.extrapolate && !u_conv_.is_null()) u_keep = rcp(new Vector(*u_conv_, Teuchos::Copy));
+        Outcome o = increment(lp, res_.steps_converged + 1, cuts, t_try - t_conv);
         // an ALM stall that one cut did not cure is not cured by more
         if (o.stall && ++stalls >= 2) o.final = true;
         if (o.why.empty()) {
+          if (P_.newton.extrapolate) {   // this increment, for the next one's first iterate
+            u_prev_ = u_keep;
+            dt_prev_ = t_try - t_conv;
+          }
           t_conv = t_try;
           if (!commit(k, lp, t_try, cuts, o.newton_its)) {
             stopped = true;
