@@ -385,10 +385,16 @@ void ContactSurfaces3::segment_range() {
   };
   if (slots > 0 && p_end > p_begin) take(p_begin / slots, (p_end - 1) / slots + 1);
   if (edges.per > 0 && e_end > e_begin) take(e_begin / edges.per, (e_end - 1) / edges.per + 1);
+  support_[0] = ne;
+  support_[1] = 0;
   if (a_end > a_begin) {
     const int j_lo = a_begin / h.n[0], j_hi = (a_end - 1) / h.n[0];
     for (int e1 = 0; e1 < h.ne[1]; ++e1)
-      if (h.span[1][e1] - h.p[1] <= j_hi && h.span[1][e1] >= j_lo) take(e1 * ne0, (e1 + 1) * ne0);
+      if (h.span[1][e1] - h.p[1] <= j_hi && h.span[1][e1] >= j_lo) {
+        take(e1 * ne0, (e1 + 1) * ne0);
+        support_[0] = std::min(support_[0], e1 * ne0);
+        support_[1] = std::max(support_[1], (e1 + 1) * ne0);
+      }
   }
   c_begin = std::min(lo, hi);
   c_end = hi;
@@ -398,7 +404,8 @@ void ContactSurfaces3::segment_range() {
 // [p_begin, p_end)) follows the active slots, which gather where the bodies touch, not the
 // slot numbering: where the ranks' shares of the last update's active slots differ by more than
 // 10 %, the slave elements are split anew into ranges of equal active slots (every rank
-// computes the same split from the same counts).
+// computes the same split from the same counts), each range kept inside the support of its
+// rank's control points (which that rank segments anyway: the segmented elements do not grow).
 void ContactSurfaces3::balance_slots() {
   const int ne = static_cast<int>(elem_load_.size());
   if (nranks_ < 2 || ne == 0 || slots <= 0) return;
@@ -408,24 +415,28 @@ void ContactSurfaces3::balance_slots() {
   if (W == 0) return;
   // the largest share of the present split (an element cut by a range counts for both)
   long long most = 0;
-  {
-    int mine[2] = {p_begin / slots, (p_end + slots - 1) / slots};
-    std::vector<int> all(2 * nranks_);
-    Teuchos::gatherAll(*comm_, 2, mine, 2 * nranks_, all.data());
-    for (int r = 0; r < nranks_; ++r) {
-      const int a = std::clamp(all[2 * r], 0, ne), b = std::clamp(all[2 * r + 1], 0, ne);
-      most = std::max(most, b > a ? pre[b] - pre[a] : 0LL);
-    }
+  // every rank's present slot range and control points' support, in elements
+  int mine[4] = {p_begin / slots, (p_end + slots - 1) / slots, support_[0], support_[1]};
+  std::vector<int> all(4 * nranks_);
+  Teuchos::gatherAll(*comm_, 4, mine, 4 * nranks_, all.data());
+  for (int r = 0; r < nranks_; ++r) {
+    const int a = std::clamp(all[4 * r], 0, ne), b = std::clamp(all[4 * r + 1], 0, ne);
+    most = std::max(most, b > a ? pre[b] - pre[a] : 0LL);
   }
   if (most * nranks_ <= 1.1 * W) return;
-  // the first element e of rank r's range: the first with pre[e] >= r W / n
-  auto first = [&](int r) {
+  // the first element of rank r's range: the first e with pre[e] >= r W / n, within the
+  // overlap of the supports of ranks r - 1 and r (a range empty of control points keeps none)
+  std::vector<int> first(nranks_ + 1, 0);
+  first[nranks_] = ne;
+  for (int r = 1; r < nranks_; ++r) {
     int e = 0;
     while (e < ne && pre[e] * nranks_ < static_cast<long long>(r) * W) ++e;
-    return e;
-  };
-  p_begin = first(rank_) * slots;
-  p_end = (rank_ + 1 == nranks_ ? ne : first(rank_ + 1)) * slots;
+    const int lo = std::min(all[4 * r + 2], ne), hi = std::max(all[4 * (r - 1) + 3], 0);
+    if (lo <= hi) e = std::clamp(e, lo, hi);
+    first[r] = std::max(e, first[r - 1]);
+  }
+  p_begin = first[rank_] * slots;
+  p_end = first[rank_ + 1] * slots;
   segment_range();
 }
 

@@ -110,6 +110,7 @@ class ContactSurfaces3 {
   Kokkos::View<int*, MemSpace> seg_flags_;
   Kokkos::View<int**, Kokkos::LayoutRight, MemSpace> cand_;   // mortar: candidate master elements per slave element
   std::vector<int> elem_load_;
+  int support_[2] = {0, 0};   // the slave elements in the support of this rank's control points
   int rank_ = 0, nranks_ = 1;
   struct HostFace {
     std::vector<GO> gid;        // per face control point
