@@ -111,9 +111,10 @@ struct NewtonOptions {
   double tolerance = 1e-10;
   bool line_search = true;   // backtracking on the residual norm
   int max_cuts = 10;         // a failed load step is retried with half the increment, this many times
-  /// the first iterate of an increment: the last converged increment of the same stage
-  /// continued linearly (u_c + dt / dt_prev (u_c - u_prev)), not the committed state
-  bool extrapolate = false;
+  /// solver.newton.extrapolate: the first iterate of an increment is the last converged
+  /// increment of the same stage continued linearly (u_c + dt / dt_prev (u_c - u_prev));
+  /// auto: off (extrapolated_start)
+  enum class Extrapolate { Auto, On, Off } extrapolate = Extrapolate::Auto;
 };
 
 /// solver.linear.forcing: `tolerance` for every solve, or Eisenstat-Walker (the tolerance
@@ -220,6 +221,8 @@ SurfaceChain surface_chain(const Problem& P, const ContactSurface& s);
 /// Whether Newton's Krylov solves take the Eisenstat-Walker forcing (solver.linear.forcing,
 /// `auto` resolved: the iterative methods without friction).
 bool eisenstat_walker_forcing(const Problem& P);
+/// solver.newton.extrapolate resolved: whether an increment starts from the last one continued
+bool extrapolated_start(const Problem& P);
 
 /// Reads, overrides (`key.path=value`, as `--set`) and validates a problem file.
 /// Throws InputError with a one-line message on any bad input.

@@ -92,6 +92,7 @@ class NewtonCore {
   RCP<Vector> u_prev_;
   double dt_prev_ = 0;
   double ref_prev_ = 0;   // the last converged increment's reference residual norm
+  const bool extrapolate_ = extrapolated_start(P_);
   bool constant_K_;
   // inexact Newton (solver.linear.forcing; model/problem.cpp says when auto takes it)
   bool eisenstat_walker_;
@@ -450,7 +451,7 @@ Outcome NewtonCore::increment(const LoadPoint& lp, int step, int cuts, double dt
   // The convergence test is relative to the increment's first residual: from an extrapolated
   // start that residual is small, so the reference is the last increment's, scaled by the
   // increment (the residual of a plain start grows with the load increment).
-  const bool extrapolate = P_.newton.extrapolate && !u_prev_.is_null() && cuts == 0 && dt_prev_ > 0 && ref_prev_ > 0;
+  const bool extrapolate = extrapolate_ && !u_prev_.is_null() && cuts == 0 && dt_prev_ > 0 && ref_prev_ > 0;
   if (extrapolate) {
     const double a = dt / dt_prev_;
     u_->update(-a, *u_prev_, 1.0 + a);
@@ -544,12 +545,12 @@ SolveResult NewtonCore::run() {
       while (t_conv < t_target - 1e-12 * dt_nominal) {
         const double t_try = std::min(t_conv + dt, t_target);
         const LoadPoint lp = LoadPoint::at(t_try, K_stages_);
-        if (P_.newton.extrapolate && !u_conv_.is_null()) u_keep = rcp(new Vector(*u_conv_, Teuchos::Copy));
+        if (extrapolate_ && !u_conv_.is_null()) u_keep = rcp(new Vector(*u_conv_, Teuchos::Copy));
         Outcome o = increment(lp, res_.steps_converged + 1, cuts, t_try - t_conv);
         // an ALM stall that one cut did not cure is not cured by more
         if (o.stall && ++stalls >= 2) o.final = true;
         if (o.why.empty()) {
-          if (P_.newton.extrapolate) {   // this increment, for the next one's first iterate
+          if (extrapolate_) {   // this increment, for the next one's first iterate
             u_prev_ = u_keep;
             dt_prev_ = t_try - t_conv;
           }

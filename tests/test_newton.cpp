@@ -151,3 +151,36 @@ TEST(LineSearch, OneLoadStepWheelConvergesWithoutCuts) {
   EXPECT_NEAR(res.contact[0].summary().normal_force, ref.res.contact[0].summary().normal_force,
               1e-8 * ref.res.contact[0].summary().normal_force);
 }
+
+// solver.newton.extrapolate: an increment starts from the last converged one continued
+// (u_c + dt / dt_prev (u_c - u_prev)). On the sliding block (examples/sliding_block.yaml:
+// mortar friction 0.3 at small strain) the slide's increments start
+// close to their answers: the same forces and displacements to the Newton tolerance's level,
+// in fewer Newton iterations than from the committed state (measured 12 against 22). The
+// convergence test keeps the plain start's scale, so a start that is merely closer does not
+// tighten it.
+TEST(Extrapolate, SlidingBlockSameAnswerInFewerIterations) {
+  const std::string yaml = read(std::string(IGACONTACT_SOURCE_DIR) + "/examples/sliding_block.yaml");
+  const Solved plain = solve_text(yaml, Tpetra::getDefaultComm(), {}, {});
+  const Solved ext = solve_text(yaml, Tpetra::getDefaultComm(), {}, {"solver.newton.extrapolate=true"});
+  ASSERT_TRUE(plain.res.converged) << plain.res.message;
+  ASSERT_TRUE(ext.res.converged) << ext.res.message;
+  EXPECT_EQ(plain.res.cuts, 0);
+  EXPECT_EQ(ext.res.cuts, 0);
+  ASSERT_EQ(ext.res.newton_iterations.size(), plain.res.newton_iterations.size());
+  const int n_plain = newton_total(plain), n_ext = newton_total(ext);
+  std::printf("  sliding block: %d Newton iterations from the committed state, %d extrapolated\n", n_plain, n_ext);
+  EXPECT_LT(n_ext, n_plain * 3 / 4);
+  const ContactSummary a = plain.res.contact[0].summary(), b = ext.res.contact[0].summary();
+  EXPECT_NEAR(b.normal_force, a.normal_force, 1e-8 * a.normal_force);
+  EXPECT_NEAR(b.tangential_force, a.tangential_force, 1e-8 * a.normal_force);
+  if (plain.sys->comm()->getRank() == 0) {
+    double dmax = 0, umax = 0;
+    for (size_t body = 0; body < plain.disp.size(); ++body)
+      for (size_t k = 0; k < plain.disp[body].size(); ++k) {
+        dmax = std::max(dmax, std::abs(plain.disp[body][k] - ext.disp[body][k]));
+        umax = std::max(umax, std::abs(plain.disp[body][k]));
+      }
+    EXPECT_LT(dmax, 1e-8 * umax);
+  }
+}
