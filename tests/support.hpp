@@ -149,6 +149,19 @@ struct Exact {
   std::function<std::array<double, 3>(double, double)> sigma;    // sxx, syy, sxy
 };
 
+/// The largest displacement difference of two runs of one problem, over every body, relative
+/// to b's largest displacement (the control-point displacements gathered on rank 0; 0 on
+/// the other ranks).
+inline double relative_displacement_difference(const Solved& a, const Solved& b) {
+  double d = 0, scale = 0;
+  for (size_t body = 0; body < b.disp.size() && body < a.disp.size(); ++body)
+    for (size_t k = 0; k < b.disp[body].size() && k < a.disp[body].size(); ++k) {
+      d = std::max(d, std::abs(a.disp[body][k] - b.disp[body][k]));
+      scale = std::max(scale, std::abs(b.disp[body][k]));
+    }
+  return scale > 0 ? d / scale : d;
+}
+
 /// Newton iterations over all load steps
 inline int newton_total(const Solved& s) {
   int n = 0;
