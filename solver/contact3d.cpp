@@ -529,10 +529,11 @@ void ContactSurfaces3::update_friction() {
   Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, 3, loc, counts);
 }
 
-// Mortar: every slot's reference foot (its slave point in the converged configuration
-// projected onto the converged master; none before the first converged step), its slip vector,
-// the law of every slave control point and the slots' traction field (every rank: the slots
-// and control points are not split for these), then the counts of this rank's control points.
+// Mortar: each slot's reference foot (its slave point in the converged configuration projected
+// onto the converged master; none before the first converged step), its slip vector and the
+// slots' traction field for the slave elements this rank segments, the law of this rank's
+// slave control points (then summed over the ranks: every rank holds every control point's),
+// and the counts of this rank's control points.
 void ContactSurfaces3::update_mortar_friction() {
   // this rank's segmented elements: their slots and edge points
   const int first = c_begin * slots, last = c_end * slots;
