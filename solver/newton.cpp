@@ -447,10 +447,9 @@ Outcome NewtonCore::increment(const LoadPoint& lp, int step, int cuts, double dt
   double ref = 0;
   // the first iterate: the last increment continued (solver.newton.extrapolate; not on a
   // retry after a cut, nor at a stage's first increment), else the linearised predictor where
-  // the tangent depends on u
-  // The convergence test is relative to the increment's first residual: from an extrapolated
-  // start that residual is small, so the reference is the last increment's, scaled by the
-  // increment (the residual of a plain start grows with the load increment).
+  // the tangent depends on u. The convergence test is relative to the increment's first
+  // residual, which from a continued start is small: its reference is then the last
+  // increment's, scaled by the increment (a plain start's residual grows with the increment).
   const bool extrapolate = extrapolate_ && !u_prev_.is_null() && cuts == 0 && dt_prev_ > 0 && ref_prev_ > 0;
   if (extrapolate) {
     const double a = dt / dt_prev_;
@@ -545,7 +544,7 @@ SolveResult NewtonCore::run() {
       while (t_conv < t_target - 1e-12 * dt_nominal) {
         const double t_try = std::min(t_conv + dt, t_target);
         const LoadPoint lp = LoadPoint::at(t_try, K_stages_);
-        if (extrapolate_ && !u_conv_.is_null()) u_keep = rcp(new Vector(*u_conv_, Teuchos::Copy));
+        if (extrapolate_) u_keep = u_conv_;   // (commit replaces u_conv_, never writes into it)
         Outcome o = increment(lp, res_.steps_converged + 1, cuts, t_try - t_conv);
         // an ALM stall that one cut did not cure is not cured by more
         if (o.stall && ++stalls >= 2) o.final = true;
