@@ -443,14 +443,18 @@ void ContactSurfaces3::balance_slots() {
 // Active slots per slave element after an update, every rank's (the ranks that segmented an
 // element counted the same slots: the maximum over the ranks).
 void ContactSurfaces3::count_element_loads() {
-  const int ne = hs_[0].ne[0] * hs_[0].ne[1];
-  std::vector<int> load(ne, 0);
-  auto valid = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.valid);
-  auto pr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.pressure);
-  for (int e = c_begin; e < c_end; ++e)
-    for (int i = e * slots; i < (e + 1) * slots; ++i) load[e] += valid(i) && pr(i) > 0;
+  const int ne = hs_[0].ne[0] * hs_[0].ne[1], per = slots;
+  // counted where the slots live (ne numbers come back, not the slots)
+  Kokkos::View<int*, MemSpace> load("element_load", ne);
+  const SlavePoints3 p = sp;
+  Kokkos::parallel_for("iga::MortarElementLoads3", Kokkos::RangePolicy<ExecSpace>(c_begin, c_end), KOKKOS_LAMBDA(const int e) {
+    int n = 0;
+    for (int i = e * per; i < (e + 1) * per; ++i) n += p.valid(i) && p.pressure(i) > 0;
+    load(e) = n;
+  });
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), load);
   elem_load_.assign(ne, 0);
-  Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MAX, ne, load.data(), elem_load_.data());
+  Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MAX, ne, h.data(), elem_load_.data());
 }
 
 void ContactSurfaces3::mortar_scratch(int cap) {

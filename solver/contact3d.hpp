@@ -90,7 +90,6 @@ class ContactSurfaces3 {
   void segment_range();
   void balance_slots();
   void count_element_loads();
-  // mortar on several ranks: active slots per slave element (the last update's, every rank's)
   RCP<const Comm> comm_;
   void update_friction();
   void update_mortar_friction();
@@ -109,7 +108,7 @@ class ContactSurfaces3 {
   Kokkos::View<int*, MemSpace> stateA_prev_;
   Kokkos::View<int*, MemSpace> seg_flags_;
   Kokkos::View<int**, Kokkos::LayoutRight, MemSpace> cand_;   // mortar: candidate master elements per slave element
-  std::vector<int> elem_load_;
+  std::vector<int> elem_load_;   // mortar on several ranks: active slots per slave element (last update, every rank's)
   int support_[2] = {0, 0};   // the slave elements in the support of this rank's control points
   int rank_ = 0, nranks_ = 1;
   struct HostFace {
