@@ -16,7 +16,8 @@ namespace iga {
 using namespace contact_detail;
 using system_detail::to_device;
 
-ContactPairData::ContactPairData(const System& sys, int index) : pair_(sys.problem().contact[index]), index_(index) {
+ContactPairData::ContactPairData(const System& sys, int index)
+    : pair_(sys.problem().contact[index]), index_(index), penalty0_(pair_.penalty) {
   thickness = sys.problem().thickness;
   rank_ = sys.comm()->getRank();
   nranks_ = sys.comm()->getSize();
@@ -323,6 +324,11 @@ double ContactPairData::augment() {
     Kokkos::deep_copy(fr_.lamT, fr_.tau);
   }
   return max_active_gap_ratio();
+}
+
+void ContactPairData::raise_penalty(double factor) {
+  pair_.penalty *= factor;
+  if (s3_) s3_->pair.penalty = pair_.penalty;
 }
 
 void ContactPairData::commit() {

@@ -67,6 +67,11 @@ class ContactPairData {
   /// ALM: lambda <- pressure; returns the largest gap magnitude of the active points
   /// relative to the smallest slave element size.
   double augment();
+  /// ALM, frictionless: the penalty of the next Newton solves x factor (the method of
+  /// multipliers' update when the gaps fall slowly; the converged answer does not depend on
+  /// it). penalty_raised(): the penalty now over the problem file's.
+  void raise_penalty(double factor);
+  double penalty_raised() const { return pair_.penalty / penalty0_; }
   void reset_multipliers();
   /// History: the state a load step starts from (ALM multipliers, the projections that warm
   /// start the search, and friction's: the reference projections eta_n, the committed
@@ -122,6 +127,7 @@ class ContactPairData {
   ContactPair pair_;
   SurfaceChain slave_chain_;
   int index_ = 0;
+  double penalty0_ = 1;   // the problem file's penalty
   bool mortar_ = false;
   GaussRule gauss_;
   struct Committed {

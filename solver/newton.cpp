@@ -408,6 +408,28 @@ bool NewtonCore::augment(int aug, std::vector<double>& gap_history, Outcome& out
       q = std::max(q, c.max_active_gap_ratio() / c.pair().alm_tolerance);
       friction_alm = friction_alm || c.friction();
     }
+  // The method of multipliers' penalty update (Bertsekas 1982; Nocedal and Wright, 17.3):
+  // where an update closed the gaps by less than kShrink, the penalty of the next solves is
+  // raised by kRaise, up to kMaxRatio E / h (the top of the range configuration_check
+  // advises; a larger one only worsens the tangent) or the problem file's penalty where that
+  // is larger. Uzawa closes the gaps by about k / (k + eps) per update, k the stiffness behind
+  // a contact point, so a penalty near E / h (the r = E / h GetFEM's Alart-Curnier takes)
+  // would need hundreds of updates; the converged answer does not depend on the penalty. The
+  // window of the stall test restarts.
+  constexpr double kShrink = 0.25, kRaise = 10, kMaxRatio = 100;
+  if (!friction_alm && !gap_history.empty() && q > kShrink * gap_history.back()) {
+    bool raised = false;
+    for (auto& c : res_.contact) {
+      if (!is_alm(c.pair())) continue;
+      const double ratio = penalty_ratio(P_, c.pair());
+      const double f = ratio > 0 ? std::min(kRaise, kMaxRatio / ratio) : kRaise;
+      if (f > 1 + 1e-12) {
+        c.raise_penalty(f);
+        raised = true;
+      }
+    }
+    if (raised) gap_history.clear();
+  }
   gap_history.push_back(q);
   constexpr int kWindow = 5;
   const int n = static_cast<int>(gap_history.size());

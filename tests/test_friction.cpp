@@ -128,7 +128,7 @@ class FrictionMethods : public ::testing::TestWithParam<const char*> {};
 // friction tangent, the non-symmetric solve, stick/slip states, with ALM the tangential
 // multipliers) and must give the frictionless answer to O(mu): every active point slips with
 // |tau| <= mu p, and the displacements, the normal force and the reactions agree to 1e-8
-// (100 mu; the solves themselves agree to 1e-13). The frictionless run itself: no tangential
+// (100 mu; the solves themselves agree to 1e-13; with ALM to the gaps' tolerance). The frictionless run itself: no tangential
 // traction and, on the flat foundation, no horizontal force at the block's top (the
 // block slides freely) while the vertical reaction balances the contact force.
 TEST_P(FrictionMethods, ZeroCoefficientIsFrictionless) {
@@ -156,7 +156,11 @@ TEST_P(FrictionMethods, ZeroCoefficientIsFrictionless) {
     }
   if (a.sys->comm()->getRank() == 0) {
     EXPECT_GT(norm, 0.04);   // the drag of 0.05
-    EXPECT_LE(diff, 1e-8 * norm) << "mu = " << mu << " against frictionless";
+    // *_alm: each run stops where its gaps are within alm_tolerance x h (1e-8 x 1/7, the
+    // slave elements) of closed, the frictionless one after raising its penalty (the method
+    // of multipliers; the friction path keeps it), so the two agree to a few such gaps
+    const bool alm = method.find("_alm") != std::string::npos;
+    EXPECT_LE(diff, 1e-8 * norm + (alm ? 10 * 1e-8 / 7 : 0.0)) << "mu = " << mu << " against frictionless";
   }
   const ContactSummary ca = a.res.contact[0].summary(), cb = b.res.contact[0].summary();
   std::printf("  %s: max |u(mu = %g) - u(frictionless)| = %.2e of %.3g; normal force %.12g vs %.12g, Fx %.3g vs %.3g\n",

@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "support.hpp"
+#include "model/configuration_check.hpp"
 
 using namespace iga;
 using namespace iga::test;
@@ -224,3 +225,34 @@ TEST(MortarPatch, OneSlaveElementOverManyMasterElements) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Degrees, MortarPatch, ::testing::Combine(::testing::Values(1, 2, 3, 4), ::testing::Bool()));
+
+// The method of multipliers (solver/newton.cpp, NewtonCore::augment): where a multiplier
+// update closes the gaps by less than 4x, the penalty of the next solves is raised (x 10, up
+// to 100 E/h). The wheel example with mortar_alm stalled before at its own penalty (1e6:
+// 0.86 per update) and at 1e4; it converges from either, to the same answer (the ALM answer
+// does not depend on the penalty: both within alm_tolerance x h of closed gaps), with the
+// penalty in use raised no higher than 100 E/h.
+TEST(MortarAlm, SlowUpdatesRaiseThePenaltyAndConverge) {
+  std::vector<Solved> runs;
+  for (const char* eps : {"1e4", "1e6"}) {
+    runs.push_back(solve_text(read(IGACONTACT_SOURCE_DIR "/examples/wheel.yaml"), Tpetra::getDefaultComm(), {},
+                              {"contact.0.method=mortar_alm", std::string("contact.0.penalty=") + eps}));
+    const Solved& s = runs.back();
+    ASSERT_TRUE(s.res.converged) << "penalty " << eps << ": " << s.res.message;
+    const auto& c = s.res.contact[0];
+    double E = 0, h = 0;
+    const double ratio = penalty_ratio(s.P, c.pair(), &E, &h);
+    std::printf("  penalty %s: raised x %.4g to %.4g (%.4g E/h), Newton iterations [%d, %d], largest gap %.2e h, "
+                "max pressure %.12g\n",
+                eps, c.penalty_raised(), c.pair().penalty, ratio, s.res.newton_iterations[0], s.res.newton_iterations[1],
+                c.max_active_gap_ratio(), c.summary().max_pressure);
+    EXPECT_GT(c.penalty_raised(), 1.0) << eps;
+    EXPECT_LE(ratio, 100 * (1 + 1e-9)) << eps;
+    EXPECT_LE(c.max_active_gap_ratio(), s.P.contact[0].alm_tolerance) << eps;
+  }
+  const double d = relative_displacement_difference(runs[0], runs[1]);
+  std::printf("  displacements from penalty 1e4 against 1e6: %.2e relative\n", d);
+  EXPECT_LT(d, 1e-6);
+  EXPECT_NEAR(runs[0].res.contact[0].summary().max_pressure, runs[1].res.contact[0].summary().max_pressure,
+              1e-6 * runs[1].res.contact[0].summary().max_pressure);
+}
