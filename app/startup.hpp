@@ -48,17 +48,20 @@ inline bool answer_help_or_version(int argc, char** argv, const char* version) {
   return false;
 }
 
-// Transparent huge pages for the large arrays (matrix values and indices, Krylov vectors,
-// MueLu's levels). Where the kernel grants them only on request (transparent_hugepage/enabled
-// is "madvise", Debian's default), glibc's malloc asks for them when started with the
-// tunable glibc.malloc.hugetlb=1 (glibc >= 2.35; older ones ignore it); a tunable is read at
-// process start, so it must be in the environment of the exec that starts the solver.
-// First-touch page faults of 4 KiB pages were half of the assembly and tangent stages at
-// 6.6e5 dofs on our 2-core VM (docs/performance.md). IGACONTACT_HUGEPAGES=0 turns this off.
-/// Adds the tunable to the environment where it helps; true if the environment changed.
+// Transparent huge pages for the large arrays (matrix values and indices, Krylov vectors),
+// on request only: IGACONTACT_HUGEPAGES=1. Where the kernel grants them only on request
+// (transparent_hugepage/enabled is "madvise", Debian's default), glibc's malloc asks for them
+// when started with the tunable glibc.malloc.hugetlb=1 (glibc >= 2.35; older ones ignore it);
+// a tunable is read at process start, so it must be in the environment of the exec that
+// starts the solver. It was the default from the third session (first-touch page faults of
+// 4 KiB pages were half of the assembly at 6.6e5 dofs then); measured again on 2026-11-27
+// (docs/performance.md, "Huge pages off by default") it cost 10-13 % of whole runs from 3.9e3
+// to 5.3e5 dofs (system time: the kernel compacting memory for them) and saved nothing on
+// the 77k-dof wheel, 1 or 2 ranks.
+/// Adds the tunable to the environment where asked for and useful; true if the environment changed.
 inline bool set_huge_pages_tunable() {
-  const char* off = std::getenv("IGACONTACT_HUGEPAGES");
-  if (off && std::strcmp(off, "0") == 0) return false;
+  const char* on = std::getenv("IGACONTACT_HUGEPAGES");
+  if (!(on && std::strcmp(on, "1") == 0)) return false;
   const char* tun = std::getenv("GLIBC_TUNABLES");
   if (tun && std::strstr(tun, "glibc.malloc.hugetlb")) return false;   // set already
   std::ifstream thp("/sys/kernel/mm/transparent_hugepage/enabled");

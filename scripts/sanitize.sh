@@ -18,7 +18,7 @@ cmake --build build-asan -j "$(nproc)"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 export ASAN_OPTIONS="detect_leaks=0:strict_string_checks=1:detect_stack_use_after_return=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
-export IGACONTACT_HUGEPAGES=0   # the huge-page re-exec would drop nothing, but keep runs plain
+export IGACONTACT_HUGEPAGES=0   # off by default since 2026-11-27; kept so that a caller's =1 does not re-exec
 cd build-asan
 # fuzz_problem_loader builds its own ASan binary; the thread tests skip on Serial anyway
 ctest --output-on-failure -j 2 --timeout 1500 -E "fuzz_problem_loader" "$@"
