@@ -341,15 +341,29 @@ struct AssembleKts3 {
         Hnbr[al] = nbr[0] * Hi[0][al] + nbr[1] * Hi[1][al];
         Ctr[al] = tr[0] * C[0][al] + tr[1] * C[1][al];
       }
+      // G(r, c) = -(Ctr . tc) - g (Hnbr . nbc) - (Hnbr . tc) - (Htr . nbc), with column c =
+      // (control point cb, component cc) of sign s (+1 slave, -1 master): tc = s R_cb
+      // (d1[cc], d2[cc]), nbc = (R1_cb, R2_cb) n[cc] (master only), Nc = s R_cb n[cc]. So
+      // G = -s R_cb X[cc] - n[cc] (Y . (R1_cb, R2_cb)) with X[cc] = (Ctr + Hnbr) . (d1[cc], d2[cc])
+      // and Y = g Hnbr + Htr, the row's factors formed once.
+      const double Xa[2] = {Ctr[0] + Hnbr[0], Ctr[1] + Hnbr[1]};
+      const double Y[2] = {g * Hnbr[0] + Htr[0], g * Hnbr[1] + Htr[1]};
+      double X[3], EN[3];
+      for (int cc = 0; cc < 3; ++cc) {
+        X[cc] = Xa[0] * d[1][cc] + Xa[1] * d[2][cc];
+        EN[cc] = epsN * Nr * n[cc];
+      }
       for (int cb = 0; cb < ns + nm; ++cb) {
         double vals[3];
         int cols[3];
+        const bool slave = cb < ns;
+        const double R = slave ? Rs[cb] : -Rm[cb - ns];   // s R_cb
+        const double Yn = slave ? 0.0 : Y[0] * Rm1[cb - ns] + Y[1] * Rm2[cb - ns];
+        const int cl = slave ? sf.lid(cps[cb]) : mf.lid(cpm[cb - ns]);
         for (int cc = 0; cc < 3; ++cc) {
-          double Nc, tc[2], nbc[2];
-          dof(3 * cb + cc, Nc, tc, nbc, cols[cc]);
-          const double G = -(Ctr[0] * tc[0] + Ctr[1] * tc[1]) - g * (Hnbr[0] * nbc[0] + Hnbr[1] * nbc[1]) -
-                           (Hnbr[0] * tc[0] + Hnbr[1] * tc[1]) - (Htr[0] * nbc[0] + Htr[1] * nbc[1]);
-          vals[cc] = w * (epsN * Nr * Nc - pr * G);
+          cols[cc] = dof_of(cl, cc, 3);
+          const double G = -R * X[cc] - n[cc] * Yn;
+          vals[cc] = w * (EN[cc] * R - pr * G);
         }
         addK(r, lr, cb, cols, vals);
       }
