@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cstdlib>
 #include <cmath>
 #include <filesystem>
 #include <functional>
@@ -168,9 +167,6 @@ void read_solver(const Reader& R, const YAML::Node& root, Problem& P) {
         else if (m == "none") P.linear.preconditioner = Preconditioner::None;
         else if (m == "control_net") P.linear.preconditioner = Preconditioner::ControlNet;
         else R.fail("solver.linear.preconditioner", l["preconditioner"], "expected boomeramg, muelu, ilut, relaxation, control_net or none");
-        if (P.linear.preconditioner == Preconditioner::ControlNet && root["contact"])
-          R.fail("solver.linear.preconditioner", l["preconditioner"],
-                 "control_net preconditions the bodies' elasticity only: not with contact pairs (use boomeramg)");
       }
       if (l["tolerance"]) P.linear.tolerance = R.positive(l["tolerance"], "solver.linear.tolerance");
       if (l["max_iterations"]) {
@@ -213,12 +209,13 @@ void choose_linear_method(const Reader& R, const YAML::Node& root, Problem& P) {
                       : P.contact.empty() && P.kinematics == Kinematics::Small ? LinearMethod::CG
                                                                                : LinearMethod::GMRES;
   }
-  // solids without contact: BoomerAMG of the control nets' degree-1 stiffness unless a
-  // preconditioner is named (2.1x faster than BoomerAMG of the tangent at p = 2 on the cube,
-  // 1.2-1.4x at p = 3, 4: docs/performance.md, "3-D: the control-net preconditioner")
+  // solids: BoomerAMG of the control nets' degree-1 stiffness (with contact pairs + K_c, the
+  // bodies' coupling) unless a preconditioner is named (2.1x faster than BoomerAMG of the
+  // tangent at p = 2 on the cube, 1.2-1.4x at p = 3, 4; the Hertz ball's linear solve 2.2x:
+  // docs/performance.md, "3-D: the control-net preconditioner", "... with contact")
   const bool named = root["solver"] && root["solver"]["linear"] &&
                      (root["solver"]["linear"]["preconditioner"] || root["solver"]["linear"]["muelu_xml"]);
-  if (!named && P.dim() == 3 && P.contact.empty()) P.linear.preconditioner = Preconditioner::ControlNet;
+  if (!named && P.dim() == 3) P.linear.preconditioner = Preconditioner::ControlNet;
   // 3-D mortar: where the master face ends inside a slave element, the covered part's motion
   // gives the tangent non-symmetric terms (kernels/contact_mortar3.hpp)
   for (const ContactPair& c : P.contact)

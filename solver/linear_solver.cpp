@@ -7,6 +7,7 @@
 #include <MueLu_CreateTpetraPreconditioner.hpp>
 #include <Teuchos_CommHelpers.hpp>
 #include <Teuchos_TimeMonitor.hpp>
+#include <TpetraExt_MatrixMatrix.hpp>
 
 #include <sstream>
 
@@ -19,13 +20,19 @@ using Operator = Tpetra::Operator<SC, LO, GO, Node>;
 
 RCP<Operator> make_preconditioner(const LinearOptions& opt, const RCP<Matrix>& A,
                                   const RCP<MultiVector>& nullspace, const RCP<MultiVector>& coords,
-                                  const RCP<Matrix>& low_order) {
+                                  const RCP<Matrix>& low_order, const RCP<const Matrix>& contact) {
   const int ranks = A->getComm()->getSize();
   const int dim = opt.dofs_per_node;   // interleaved displacement components
   switch (opt.preconditioner) {
     case Preconditioner::None: return Teuchos::null;
     case Preconditioner::BoomerAMG: return make_boomeramg(A, dim);
-    case Preconditioner::ControlNet: return make_boomeramg(low_order.is_null() ? A : low_order, dim);
+    case Preconditioner::ControlNet: {
+      if (low_order.is_null()) return make_boomeramg(A, dim);
+      if (contact.is_null()) return make_boomeramg(low_order, dim);
+      // the control nets' stiffness and the contact tangent share the control-point dofs
+      RCP<Matrix> sum = Tpetra::MatrixMatrix::add(1.0, false, *low_order, 1.0, false, *contact);
+      return make_boomeramg(sum, dim);
+    }
     case Preconditioner::Relaxation: {
       auto prec = Ifpack2::Factory::create<Tpetra::RowMatrix<SC, LO, GO, Node>>("RELAXATION", A);
       Teuchos::ParameterList p;
@@ -242,7 +249,7 @@ LinearSolveResult solve_linear(const LinearOptions& opt, const RCP<Matrix>& A, c
   const bool kept = !cache->M.is_null();
   if (!kept) {
     Teuchos::TimeMonitor t(*Teuchos::TimeMonitor::getNewTimer("4) Preconditioner setup"));
-    cache->M = make_preconditioner(opt, A, nullspace, coords, cache->low_order);
+    cache->M = make_preconditioner(opt, A, nullspace, coords, cache->low_order, cache->contact);
     ++cache->builds;
   }
   // A kept preconditioner gets the iterations a fresh one needed, 1.5 x + 5, and no more: a

@@ -37,6 +37,10 @@ struct PreconditionerCache {
   /// solver.linear.preconditioner: control_net: the matrix BoomerAMG is built of (the control
   /// nets' degree-1 stiffness, Dirichlet rows eliminated; set by the caller, kept by clear())
   RCP<Matrix> low_order;
+  /// control_net with contact pairs: K_c at the iterate being solved, Dirichlet rows and
+  /// columns eliminated (set by the caller before each solve); BoomerAMG is then built of
+  /// low_order + contact, so that the bodies' coupling through contact is in it
+  RCP<const Matrix> contact;
   void clear() { M = Teuchos::null; }
 };
 

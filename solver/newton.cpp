@@ -184,6 +184,12 @@ bool NewtonCore::evaluate(const Vector& uu, ContactContribution& cc, Outcome& ou
 RCP<Matrix> NewtonCore::tangent_at(const ContactContribution& cc) {
   if (!constant_K_) sys_.assemble_internal(u_.get(), nullptr, &K_, &lp_now_);
   Teuchos::TimeMonitor t(timer("2b) Tangent: K + K_c, Dirichlet"));
+  if (!prec_.low_order.is_null() && !cc.K.is_null()) {
+    // control_net with contact: its BoomerAMG is built of the control nets' stiffness + K_c
+    RCP<Matrix> kc = rcp(new Matrix(*cc.K, Teuchos::Copy));
+    sys_.apply_dirichlet(*kc);
+    prec_.contact = kc;
+  }
   return tangent_->build(cc.K);
 }
 
