@@ -53,7 +53,8 @@
 
 namespace iga {
 
-constexpr int kMortar3Candidates = 64;   // candidate master elements per slave element to start with
+constexpr int kMortar3Candidates = 64;
+constexpr int kMaxCells = 8;   // cells per direction of a master element in the segmentation, at most   // candidate master elements per slave element to start with
 
 /// Slave face data of a mortar pair: the reference surface (for measures).
 KOKKOS_INLINE_FUNCTION SurfaceData reference_surface(const ContactFace& f) {
@@ -166,68 +167,34 @@ struct MortarSegments3 {
       // the slave surface. Neighbouring cells (and elements) share their corners, so their
       // straight-edged images tile the slave plane exactly (samples along an edge would make a
       // curved cell's image non-convex, and the hulls of neighbours would overlap); the cells
-      // make the straight edges follow the curved images of the element's edges (sub^2 closer)
-      for (int cell = 0; cell < sub * sub; ++cell) {
-      const int ci = cell % sub, cj = cell / sub;
+      // make the straight edges follow the curved images of the element's edges (sub^2 closer).
+      // The (sub + 1)^2 grid points are shot once each, a row of cells at a time (two rows of
+      // shots kept), instead of four times per cell point.
+      Shot rows[2][kMaxCells + 1];
+      for (int i = 0; i <= sub; ++i) shoot(ss, es, ms, mspn, mlo, mhi, i, 0, uc, vc, hsz, margin, rows[0][i]);
+      for (int cj = 0; cj < sub; ++cj) {
+      const Shot* below = rows[cj % 2];
+      Shot* above = rows[(cj + 1) % 2];
+      for (int i = 0; i <= sub; ++i) shoot(ss, es, ms, mspn, mlo, mhi, i, cj + 1, uc, vc, hsz, margin, above[i]);
+      for (int ci = 0; ci < sub; ++ci) {
       ClipPolygon poly;
       poly.n = 0;
       double shot[4][5];   // per corner: u, v, t, xi, eta
       bool shot_ok[4] = {false, false, false, false};
       int corner_sign[4] = {0, 0, 0, 0};   // per vertex: the map's orientation there
       for (int k = 0; k < 4; ++k) {
-        const double a = (ci + (k == 1 || k == 2 ? 1.0 : 0.0)) / sub, b = (cj + (k >= 2 ? 1.0 : 0.0)) / sub;
-        const double xi[2] = {mlo[0] + a * (mhi[0] - mlo[0]), mlo[1] + b * (mhi[1] - mlo[1])};
-        double d[6][3];
-        surface_derivatives(ms, mspn, xi[0], xi[1], d);
-        double n[3];
-        cross3(d[1], d[2], n);
-        const double l = kmath::sqrt(dot3(n, n));
-        if (!(l > 0)) continue;
-        for (int c = 0; c < 3; ++c) n[c] /= l;
-        // x_s(u, v) = rho + t n: Newton on (u, v, t) from the slave element's centre
-        double u = uc, v = vc, tt = 0, oc = 0;
-        bool ok = false;
-        for (int it = 0; it < 30; ++it) {
-          double ds[6][3];
-          surface_derivatives(ss, es, u, v, ds);
-          double cs[3];
-          cross3(ds[1], ds[2], cs);
-          oc = dot3(cs, n);
-          double F[3];
-          for (int c = 0; c < 3; ++c) F[c] = ds[0][c] - d[0][c] - tt * n[c];
-          // J = [S_u, S_v, -n]; J delta = -F by Cramer's rule
-          const double* J0 = ds[1];
-          const double* J1 = ds[2];
-          const double J2[3] = {-n[0], -n[1], -n[2]};
-          double c12[3], c20[3], c01[3];
-          cross3(J1, J2, c12);
-          cross3(J2, J0, c20);
-          cross3(J0, J1, c01);
-          const double det = dot3(J0, c12);
-          if (!(kmath::fabs(det) > 0)) break;
-          const double du = -dot3(F, c12) / det, dv = -dot3(F, c20) / det, dt = -dot3(F, c01) / det;
-          u += du;
-          v += dv;
-          tt += dt;
-          // converged: a step below 1e-11 of the element's size plus the distance from its
-          // centre (the slave polynomial evaluated far beyond its element carries round-off of
-          // ~1e-13 of that distance: a master element five slave elements wide left corners
-          // unconverged at 1e-14 and lost their segments)
-          const double reach = hsz + kmath::fabs(u - uc) + kmath::fabs(v - vc);
-          if (kmath::fabs(du) + kmath::fabs(dv) < 1e-11 * reach) { ok = true; break; }
-          if (kmath::fabs(u - uc) > 100 * hsz || kmath::fabs(v - vc) > 100 * hsz) break;   // running away
-        }
-        if (!ok || kmath::fabs(tt) > margin) continue;
-        poly.v[poly.n][0] = u;
-        poly.v[poly.n][1] = v;
+        const Shot& c = k == 0 ? below[ci] : k == 1 ? below[ci + 1] : k == 2 ? above[ci + 1] : above[ci];
+        if (!c.ok) continue;
+        poly.v[poly.n][0] = c.u;
+        poly.v[poly.n][1] = c.v;
         ++poly.n;
         shot_ok[k] = true;
-        corner_sign[poly.n - 1] = oc > 0 ? 1 : oc < 0 ? -1 : 0;
-        shot[k][0] = u;
-        shot[k][1] = v;
-        shot[k][2] = tt;
-        shot[k][3] = xi[0];
-        shot[k][4] = xi[1];
+        corner_sign[poly.n - 1] = c.sign;
+        shot[k][0] = c.u;
+        shot[k][1] = c.v;
+        shot[k][2] = c.t;
+        shot[k][3] = c.xi;
+        shot[k][4] = c.eta;
       }
       if (poly.n < 3 || !cell_image_valid(poly, corner_sign)) continue;
       if (ed.per > 0) add_edge_points(e, E, ci, cj, mspn, lo, hi, hsz, poly, shot, shot_ok, ref, es, eused);
@@ -237,8 +204,8 @@ struct MortarSegments3 {
       for_each_polygon_point(P, tri, [&](const double x[2], double w) {
         if (used < slots) {
           const int i = e * slots + used;
-          double d[6][3], nn[3];
-          surface_derivatives(ref, es, x[0], x[1], d);
+          double d[3][3], nn[3];
+          surface_first_derivatives(ref, es, x[0], x[1], d);
           cross3(d[1], d[2], nn);
           sp.face(i) = 0;
           sp.elem(i) = e;
@@ -254,9 +221,77 @@ struct MortarSegments3 {
         ++used;
       });
       }
+      }
     }
     if (used > slots) Kokkos::atomic_fetch_max(&flags(0), used);
     if (eused > ed.per) Kokkos::atomic_fetch_max(&flags(3), eused);
+  }
+
+  /// One point of a master element's cell grid, shot along the master normal onto the slave
+  /// element's surface (MortarSegments3::operator()).
+  struct Shot {
+    double u = 0, v = 0, t = 0, xi = 0, eta = 0;
+    int sign = 0;   // sign(S_u x S_v . n) there: the map's orientation
+    bool ok = false;
+  };
+
+  /// Grid point (i, j) of the sub x sub cells of master element [mlo, mhi]: x_s(u, v) = rho +
+  /// t n by Newton on (u, v, t) from the slave element's centre; ok where it converged with
+  /// |t| <= margin.
+  KOKKOS_INLINE_FUNCTION void shoot(const SurfaceData& ss, const int es[2], const SurfaceData& ms, const int mspn[2],
+                                    const double mlo[2], const double mhi[2], int i, int j, double uc, double vc,
+                                    double hsz, double margin, Shot& out) const {
+    out.ok = false;
+    const double a = static_cast<double>(i) / sub, b = static_cast<double>(j) / sub;
+    const double xi[2] = {mlo[0] + a * (mhi[0] - mlo[0]), mlo[1] + b * (mhi[1] - mlo[1])};
+    double d[3][3];
+    surface_first_derivatives(ms, mspn, xi[0], xi[1], d);
+    double n[3];
+    cross3(d[1], d[2], n);
+    const double l = kmath::sqrt(dot3(n, n));
+    if (!(l > 0)) return;
+    for (int c = 0; c < 3; ++c) n[c] /= l;
+    // x_s(u, v) = rho + t n: Newton on (u, v, t) from the slave element's centre
+    double u = uc, v = vc, tt = 0, oc = 0;
+    bool ok = false;
+    for (int it = 0; it < 30; ++it) {
+      double ds[3][3];
+      surface_first_derivatives(ss, es, u, v, ds);
+      double cs[3];
+      cross3(ds[1], ds[2], cs);
+      oc = dot3(cs, n);
+      double F[3];
+      for (int c = 0; c < 3; ++c) F[c] = ds[0][c] - d[0][c] - tt * n[c];
+      // J = [S_u, S_v, -n]; J delta = -F by Cramer's rule
+      const double* J0 = ds[1];
+      const double* J1 = ds[2];
+      const double J2[3] = {-n[0], -n[1], -n[2]};
+      double c12[3], c20[3], c01[3];
+      cross3(J1, J2, c12);
+      cross3(J2, J0, c20);
+      cross3(J0, J1, c01);
+      const double det = dot3(J0, c12);
+      if (!(kmath::fabs(det) > 0)) break;
+      const double du = -dot3(F, c12) / det, dv = -dot3(F, c20) / det, dt = -dot3(F, c01) / det;
+      u += du;
+      v += dv;
+      tt += dt;
+      // converged: a step below 1e-11 of the element's size plus the distance from its
+      // centre (the slave polynomial evaluated far beyond its element carries round-off of
+      // ~1e-13 of that distance: a master element five slave elements wide left corners
+      // unconverged at 1e-14 and lost their segments)
+      const double reach = hsz + kmath::fabs(u - uc) + kmath::fabs(v - vc);
+      if (kmath::fabs(du) + kmath::fabs(dv) < 1e-11 * reach) { ok = true; break; }
+      if (kmath::fabs(u - uc) > 100 * hsz || kmath::fabs(v - vc) > 100 * hsz) break;   // running away
+    }
+    if (!ok || kmath::fabs(tt) > margin) return;
+    out.ok = true;
+    out.u = u;
+    out.v = v;
+    out.t = tt;
+    out.xi = xi[0];
+    out.eta = xi[1];
+    out.sign = oc > 0 ? 1 : oc < 0 ? -1 : 0;
   }
 
   /// Whether a cell's image is a simple polygon with the orientation of the map from the

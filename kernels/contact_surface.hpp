@@ -46,19 +46,32 @@ struct SurfaceData {
 
 /// S and its first and second parameter derivatives at (u, v) in the element with spans s.
 /// d[0] = S, d[1] = S_u, d[2] = S_v, d[3] = S_uu, d[4] = S_uv, d[5] = S_vv.
-KOKKOS_INLINE_FUNCTION void surface_derivatives(const SurfaceData& sd, const int s[2], double u, double v, double d[6][3]) {
-  double N[3][kMaxBasis1D], M[3][kMaxBasis1D];
-  bspline_ders(s[0], u, sd.p[0], sd.U[0].data(), 2, N);
-  bspline_ders(s[1], v, sd.p[1], sd.U[1].data(), 2, M);
+/// The surface point and its derivatives at (u, v) in element span s: d[0] the point, d[1],
+/// d[2] the first derivatives and, for Order = 2, d[3..5] the second (uu, uv, vv); Order = 1
+/// fills d[0..2] only, with the same arithmetic (about half the work: the shots of the mortar
+/// segmentation need no curvature).
+template <int Order>
+KOKKOS_INLINE_FUNCTION void surface_derivatives_to(const SurfaceData& sd, const int s[2], double u, double v, double d[][3]) {
+  constexpr int K = Order == 1 ? 3 : 6;
+  double N[Order + 1][kMaxBasis1D], M[Order + 1][kMaxBasis1D];
+  bspline_ders(s[0], u, sd.p[0], sd.U[0].data(), Order, N);
+  bspline_ders(s[1], v, sd.p[1], sd.U[1].data(), Order, M);
   // homogeneous sums h[k][0..3]: k as d (value, u, v, uu, uv, vv); component 3 the weight
-  double h[6][4] = {};
+  double h[K][4] = {};
   for (int j = 0; j <= sd.p[1]; ++j)
     for (int i = 0; i <= sd.p[0]; ++i) {
       const int a = (s[0] - sd.p[0] + i) + sd.n[0] * (s[1] - sd.p[1] + j);
       const double w = sd.cp(a, 3);
-      const double b[6] = {N[0][i] * M[0][j], N[1][i] * M[0][j], N[0][i] * M[1][j],
-                           N[2][i] * M[0][j], N[1][i] * M[1][j], N[0][i] * M[2][j]};
-      for (int k = 0; k < 6; ++k) {
+      double b[K];
+      b[0] = N[0][i] * M[0][j];
+      b[1] = N[1][i] * M[0][j];
+      b[2] = N[0][i] * M[1][j];
+      if constexpr (Order == 2) {
+        b[3] = N[2][i] * M[0][j];
+        b[4] = N[1][i] * M[1][j];
+        b[5] = N[0][i] * M[2][j];
+      }
+      for (int k = 0; k < K; ++k) {
         const double bw = b[k] * w;
         for (int c = 0; c < 3; ++c) h[k][c] += bw * sd.cp(a, c);
         h[k][3] += bw;
@@ -69,10 +82,21 @@ KOKKOS_INLINE_FUNCTION void surface_derivatives(const SurfaceData& sd, const int
     d[0][c] = h[0][c] / W;
     d[1][c] = (h[1][c] - d[0][c] * h[1][3]) / W;
     d[2][c] = (h[2][c] - d[0][c] * h[2][3]) / W;
-    d[3][c] = (h[3][c] - 2 * d[1][c] * h[1][3] - d[0][c] * h[3][3]) / W;
-    d[4][c] = (h[4][c] - d[1][c] * h[2][3] - d[2][c] * h[1][3] - d[0][c] * h[4][3]) / W;
-    d[5][c] = (h[5][c] - 2 * d[2][c] * h[2][3] - d[0][c] * h[5][3]) / W;
+    if constexpr (Order == 2) {
+      d[3][c] = (h[3][c] - 2 * d[1][c] * h[1][3] - d[0][c] * h[3][3]) / W;
+      d[4][c] = (h[4][c] - d[1][c] * h[2][3] - d[2][c] * h[1][3] - d[0][c] * h[4][3]) / W;
+      d[5][c] = (h[5][c] - 2 * d[2][c] * h[2][3] - d[0][c] * h[5][3]) / W;
+    }
   }
+}
+
+KOKKOS_INLINE_FUNCTION void surface_derivatives(const SurfaceData& sd, const int s[2], double u, double v, double d[6][3]) {
+  surface_derivatives_to<2>(sd, s, u, v, d);
+}
+
+/// The point and its first derivatives only (d[0..2]).
+KOKKOS_INLINE_FUNCTION void surface_first_derivatives(const SurfaceData& sd, const int s[2], double u, double v, double d[][3]) {
+  surface_derivatives_to<1>(sd, s, u, v, d);
 }
 
 KOKKOS_INLINE_FUNCTION double dot3(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }

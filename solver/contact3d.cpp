@@ -718,7 +718,7 @@ void ContactSurfaces3::refresh() {
       // a curved master's element images are cut into 2 x 2 cells (straight edges per cell: the
       // tangent's consistency error, ~1e-6 with whole elements on a curved test surface, falls
       // by 4); a degree-1 master's elements whole
-      ks.sub = cells > 0 ? cells : std::max(hm_[0].p[0], hm_[0].p[1]) > 1 ? 2 : 1;
+      ks.sub = cells > 0 ? std::min(cells, kMaxCells) : std::max(hm_[0].p[0], hm_[0].p[1]) > 1 ? 2 : 1;
       ks.smooth = friction ? 2 : 1;
       if (static_cast<int>(cand_.extent(0)) != ne) cand_ = decltype(cand_)("mortar_candidates", ne, kMortar3Candidates);
       ks.cand = cand_;

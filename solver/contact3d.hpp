@@ -59,7 +59,7 @@ class ContactSurfaces3 {
   // the slave elements this rank segments and projects (segment_range): its slots' and edge
   // points' elements and the support of its control points
   int c_begin = 0, c_end = 0;
-  int cells = 0;   // cells per direction of a master element in the segmentation (0: 2 if curved, else 1)
+  int cells = 0;   // cells per direction of a master element in the segmentation (0: 2 if curved, else 1; at most kMaxCells)
   // with friction: the edge points as slave points (their feet, references and slip vectors)
   SlavePoints3 esp;
   Friction3 efr;
