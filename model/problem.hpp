@@ -140,6 +140,9 @@ struct LinearOptions {
   /// solver.linear.muelu_xml, read and checked with the problem: MueLu parameters set over
   /// the built-in ones (null: none)
   Teuchos::RCP<const Teuchos::ParameterList> muelu_parameters;
+  /// control_net with contact pairs: the iterations a fresh preconditioner gets before the
+  /// solve is taken up with BoomerAMG of the tangent (solver/linear_solver.cpp; API only)
+  int control_net_contact_limit = 200;
 };
 
 struct Probe {

@@ -41,6 +41,10 @@ struct PreconditionerCache {
   /// columns eliminated (set by the caller before each solve); BoomerAMG is then built of
   /// low_order + contact, so that the bodies' coupling through contact is in it
   RCP<const Matrix> contact;
+  /// control_net with contact: a fresh one failed to reach the tolerance within
+  /// LinearOptions::control_net_contact_limit iterations, so BoomerAMG of the tangent itself is built instead
+  /// (until the caller resets it: the Newton core at each increment; clear() keeps it)
+  bool tangent_amg = false;
   void clear() { M = Teuchos::null; }
 };
 

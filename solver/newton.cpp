@@ -472,6 +472,7 @@ Outcome NewtonCore::increment(const LoadPoint& lp, int step, int cuts, double dt
   f_->update(1.0 - lp.s, *f_prev_, lp.s, *f_end_, 0.0);
   lp_now_ = lp;
   prec_.clear();
+  prec_.tangent_amg = false;   // each increment tries the control nets' preconditioner first
   double ref = 0;
   // the first iterate: the last increment continued (solver.newton.extrapolate; not on a
   // retry after a cut, nor at a stage's first increment), else the linearised predictor where

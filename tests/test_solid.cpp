@@ -512,3 +512,29 @@ TEST(ControlNetPreconditioner, GivesTheDirectAnswer) {
     EXPECT_LT(rel, 1e-9) << method << " " << contact;
   }
 }
+
+// control_net with contact: where a fresh preconditioner of the control nets + K_c does not
+// reach the tolerance within LinearOptions::control_net_contact_limit iterations, the solve
+// is taken up with BoomerAMG of the tangent (for the rest of the increment). Forced here with
+// a limit of 1 on the 3-D contact patch test: the direct answer, and more preconditioners
+// built than with the default limit (each increment's first one is the control nets').
+TEST(ControlNetPreconditioner, FallsBackToTheTangentsAmgWithContact) {
+  const std::string patch = read(IGACONTACT_SOURCE_DIR "/examples/contact_patch_3d.yaml");
+  const std::vector<std::string> sets = {"solver.linear.method=gmres", "solver.linear.tolerance=1e-13",
+                                         "solver.linear.forcing=fixed"};
+  const Solved d = solve_text(patch, Tpetra::getDefaultComm(), {}, {"solver.linear.method=direct"});
+  const Solved c = solve_text(patch, Tpetra::getDefaultComm(), {}, sets);
+  Solved f;
+  f.P = parse_problem(patch, "test.yaml", sets);
+  f.P.linear.control_net_contact_limit = 1;
+  f.sys = rcp(new System(f.P, Tpetra::getDefaultComm()));
+  f.res = solve(*f.sys);
+  f.disp = gather_displacements(*f.sys, *f.res.u);
+  ASSERT_TRUE(d.res.converged && c.res.converged && f.res.converged) << f.res.message;
+  EXPECT_EQ(f.P.linear.preconditioner, Preconditioner::ControlNet);
+  std::printf("  limit 200: %d GMRES iterations, %d preconditioners; limit 1: %d, %d; max |u - u_direct| / max |u| = %.1e\n",
+              c.res.linear_iterations, c.res.preconditioner_builds, f.res.linear_iterations, f.res.preconditioner_builds,
+              relative_displacement_difference(f, d));
+  EXPECT_GT(f.res.preconditioner_builds, c.res.preconditioner_builds);
+  if (Tpetra::getDefaultComm()->getRank() == 0) EXPECT_LT(relative_displacement_difference(f, d), 1e-9);
+}
