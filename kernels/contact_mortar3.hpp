@@ -45,8 +45,12 @@
 //   either and segments again); flags(2): a clipping overflow (cannot happen with four-cornered
 //   cells); flags(3): the most edge points one element needed when short (MortarEdges3).
 //   MortarState::flags(1): the most dofs of one delta g_A when its scratch row was short.
-// Cost per slave element: candidates x 12 x (Newton ~ 5 x (p + 1)^2 40 flops) for the shots,
-//   a clip (~ 16^2 comparisons + exact orientation tests) and n^2 x vertices slot points.
+// Cost per slave element: candidates x (sub + 1)^2 shots (each grid point of a candidate's
+//   cells once; Newton ~ 5 steps of a first-derivative surface evaluation, ~ (p + 1)^2 40
+//   flops) and per cell a clip (~ 16^2 comparisons + exact orientation tests) and n^2 x
+//   vertices slot points. On the Hertz ball only ~2 % of the candidates' cell images overlap
+//   their slave element (the candidates' box test grows the slave element's box by its size
+//   in every direction): the shots of the others are most of the segmentation.
 #include "kernels/contact_clip.hpp"
 #include "kernels/contact_kts3.hpp"
 #include "kernels/contact_mortar.hpp"
