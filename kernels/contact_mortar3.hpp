@@ -50,7 +50,8 @@
 //   flops) and per cell a clip (~ 16^2 comparisons + exact orientation tests) and n^2 x
 //   vertices slot points. On the Hertz ball only ~2 % of the candidates' cell images overlap
 //   their slave element (the candidates' box test grows the slave element's box by its size
-//   in every direction): the shots of the others are most of the segmentation.
+//   in every direction): `facing` skips the shots of those the master normal cannot carry
+//   onto it.
 #include "kernels/contact_clip.hpp"
 #include "kernels/contact_kts3.hpp"
 #include "kernels/contact_mortar.hpp"
@@ -167,6 +168,7 @@ struct MortarSegments3 {
       int mspn[2];
       surface_element_spans(ms, E, mspn);
       const double mlo[2] = {ms.U[0](mspn[0]), ms.U[1](mspn[1])}, mhi[2] = {ms.U[0](mspn[0] + 1), ms.U[1](mspn[1] + 1)};
+      if (!facing(ss, es, ms, mspn, mlo, mhi, margin)) continue;
       // the element cut into sub x sub cells; each cell's corners, counter-clockwise, shot onto
       // the slave surface. Neighbouring cells (and elements) share their corners, so their
       // straight-edged images tile the slave plane exactly (samples along an edge would make a
@@ -229,6 +231,65 @@ struct MortarSegments3 {
     }
     if (used > slots) Kokkos::atomic_fetch_max(&flags(0), used);
     if (eused > ed.per) Kokkos::atomic_fetch_max(&flags(3), eused);
+  }
+
+  /// Whether master element [mlo, mhi] can see slave element es along its normals within
+  /// |t| <= margin: a shot x_s = x_m + t n_m moves tangentially (in the frame of the master
+  /// element's centre normal nbar) by |t| |n_m - (n_m . nbar) nbar| <= margin sin(theta), theta
+  /// the normals' spread over the element; the elements lie in the hulls of their control
+  /// points (positive weights). So where the two hulls' extents along a tangent of nbar are
+  /// farther apart than margin (2 s + 0.1), s the largest |n - nbar| at the element's corners
+  /// (doubled for the interior, plus 0.1 for a nearly flat element and the straight-edged
+  /// cells), no cell of the element can overlap the slave element: its shots are not made.
+  /// The box test that chose the candidates grows the slave element by margin in every
+  /// direction; on the Hertz ball ~2 % of its candidates' cells overlapped.
+  KOKKOS_INLINE_FUNCTION static bool facing(const SurfaceData& ss, const int es[2], const SurfaceData& ms,
+                                            const int mspn[2], const double mlo[2], const double mhi[2], double margin) {
+    double d[3][3], nb[3];
+    surface_first_derivatives(ms, mspn, 0.5 * (mlo[0] + mhi[0]), 0.5 * (mlo[1] + mhi[1]), d);
+    cross3(d[1], d[2], nb);
+    const double lb = kmath::sqrt(dot3(nb, nb));
+    if (!(lb > 0)) return true;
+    for (int c = 0; c < 3; ++c) nb[c] /= lb;
+    double spread = 0;
+    for (int k = 0; k < 4; ++k) {
+      surface_first_derivatives(ms, mspn, k % 2 ? mhi[0] : mlo[0], k / 2 ? mhi[1] : mlo[1], d);
+      double n[3];
+      cross3(d[1], d[2], n);
+      const double l = kmath::sqrt(dot3(n, n));
+      if (!(l > 0)) return true;
+      double dn = 0;
+      for (int c = 0; c < 3; ++c) dn += (n[c] / l - nb[c]) * (n[c] / l - nb[c]);
+      spread = kmath::sqrt(dn) > spread ? kmath::sqrt(dn) : spread;
+    }
+    // tangents of nbar: t1 along the axis least aligned with it, t2 = nbar x t1
+    int ax = 0;
+    for (int c = 1; c < 3; ++c) ax = kmath::fabs(nb[c]) < kmath::fabs(nb[ax]) ? c : ax;
+    double t1[3] = {-nb[ax] * nb[0], -nb[ax] * nb[1], -nb[ax] * nb[2]};
+    t1[ax] += 1.0;
+    const double l1 = kmath::sqrt(dot3(t1, t1));
+    for (int c = 0; c < 3; ++c) t1[c] /= l1;
+    double t2[3];
+    cross3(nb, t1, t2);
+    auto extent = [](const SurfaceData& sd, const int sp[2], const double* t, double& lo, double& hi) {
+      lo = 1e300;
+      hi = -1e300;
+      for (int j = sp[1] - sd.p[1]; j <= sp[1]; ++j)
+        for (int i = sp[0] - sd.p[0]; i <= sp[0]; ++i) {
+          const int a = i + sd.n[0] * j;
+          const double x = sd.cp(a, 0) * t[0] + sd.cp(a, 1) * t[1] + sd.cp(a, 2) * t[2];
+          lo = x < lo ? x : lo;
+          hi = x > hi ? x : hi;
+        }
+    };
+    const double delta = margin * (2 * spread + 0.1);
+    for (const double* t : {static_cast<const double*>(t1), static_cast<const double*>(t2)}) {
+      double slo, shi, mlo_, mhi_;
+      extent(ss, es, t, slo, shi);
+      extent(ms, mspn, t, mlo_, mhi_);
+      if (mhi_ < slo - delta || mlo_ > shi + delta) return false;
+    }
+    return true;
   }
 
   /// One point of a master element's cell grid, shot along the master normal onto the slave
