@@ -250,9 +250,9 @@ LinearSolveResult solve_linear(const LinearOptions& opt, const RCP<Matrix>& A, c
   // control_net with contact pairs: BoomerAMG of the control nets' stiffness + K_c (some 40
   // GMRES iterations on the Hertz ball) can fail where the contact coupling dominates (the
   // first iterate of a load step with thousands of deeply penetrating points: 1,008
-  // iterations without converging at 1e5 dofs); a fresh one gets control_net_contact_limit
-  // iterations (LinearOptions::control_net_contact_limit), then the solve is taken up with
-  // BoomerAMG of the tangent itself
+  // iterations without converging at 1e5 dofs); a fresh one gets
+  // LinearOptions::control_net_contact_limit iterations, then the solve is taken up with
+  // BoomerAMG of the tangent itself (PreconditionerCache::tangent_amg)
   const bool control_net_contact = opt.preconditioner == Preconditioner::ControlNet && !cache->contact.is_null();
   LinearOptions build = opt;
   if (control_net_contact && cache->tangent_amg) build.preconditioner = Preconditioner::BoomerAMG;
