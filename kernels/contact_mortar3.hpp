@@ -283,10 +283,11 @@ struct MortarSegments3 {
         }
     };
     const double delta = margin * (2 * spread + 0.1);
-    for (const double* t : {static_cast<const double*>(t1), static_cast<const double*>(t2)}) {
+    const double* tangents[2] = {t1, t2};   // a plain array: no std::initializer_list in a kernel
+    for (int k = 0; k < 2; ++k) {
       double slo, shi, mlo_, mhi_;
-      extent(ss, es, t, slo, shi);
-      extent(ms, mspn, t, mlo_, mhi_);
+      extent(ss, es, tangents[k], slo, shi);
+      extent(ms, mspn, tangents[k], mlo_, mhi_);
       if (mhi_ < slo - delta || mlo_ > shi + delta) return false;
     }
     return true;
