@@ -58,8 +58,8 @@
 
 namespace iga {
 
-constexpr int kMortar3Candidates = 64;
-constexpr int kMaxCells = 8;   // cells per direction of a master element in the segmentation, at most   // candidate master elements per slave element to start with
+constexpr int kMortar3Candidates = 64;   // candidate master elements per slave element to start with
+constexpr int kMaxCells = 8;             // cells per direction of a master element in the segmentation, at most
 
 /// Slave face data of a mortar pair: the reference surface (for measures).
 KOKKOS_INLINE_FUNCTION SurfaceData reference_surface(const ContactFace& f) {
