@@ -160,6 +160,16 @@ struct ContactContribution {
   int active = 0;   // active points, all ranks
 };
 
-ContactContribution assemble_contact(const System& sys, std::vector<ContactPairData>& pairs);
+/// What assemble_contact keeps from one call to the next: the contact graph (overlap rows) of
+/// the last call's coupled control points and their neighbours, reused while they stay the same.
+struct ContactGraphCache {
+  std::vector<GO> cps;
+  std::vector<size_t> nptr;
+  std::vector<LO> nbr;
+  RCP<const Graph> graph;
+};
+
+ContactContribution assemble_contact(const System& sys, std::vector<ContactPairData>& pairs,
+                                     ContactGraphCache* cache = nullptr);
 
 }  // namespace iga

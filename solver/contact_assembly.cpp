@@ -13,7 +13,7 @@
 
 namespace iga {
 
-ContactContribution assemble_contact(const System& sys, std::vector<ContactPairData>& pairs) {
+ContactContribution assemble_contact(const System& sys, std::vector<ContactPairData>& pairs, ContactGraphCache* cache) {
   // 1) the dofs this rank's contributions couple: overlap map and graph. A group is a set
   //    of control points coupled all to all: the element pair of a quadrature point (KTS,
   //    and the mortar pressure term), or the support of delta g_A (mortar). The pattern is
@@ -75,35 +75,85 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
   for (const auto& g : groups) cps.insert(cps.end(), g.begin(), g.end());
   std::sort(cps.begin(), cps.end());
   cps.erase(std::unique(cps.begin(), cps.end()), cps.end());
-  RCP<const Map> ov = sys.cp_dof_map(cps);
-  auto lid_of = [&](GO g) { return static_cast<LO>(std::lower_bound(cps.begin(), cps.end(), g) - cps.begin()); };
-  std::vector<std::vector<LO>> nbr(cps.size());
-  std::vector<LO> el;
-  for (const auto& g : groups) {
-    el.clear();
-    for (GO c : g) el.push_back(lid_of(c));
-    for (LO r : el) nbr[r].insert(nbr[r].end(), el.begin(), el.end());
-  }
+  // Each coupled control point's neighbours: the union of the groups it is in, found through
+  // the groups of each point (incidence) with a mark per neighbour, so a neighbour is written
+  // once per row instead of once per group (mortar's groups in 3-D hold hundreds of control
+  // points, each point in dozens of them). The rows come out sorted, as before.
   const LO n = static_cast<LO>(cps.size());
-  const int D = sys.dim();
-  Teuchos::ArrayRCP<size_t> rowptr(D * n + 1);
-  rowptr[0] = 0;
-  for (LO r = 0; r < n; ++r) {
-    auto& v = nbr[r];
-    std::sort(v.begin(), v.end());
-    v.erase(std::unique(v.begin(), v.end()), v.end());
-    for (int c = 0; c < D; ++c) rowptr[dof_of(r, c, D) + 1] = rowptr[dof_of(r, c, D)] + D * v.size();
-  }
-  Teuchos::ArrayRCP<LO> cols(std::max<size_t>(rowptr[D * n], 1));
-  for (LO r = 0; r < n; ++r)
-    for (int c = 0; c < D; ++c) {
-      size_t k = rowptr[dof_of(r, c, D)];
-      for (LO l : nbr[r])
-        for (int cc = 0; cc < D; ++cc) cols[k++] = dof_of(l, cc, D);
+  auto lid_of = [&](GO g) { return static_cast<LO>(std::lower_bound(cps.begin(), cps.end(), g) - cps.begin()); };
+  std::vector<size_t> gptr(groups.size() + 1, 0);
+  for (size_t k = 0; k < groups.size(); ++k) gptr[k + 1] = gptr[k] + groups[k].size();
+  std::vector<LO> members(gptr.back());
+  std::vector<size_t> iptr(static_cast<size_t>(n) + 1, 0);
+  for (size_t k = 0; k < groups.size(); ++k)
+    for (size_t j = 0; j < groups[k].size(); ++j) {
+      const LO r = lid_of(groups[k][j]);
+      members[gptr[k] + j] = r;
+      ++iptr[r + 1];
     }
-  cols = cols.persistingView(0, rowptr[D * n]);
-  RCP<Graph> graph = rcp(new Graph(ov, ov, rowptr, cols));
-  graph->fillComplete(sys.owned_map(), sys.owned_map());
+  for (LO r = 0; r < n; ++r) iptr[r + 1] += iptr[r];
+  std::vector<size_t> incidence(iptr[n]);
+  {
+    std::vector<size_t> fill(iptr.begin(), iptr.end() - 1);
+    for (size_t k = 0; k < groups.size(); ++k)
+      for (size_t j = gptr[k]; j < gptr[k + 1]; ++j) incidence[fill[members[j]]++] = k;
+  }
+  std::vector<size_t> nptr(static_cast<size_t>(n) + 1, 0);
+  std::vector<LO> nbr;
+  {
+    std::vector<LO> mark(n, -1);
+    for (LO r = 0; r < n; ++r) {
+      for (size_t q = iptr[r]; q < iptr[r + 1]; ++q) {
+        const size_t k = incidence[q];
+        for (size_t j = gptr[k]; j < gptr[k + 1]; ++j)
+          if (mark[members[j]] != r) {
+            mark[members[j]] = r;
+            nbr.push_back(members[j]);
+          }
+      }
+      std::sort(nbr.begin() + nptr[r], nbr.end());
+      nptr[r + 1] = nbr.size();
+    }
+  }
+  // the same control points and neighbours as the last call's (the contact zone and the
+  // projections' elements unchanged, as in the late Newton iterations of a step): its graph
+  // (collective: the graph's fillComplete is, so every rank must take the same branch)
+  RCP<const Graph> graph;
+  int same = cache && cache->graph && cache->cps == cps && cache->nptr == nptr && cache->nbr == nbr ? 1 : 0;
+  if (cache) {
+    int all = 0;
+    Teuchos::reduceAll(*sys.comm(), Teuchos::REDUCE_MIN, 1, &same, &all);
+    same = all;
+  }
+  if (same) {
+    graph = cache->graph;
+  } else {
+    RCP<const Map> ov = sys.cp_dof_map(cps);
+    const int D = sys.dim();
+    Teuchos::ArrayRCP<size_t> rowptr(D * n + 1);
+    rowptr[0] = 0;
+    for (LO r = 0; r < n; ++r)
+      for (int c = 0; c < D; ++c)
+        rowptr[dof_of(r, c, D) + 1] = rowptr[dof_of(r, c, D)] + D * (nptr[r + 1] - nptr[r]);
+    Teuchos::ArrayRCP<LO> cols(std::max<size_t>(rowptr[D * n], 1));
+    for (LO r = 0; r < n; ++r)
+      for (int c = 0; c < D; ++c) {
+        size_t k = rowptr[dof_of(r, c, D)];
+        for (size_t q = nptr[r]; q < nptr[r + 1]; ++q)
+          for (int cc = 0; cc < D; ++cc) cols[k++] = dof_of(nbr[q], cc, D);
+      }
+    cols = cols.persistingView(0, rowptr[D * n]);
+    RCP<Graph> g = rcp(new Graph(ov, ov, rowptr, cols));
+    g->fillComplete(sys.owned_map(), sys.owned_map());
+    graph = g;
+    if (cache) {
+      cache->graph = graph;
+      cache->cps = cps;
+      cache->nptr = std::move(nptr);
+      cache->nbr = std::move(nbr);
+    }
+  }
+  const RCP<const Map> ov = graph->getRowMap();
   RCP<Matrix> K = rcp(new Matrix(graph));
   Vector f(ov);
   // 2) kernels: every pair's active points of this rank. A mortar weighted gap whose dofs

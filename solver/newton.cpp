@@ -102,6 +102,7 @@ class NewtonCore {
   LoadPoint lp_now_;   // the load point being solved for (follower pressures depend on it)
   std::chrono::steady_clock::time_point t0_;
   PreconditionerCache prec_;
+  ContactGraphCache contact_graph_;   // the contact graph while the couplings stay the same
   int prec_pattern_ = -1;   // tangent pattern the kept preconditioner was built for
 
   double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count(); }
@@ -153,7 +154,7 @@ void NewtonCore::residual(const Vector& uu, ContactContribution& cc) {
   {
     Teuchos::TimeMonitor t(timer("3) Contact: search and assembly"));
     for (auto& c : res_.contact) c.update(uu);
-    if (!res_.contact.empty()) cc = assemble_contact(sys_, res_.contact);
+    if (!res_.contact.empty()) cc = assemble_contact(sys_, res_.contact, &contact_graph_);
   }
   if (constant_K_) {
     // small strain, linear material: f_int(u) = K u (the kernel's f_int equals it to
