@@ -345,37 +345,66 @@ struct AssembleFriction3 {
       Qs[c] = P_[0] * a[0][c] + P_[1] * a[1][c];
       for (int ga = 0; ga < 2; ++ga) Q[ga][c] = t[c] * dxi[ga] + P_[ga] * d[c];
     }
-    // rows: value and d f_r / dy, then the columns through dy / du
+    // Rows: slave control point a, component c: f = -w R_a Qs_c; master control point b:
+    // f = -w (-R_b Qs_c + R_b,1 Q_0c + R_b,2 Q_1c), R_b and its derivatives at the foot moved by
+    // xi (linear in xi, whose value is 0). Collected by the master basis' coefficients
+    // Rm[k][b], k < 6: f = -w sum_k Rm[k][b] G_kc with G_0 = -Qs, G_1 = Q_0 - xi_0 Qs,
+    // G_2 = Q_1 - xi_1 Qs, G_3 = xi_0 Q_0, G_4 = xi_1 Q_0 + xi_0 Q_1, G_5 = xi_1 Q_1; so each
+    // column of the block needs the 18 G's columns once (P.column), not one per row.
     const double w = sp.weight(i);
     const int ns = P.ns, nm = P.nm, nd = 3 * (ns + nm);
     const double nv[3] = {sp.normal(i, 0), sp.normal(i, 1), sp.normal(i, 2)};
     const double(*Rm)[kMaxSurfaceBasis] = P.Rm;
+    auto row_dof = [&](int r) {
+      const int cp = r / 3, c = r % 3;
+      return cp < ns ? dof_of(sf.lid(P.cps[cp]), c, 3) : dof_of(mf.lid(P.cpm[cp - ns]), c, 3);
+    };
     for (int r = 0; r < nd; ++r) {
       const int cp = r / 3, c = r % 3;
-      F fr_;
-      int lr;
+      double v;
       if (cp < ns) {
-        fr_ = -w * P.Rs[cp] * Qs[c];
-        lr = dof_of(sf.lid(P.cps[cp]), c, 3);
-        fs[c] -= fr_.val();
-        fs[3] -= fr_.val() * nv[c];
+        v = -w * P.Rs[cp] * Qs[c].val();
+        fs[c] -= v;
+        fs[3] -= v * nv[c];
       } else {
         const int b = cp - ns;
-        const F Rb = Rm[0][b] + Rm[1][b] * xi[0] + Rm[2][b] * xi[1];
-        const F Rb1 = Rm[1][b] + Rm[3][b] * xi[0] + Rm[4][b] * xi[1];
-        const F Rb2 = Rm[2][b] + Rm[4][b] * xi[0] + Rm[5][b] * xi[1];
-        fr_ = -w * (-Rb * Qs[c] + Rb1 * Q[0][c] + Rb2 * Q[1][c]);
-        lr = dof_of(mf.lid(P.cpm[b]), c, 3);
+        v = -w * (-Rm[0][b] * Qs[c].val() + Rm[1][b] * Q[0][c].val() + Rm[2][b] * Q[1][c].val());
       }
-      Kokkos::atomic_add(&f(lr), fr_.val());
-      for (int cb = 0; cb < ns + nm; ++cb) {
-        double vals[3];
-        int cols[3];
-        for (int cc = 0; cc < 3; ++cc) {
-          vals[cc] = P.column(fr_, cb, cc);
-          cols[cc] = cb < ns ? dof_of(sf.lid(P.cps[cb]), cc, 3) : dof_of(mf.lid(P.cpm[cb - ns]), cc, 3);
+      Kokkos::atomic_add(&f(row_dof(r)), v);
+    }
+    F G[5][3];   // G_1 .. G_5 (G_0 = -Qs)
+    for (int c = 0; c < 3; ++c) {
+      G[0][c] = Q[0][c] - xi[0] * Qs[c];
+      G[1][c] = Q[1][c] - xi[1] * Qs[c];
+      G[2][c] = xi[0] * Q[0][c];
+      G[3][c] = xi[1] * Q[0][c] + xi[0] * Q[1][c];
+      G[4][c] = xi[1] * Q[1][c];
+    }
+    for (int cb = 0; cb < ns + nm; ++cb) {
+      int cols[3];
+      double cq[3][3], cg[5][3][3];   // columns (cb, cc) of Qs_c and G_kc
+      for (int cc = 0; cc < 3; ++cc) {
+        cols[cc] = cb < ns ? dof_of(sf.lid(P.cps[cb]), cc, 3) : dof_of(mf.lid(P.cpm[cb - ns]), cc, 3);
+        for (int c = 0; c < 3; ++c) {
+          cq[c][cc] = P.column(Qs[c], cb, cc);
+          for (int k = 0; k < 5; ++k) cg[k][c][cc] = P.column(G[k][c], cb, cc);
         }
-        addK(r, lr, cb, cols, vals);
+      }
+      for (int r = 0; r < nd; ++r) {
+        const int cp = r / 3, c = r % 3;
+        double vals[3];
+        if (cp < ns) {
+          const double a = -w * P.Rs[cp];
+          for (int cc = 0; cc < 3; ++cc) vals[cc] = a * cq[c][cc];
+        } else {
+          const int b = cp - ns;
+          for (int cc = 0; cc < 3; ++cc) {
+            double v = -Rm[0][b] * cq[c][cc];
+            for (int k = 0; k < 5; ++k) v += Rm[1 + k][b] * cg[k][c][cc];
+            vals[cc] = -w * v;
+          }
+        }
+        addK(r, row_dof(r), cb, cols, vals);
       }
     }
     return true;
