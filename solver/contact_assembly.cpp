@@ -72,9 +72,17 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
       }
     }
   }
-  for (const auto& g : groups) cps.insert(cps.end(), g.begin(), g.end());
-  std::sort(cps.begin(), cps.end());
-  cps.erase(std::unique(cps.begin(), cps.end()), cps.end());
+  if (sys.comm()->getSize() == 1) {
+    // one rank: every control point a row, so the rows are the owned map itself and K_c needs
+    // no export (exportAndFillCompleteCrsMatrix sorts and merges every entry again); the rows
+    // outside the contact stay empty
+    cps.resize(static_cast<size_t>(sys.num_dofs() / sys.dim()));
+    for (size_t a = 0; a < cps.size(); ++a) cps[a] = static_cast<GO>(a);
+  } else {
+    for (const auto& g : groups) cps.insert(cps.end(), g.begin(), g.end());
+    std::sort(cps.begin(), cps.end());
+    cps.erase(std::unique(cps.begin(), cps.end()), cps.end());
+  }
   // Each coupled control point's neighbours: the union of the groups it is in, found through
   // the groups of each point (incidence) with a mark per neighbour, so a neighbour is written
   // once per row instead of once per group (mortar's groups in 3-D hold hundreds of control
