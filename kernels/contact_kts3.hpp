@@ -68,6 +68,9 @@ struct SlavePoints3 {
   Kokkos::View<double* [2], MemSpace> muv;
   Kokkos::View<double*, MemSpace> gap, pressure;
   Kokkos::View<double* [3], MemSpace> x, normal;
+  // mortar: the slave basis R at each slot (slot, local function), filled after each
+  // segmentation (SlotBasis3, contact_mortar3.hpp) for the per-control-point sums
+  Kokkos::View<double**, Kokkos::LayoutRight, MemSpace> R;
   double touch = 0;
 };
 

@@ -729,18 +729,56 @@ KOKKOS_INLINE_FUNCTION void for_each_support_element3(const SurfaceData& sd, int
   }
 }
 
-/// f(i, R_A(slot i), slot element) for the valid slots of the slave elements in A's support.
+/// The slave basis at every slot of [first, last) into sp.R (a mortar pair's slave face 0):
+/// surface_basis once per slot, where the sums per slave control point read it (each slot is
+/// in the support of (p + 1)^2 of them).
+struct SlotBasis3 {
+  SurfaceData sd;
+  SlavePoints3 sp;
+  KOKKOS_INLINE_FUNCTION void operator()(const int i) const {
+    if (sp.face(i) < 0) return;
+    int es[2];
+    surface_element_spans(sd, sp.elem(i), es);
+    double R[kMaxSurfaceBasis], Ru[kMaxSurfaceBasis], Rv[kMaxSurfaceBasis];
+    int cp[kMaxSurfaceBasis];
+    const int n = surface_basis(sd, es, sp.uv(i, 0), sp.uv(i, 1), R, Ru, Rv, cp);
+    for (int a = 0; a < n; ++a) sp.R(i, a) = R[a];
+  }
+};
+
+/// The slave basis at slot i (as surface_basis: R and the control points cp of the element with
+/// spans es) from sp.R.
+KOKKOS_INLINE_FUNCTION int slot_basis_cached(const SurfaceData& sd, const SlavePoints3& sp, int i, const int es[2], double* R,
+                                             int* cp) {
+  int k = 0;
+  for (int j = 0; j <= sd.p[1]; ++j)
+    for (int a = 0; a <= sd.p[0]; ++a, ++k) {
+      cp[k] = (es[0] - sd.p[0] + a) + sd.n[0] * (es[1] - sd.p[1] + j);
+      R[k] = sp.R(i, k);
+    }
+  return k;
+}
+
+/// f(i, R_A(slot i), slot element) for the valid slots of the slave elements in A's support
+/// (R_A from sp.R).
 template <class F>
 KOKKOS_INLINE_FUNCTION void for_each_support_slot3(const SurfaceData& sd, const SlavePoints3& sp, int slots, int A,
                                                    const F& f) {
-  for_each_support_element3(sd, A, [&](int e, int la, const int es[2]) {
+  for_each_support_element3(sd, A, [&](int e, int la, const int*) {
     for (int i = e * slots; i < (e + 1) * slots; ++i) {
       if (sp.face(i) < 0 || !sp.valid(i)) continue;
-      double R[kMaxSurfaceBasis], Ru[kMaxSurfaceBasis], Rv[kMaxSurfaceBasis];
-      int cp[kMaxSurfaceBasis];
-      surface_basis(sd, es, sp.uv(i, 0), sp.uv(i, 1), R, Ru, Rv, cp);
-      f(i, R[la], e);
+      f(i, sp.R(i, la), e);
     }
+  });
+}
+
+/// f(i) for the valid slots of the slave elements in A's support.
+template <class F>
+KOKKOS_INLINE_FUNCTION void for_each_support_slot_index3(const SurfaceData& sd, const SlavePoints3& sp, int slots, int A,
+                                                         const F& f) {
+  for_each_support_element3(sd, A, [&](int e, int, const int*) {
+    for (int i = e * slots; i < (e + 1) * slots; ++i)
+      if (sp.face(i) >= 0 && sp.valid(i)) f(i);
   });
 }
 
@@ -816,7 +854,7 @@ struct MortarRange3 {
         hi[d] = ms_[d] > hi[d] ? ms_[d] : hi[d];
       }
     };
-    for_each_support_slot3(sd, sp, slots, A, [&](int i, double, int) { widen(sp.melem(i)); });
+    for_each_support_slot_index3(sd, sp, slots, A, [&](int i) { widen(sp.melem(i)); });
     if (hi[0] < 0) return 0;
     for_each_support_edge3(sd, ed, A, [&](int i, double, int) { widen(ed.melem(i)); });
     for (int d = 0; d < 2; ++d) {
@@ -893,7 +931,7 @@ struct AssembleMortarGap3 {
       int cp[kMaxSurfaceBasis], cpm[kMaxSurfaceBasis];
       int es[2], mspn[2];
       surface_element_spans(sd, e, es);
-      const int nsb = surface_basis(sd, es, p.uv(i, 0), p.uv(i, 1), R, Ru, Rv, cp);
+      const int nsb = slot_basis_cached(sd, p, i, es, R, cp);
       surface_element_spans(md, p.melem(i), mspn);
       const int nmb = surface_basis(md, mspn, p.muv(i, 0), p.muv(i, 1), Rm, Ru, Rv, cpm);
       add_gap_variation(rg, R, cp, nsb, Rm, cpm, nmb, n, w, [&](int q, double v) { S.v0(k, q) += v; });

@@ -363,7 +363,10 @@ void ContactSurfaces3::allocate_points(int n) {
   const auto r = block_range(n, rank_, nranks_);
   p_begin = static_cast<int>(r.first);
   p_end = static_cast<int>(r.second);
-  if (mortar) segment_range();
+  if (mortar) {
+    segment_range();
+    sp.R = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>("slot_basis", n, (hs_[0].p[0] + 1) * (hs_[0].p[1] + 1));
+  }
   make_friction_points(fr, n, mortar && friction);
   state_prev_ = Kokkos::View<int*, MemSpace>("friction_state_prev", n);
   if (mortar && friction) ref_sp_ = make_reference_points(sp, n);
@@ -739,6 +742,12 @@ void ContactSurfaces3::refresh() {
         allocate_points(ne * slots);
       }
     }
+  }
+  if (mortar) {   // the slave basis at the segmented slots, once for the sums per control point
+    SlotBasis3 kb;
+    kb.sd = slave.f[0].sd;
+    kb.sp = sp;
+    Kokkos::parallel_for("iga::SlotBasis3", Kokkos::RangePolicy<ExecSpace>(c_begin * slots, c_end * slots), kb);
   }
   ProjectSlavePoints3 k;
   k.s = slave;
