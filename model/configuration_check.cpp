@@ -441,11 +441,25 @@ std::vector<std::pair<int, int>> crossing_lines(const Boundary& bd) {
 
 }  // namespace
 
+void pair_allowances(const Problem& P, const std::vector<double>& pair_penetration, std::vector<double>& allowed,
+                     std::vector<bool>& declared) {
+  const size_t nb = P.bodies.size();
+  allowed.assign(nb * nb, 0.0);
+  declared.assign(nb * nb, false);
+  for (size_t k = 0; k < P.contact.size(); ++k) {
+    const size_t a = static_cast<size_t>(P.contact[k].slave.body), b = static_cast<size_t>(P.contact[k].master.body);
+    const double pen = k < pair_penetration.size() ? std::max(0.0, pair_penetration[k]) : 0.0;
+    for (const size_t i : {a * nb + b, b * nb + a}) {
+      allowed[i] = std::max(allowed[i], 3.0 * pen);
+      declared[i] = true;
+    }
+  }
+}
+
 std::string find_penetration(const Problem& P, const std::vector<std::vector<double>>& u,
                              const std::vector<double>& pair_penetration) {
-  // solids: no contact pairs yet, and the boundary here is made of curves: the 3-D
-  // self-penetration check (faces) is not written (README, "Not yet")
-  if (P.dim() == 3) return "";
+  // solids: faces instead of curves (configuration_check3.cpp)
+  if (P.dim() == 3) return find_penetration3(P, u, pair_penetration);
   const int nb = static_cast<int>(P.bodies.size());
   constexpr int kPer = 4;            // boundary points per element: kPer + 1 with its ends
   constexpr double kNear = 4.0;      // self: the boundary within 4 element sizes (along it) is the point's own
@@ -501,17 +515,9 @@ std::string find_penetration(const Problem& P, const std::vector<std::vector<dou
     for (size_t m = 0; m < lines.size(); ++m)
       if (std::find(order[l].begin(), order[l].end(), static_cast<int>(m)) == order[l].end()) order[l].push_back(static_cast<int>(m));
   std::vector<char> built(static_cast<size_t>(nb), 0);
-  // allowed depth between two bodies: 3 x their pairs' penetration, at least 1e-3 h
-  std::vector<double> allowed(static_cast<size_t>(nb) * nb, 0.0);
-  std::vector<bool> declared(static_cast<size_t>(nb) * nb, false);
-  for (size_t k = 0; k < P.contact.size(); ++k) {
-    const int a = P.contact[k].slave.body, b = P.contact[k].master.body;
-    const double pen = k < pair_penetration.size() ? std::max(0.0, pair_penetration[k]) : 0.0;
-    for (const size_t i : {static_cast<size_t>(a) * nb + b, static_cast<size_t>(b) * nb + a}) {
-      allowed[i] = std::max(allowed[i], 3.0 * pen);
-      declared[i] = true;
-    }
-  }
+  std::vector<double> allowed;
+  std::vector<bool> declared;
+  pair_allowances(P, pair_penetration, allowed, declared);
   const double tol_x = 1e-10 * L;
   double worst = 0;
   std::string message;

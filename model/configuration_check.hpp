@@ -62,6 +62,14 @@ double smallest_element_size(const Patch& face);
 /// Returns "" or one line: bodies, sides, depth and where.
 std::string find_penetration(const Problem& P, const std::vector<std::vector<double>>& u,
                              const std::vector<double>& pair_penetration);
+/// Per pair of bodies (a * num_bodies + b, both orders): allowed = 3 x the largest penetration
+/// their contact pairs report (pair_penetration[pair]), declared = a pair joins them.
+void pair_allowances(const Problem& P, const std::vector<double>& pair_penetration, std::vector<double>& allowed,
+                     std::vector<bool>& declared);
+/// The same for solids (model/configuration_check3.cpp: the outer faces' Bezier elements
+/// instead of polylines); find_penetration calls it in 3-D.
+std::string find_penetration3(const Problem& P, const std::vector<std::vector<double>>& u,
+                              const std::vector<double>& pair_penetration);
 /// "" or one line naming the body, patch, element and a point where det F <= 0.
 std::string find_inverted(const Problem& P, const std::vector<std::vector<double>>& u);
 

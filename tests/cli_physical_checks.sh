@@ -13,7 +13,9 @@
 #  - a penalty of 1e10 (2.5e6 E/h): `check` warns in one line and still exits 0;
 #  - an O-ring closing on itself with a self-contact pair (exit 0, equilibrium) and without one
 #    (exit 5, self-penetration);
-#  - the fork on 2 MPI ranks: the same exit code and line as on 1 (the check is collective).
+#  - the fork on 2 MPI ranks: the same exit code and line as on 1 (the check is collective);
+#  - solids: the fork as a solid (self-penetration; with a self-contact pair, KTS and mortar,
+#    no finding) and two blocks pushed into each other without a pair (interpenetration).
 # MPI runs take one thread per rank (OMP_NUM_THREADS=1): 2 ranks x 1 thread fill 2 cores; with
 # the OpenMP build more threads oversubscribe them and Kokkos warns on stderr.
 set -uo pipefail
@@ -37,17 +39,21 @@ python3 -c "import sys; d=float(sys.argv[1]); sys.exit(0 if 0.12 <= d <= 0.3 els
 [ "$(json "$tmp/fork/summary.json" "s['check']['passed']")" = False ] || { echo "FAIL fork: summary.json check.passed"; fail=1; }
 [ -f "$tmp/fork/result_0001.vtu" ] || { echo "FAIL fork: the failing step's files are missing"; fail=1; }
 
-# 2. self-contact, KTS and mortar
-f=()
-for m in kts_penalty mortar_penalty; do
-  err=$("$exe" run "$dir/fork_self_contact.yaml" --output "$tmp/fc_$m" --quiet --set contact.0.method=$m 2>&1 >/dev/null); rc=$?
-  expect_rc "fork self-contact $m" "$rc" 0
-  [ -z "$err" ] || { echo "FAIL fork self-contact $m: stderr: $err"; fail=1; }
-  [ "$(json "$tmp/fc_$m/summary.json" "s['check']['passed']")" = True ] || { echo "FAIL fork self-contact $m: check"; fail=1; }
-  f+=("$(json "$tmp/fc_$m/summary.json" "s['contact'][0]['normal_force']")")
-done
-python3 -c "import sys; a,b=map(float,sys.argv[1:]); sys.exit(0 if a > 0 and abs(a-b) <= 0.02*max(a,b) else 1)" "${f[@]}" \
-  || { echo "FAIL fork self-contact: KTS and mortar forces ${f[*]} differ by more than 2 %"; fail=1; }
+# 2. self-contact, KTS and mortar: exit 0, the check passed, the two forces within 2 %
+self_contact() {   # problem file, label
+  local f=() m err rc out
+  for m in kts_penalty mortar_penalty; do
+    out="$tmp/$(basename "$1" .yaml)_$m"
+    err=$("$exe" run "$1" --output "$out" --quiet --set contact.0.method=$m 2>&1 >/dev/null); rc=$?
+    expect_rc "$2 $m" "$rc" 0
+    [ -z "$err" ] || { echo "FAIL $2 $m: stderr: $err"; fail=1; }
+    [ "$(json "$out/summary.json" "s['check']['passed']")" = True ] || { echo "FAIL $2 $m: check"; fail=1; }
+    f+=("$(json "$out/summary.json" "s['contact'][0]['normal_force']")")
+  done
+  python3 -c "import sys; a,b=map(float,sys.argv[1:]); sys.exit(0 if a > 0 and abs(a-b) <= 0.02*max(a,b) else 1)" "${f[@]}" \
+    || { echo "FAIL $2: KTS and mortar forces ${f[*]} differ by more than 2 %"; fail=1; }
+}
+self_contact "$dir/fork_self_contact.yaml" "fork self-contact"
 
 # 3. O-ring squeezed in small strain: inverted elements
 err=$("$exe" run "$dir/oring_squeeze.yaml" --output "$tmp/oring" --quiet 2>&1 >/dev/null); rc=$?
@@ -99,6 +105,29 @@ err=$("$exe" run "$tmp/oring_no_self.yaml" --output "$tmp/ons" --quiet --set bod
 expect_rc "oring without self-contact" "$rc" 5
 one_line "oring without self-contact" "$err"
 expect_in "oring without self-contact" "$err" "self-penetration: ring.patch"
+
+# 9. solids (model/configuration_check3.cpp): the fork as a solid, 0.4 thick, whose legs' tips
+#    deflect 0.43 each (a probe says), so that they overlap across the whole leg: exit 5 naming
+#    the self-penetration through the other leg's inner face, at a depth of at least 0.1 and at
+#    most half the thickness (0.2: the nearest boundary may be a face in z); with a self-contact
+#    pair, KTS and mortar: exit 0, the check passed, the two forces within 2 % of each other;
+#    two blocks, one pushed rigidly 0.2 into the other with no pair: exit 5, depth 0.2
+err=$("$exe" run "$dir/fork_3d.yaml" --output "$tmp/fork3" --quiet 2>&1 >/dev/null); rc=$?
+expect_rc "fork 3-D" "$rc" 5
+one_line "fork 3-D" "$err"
+expect_in "fork 3-D" "$err" "self-penetration: fork.patch"
+case "$err" in *"patch3.east passes"*"through fork.patch4.west"*|*"patch4.west passes"*"through fork.patch3.east"*) ;;
+  *) echo "FAIL fork 3-D: not the legs' inner faces: $err"; fail=1 ;; esac
+depth=$(printf '%s' "$err" | sed -n 's/.*passes \([0-9.e+-]*\) into.*/\1/p')
+python3 -c "import sys; d=float(sys.argv[1]); sys.exit(0 if 0.1 <= d <= 0.2 else 1)" "${depth:-0}" || { echo "FAIL fork 3-D: depth $depth outside [0.1, 0.2]"; fail=1; }
+self_contact "$dir/fork_3d_self_contact.yaml" "fork 3-D self-contact"
+err=$("$exe" run "$dir/blocks_3d.yaml" --output "$tmp/blocks3" --quiet 2>&1 >/dev/null); rc=$?
+expect_rc "blocks 3-D" "$rc" 5
+one_line "blocks 3-D" "$err"
+expect_in "blocks 3-D" "$err" "is 0.2 inside"
+expect_in "blocks 3-D" "$err" "no contact pair is declared between"
+case "$err" in *"top.front is 0.2 inside base (below base.back)"*|*"base.back is 0.2 inside top (below top.front)"*) ;;
+  *) echo "FAIL blocks 3-D: not the facing faces: $err"; fail=1 ;; esac
 
 # 8. 2 ranks: the same line (rank 0 computes the check, every rank stops)
 if [ -n "$mpiexec" ]; then
