@@ -386,7 +386,8 @@ bool cross(const Vec& a, const Vec& b, const Vec& c, const Vec& d) {
 // (self-penetration; the crossing may lie close to a crease, as where an O-ring's slit closes). A locally injective
 // map (no inverted element) whose boundary curves do not cross does not overlap itself, and
 // two bodies whose boundaries do not cross do not overlap (unless one lies wholly inside the
-// other), so only the lines found here need the point-in-body tests.
+// other: find_penetration tests one line of each body for that), so only the lines found here
+// need the point-in-body tests.
 std::vector<std::pair<int, int>> crossing_lines(const Boundary& bd) {
   const std::vector<Polyline>& lines = bd.lines;
   struct Seg { int line, i; };
@@ -510,6 +511,20 @@ std::string find_penetration(const Problem& P, const std::vector<std::vector<dou
     test[b][lines[a].body] = 1;
     order[a].push_back(b);
     order[b].push_back(a);
+  }
+  // a body wholly inside another (no boundary crossing): each body's first line tested
+  // against every body none of its lines crosses
+  for (int a = 0; a < nb; ++a) {
+    int first = -1;
+    for (size_t l = 0; l < lines.size() && first < 0; ++l)
+      if (lines[l].body == a) first = static_cast<int>(l);
+    if (first < 0) continue;
+    for (int b = 0; b < nb; ++b) {
+      if (b == a) continue;
+      bool crosses = false;
+      for (size_t l = 0; l < lines.size() && !crosses; ++l) crosses = lines[l].body == a && test[l][b];
+      if (!crosses) test[static_cast<size_t>(first)][b] = 1;
+    }
   }
   for (size_t l = 0; l < lines.size(); ++l)
     for (size_t m = 0; m < lines.size(); ++m)

@@ -19,8 +19,9 @@
 // body's lines that cross and are not neighbours along the boundary, found through bins
 // (about one segment per bin). A locally injective map (no inverted element)
 // whose boundary curves do not cross does not overlap itself, and two bodies whose boundaries
-// do not cross do not overlap (unless one lies wholly inside the other, not looked for): only
-// the lines found here are tested further. 2) A point x of such a line is inside patch Q of
+// do not cross do not overlap unless one lies wholly inside the other: only the lines found
+// here, and each body's first line against the bodies none of its lines crosses (one wholly
+// inside another), are tested further. 2) A point x of such a line is inside patch Q of
 // the body it crosses when Newton on x_Q(xi) = x, from the nearest of Q's 2 x 2 points per
 // element (in its own body: from one of the 6 nearest), converges to |x_Q(xi) - x| <= 1e-10 L (L the largest body's size); in
 // its own body, the preimage must not be x's own reference point. 3) Its depth is the

@@ -8,8 +8,9 @@
 //     elements of two bodies whose boxes overlap, or of one body whose boxes overlap and whose
 //     reference boxes lie more than 4 element sizes apart, are tested further. A locally
 //     injective map whose boundary does not meet itself does not overlap itself, and two
-//     bodies whose boundaries do not meet do not overlap (unless one lies wholly inside the
-//     other, not looked for).
+//     bodies whose boundaries do not meet do not overlap unless one lies wholly inside the
+//     other: for that, one face element of each body is tested against every body it does
+//     not meet.
 //  2) A point x of such a face element (4 x 4 per element, its edges included) is inside
 //     body b when Newton on x_Q(xi) = x, from the centre of an element of b whose deformed
 //     box holds x, converges inside that element to |x_Q(xi) - x| <= 1e-10 L (L the largest
@@ -392,6 +393,21 @@ std::string find_penetration3(const Problem& P, const std::vector<std::vector<do
         test[static_cast<size_t>(bin[q])][static_cast<size_t>(A.body)] = 1;
         any = true;
       }
+  // a body wholly inside another (no faces meet): one face element of each body tested
+  // against every other body it does not meet
+  for (int a = 0; a < nb; ++a) {
+    const auto first = std::find_if(fe.begin(), fe.end(), [a](const FaceElement& x) { return x.body == a; });
+    if (first == fe.end()) continue;
+    for (int b = 0; b < nb; ++b) {
+      if (b == a) continue;
+      bool meets = false;
+      for (size_t e = 0; e < fe.size() && !meets; ++e) meets = fe[e].body == a && test[e][static_cast<size_t>(b)];
+      if (!meets) {
+        test[static_cast<size_t>(first - fe.begin())][static_cast<size_t>(b)] = 1;
+        any = true;
+      }
+    }
+  }
   if (!any) return "";
   // the volume elements of each body tested against (built on demand) and its samples' bins
   std::vector<std::vector<Element>> vol(static_cast<size_t>(nb));
@@ -497,15 +513,16 @@ std::string find_penetration3(const Problem& P, const std::vector<std::vector<do
         }
         // the face it passes through: the nearest boundary's where that faces it (opposed
         // normals: the face a contact pair would pair it with), else the nearest face of body
-        // b that faces it, else the nearest boundary's
+        // b that faces it, if that is near, else the nearest boundary's
         auto opposed = [&](int g) {
           const FaceElement& G = fe[static_cast<size_t>(g)];
           return G.n[0] * S.n[0] + G.n[1] * S.n[1] + G.n[2] * S.n[2] < 0;
         };
         int facing = opposed(through) ? through : -1;
         if (facing < 0) {
+          // (within an element of the nearest boundary: a body wholly inside faces nothing)
           const auto f = nearest(b, x, 1, [&](int smp) { return own(smp) || !opposed(s_elem[static_cast<size_t>(smp)]); });
-          if (!f.empty()) facing = s_elem[static_cast<size_t>(f.front().second)];
+          if (!f.empty() && f.front().first <= depth + S.h) facing = s_elem[static_cast<size_t>(f.front().second)];
         }
         // the deepest finding; of equal depths (a rigid overlap), one through a facing face
         const bool deeper = depth > enough * (1 + 1e-9) || (facing >= 0 && !worst_facing && depth > enough * (1 - 1e-9));

@@ -15,7 +15,8 @@
 #    (exit 5, self-penetration);
 #  - the fork on 2 MPI ranks: the same exit code and line as on 1 (the check is collective);
 #  - solids: the fork as a solid (self-penetration; with a self-contact pair, KTS and mortar,
-#    no finding) and two blocks pushed into each other without a pair (interpenetration).
+#    no finding) and two blocks pushed into each other without a pair (interpenetration);
+#  - a block wholly inside another (2-D and 3-D): exit 5.
 # MPI runs take one thread per rank (OMP_NUM_THREADS=1): 2 ranks x 1 thread fill 2 cores; with
 # the OpenMP build more threads oversubscribe them and Kokkos warns on stderr.
 set -uo pipefail
@@ -128,6 +129,20 @@ expect_in "blocks 3-D" "$err" "is 0.2 inside"
 expect_in "blocks 3-D" "$err" "no contact pair is declared between"
 case "$err" in *"top.front is 0.2 inside base (below base.back)"*|*"base.back is 0.2 inside top (below top.front)"*) ;;
   *) echo "FAIL blocks 3-D: not the facing faces: $err"; fail=1 ;; esac
+
+# 10. a body wholly inside another (no boundaries cross), 2-D and 3-D: exit 5; the depth is the
+#    deepest of the sampled points of one side (face) of the small block: 0.45 (2-D: the west
+#    side's point (0.5, 0.45), 0.45 above the base's bottom) and 0.467 (3-D: (0.5, 0.5, 0.533),
+#    0.467 below the base's top)
+for d in 2d 3d; do
+  err=$("$exe" run "$dir/inside_$d.yaml" --output "$tmp/inside_$d" --quiet 2>&1 >/dev/null); rc=$?
+  expect_rc "inside $d" "$rc" 5
+  one_line "inside $d" "$err"
+  expect_in "inside $d" "$err" "interpenetration: punch."
+  expect_in "inside $d" "$err" "no contact pair is declared between punch and base"
+done
+expect_in "inside 2d" "$(cat "$tmp/inside_2d/summary.json")" "is 0.45 inside base"
+expect_in "inside 3d" "$(cat "$tmp/inside_3d/summary.json")" "is 0.467 inside base"
 
 # 8. 2 ranks: the same line (rank 0 computes the check, every rank stops)
 if [ -n "$mpiexec" ]; then
