@@ -19,10 +19,11 @@
 //     face elements of the nearest samples, by Gauss-Newton in the face's parameters; in its
 //     own body leaving out the faces within 4 element sizes of x's reference point).
 // Allowed depth: 3 x the largest penetration the pairs between the two bodies report, and at
-// least 1 % of x's face element, as in 2-D, or 5 % where a contact pair joins the two bodies
-// (the pairs hold the slave's points out of the master, not the master's edges out of the
-// slave: in the 3-D ironing the slab's top edge cuts 3 x the penalty penetration into the
-// die, which overhangs it, between the die's quadrature points). The deepest finding is
+// least 1 % of x's face element, as in 2-D, or 5 % of the larger of x's face element and the
+// one it is nearest to where a contact pair joins the two bodies (the pairs hold the slave's
+// points out of the master, not the master's edges out of the slave: in the 3-D ironing the
+// slab's top edge cut 3 x the penalty penetration into the die, which overhangs it, between
+// the die's quadrature points). The deepest finding is
 // reported.
 #include <algorithm>
 #include <array>
@@ -511,6 +512,10 @@ std::string find_penetration3(const Problem& P, const std::vector<std::vector<do
           const double d = dist3(face.point(t), x);
           if (d < depth) { depth = d; through = g; }
         }
+        // with a pair between the bodies, 5 % of the larger of x's face element and the one it
+        // is nearest to: a fine master's points between a coarse slave's points
+        const double lim = declared[ab] ? std::max(limit, kPairFloor * fe[static_cast<size_t>(through)].h) : limit;
+        if (!(depth > lim)) continue;
         // the face it passes through: the nearest boundary's where that faces it (opposed
         // normals: the face a contact pair would pair it with), else the nearest face of body
         // b that faces it, if that is near, else the nearest boundary's
@@ -537,15 +542,15 @@ std::string find_penetration3(const Problem& P, const std::vector<std::vector<do
         if (self) {
           os << "self-penetration: " << A.name << "." << A.side_label(sa.patch, sa.side) << " passes " << fmt3(depth)
              << " into its own body through " << A.name << "." << B.side_label(sbs.patch, sbs.side) << " at " << point3(x);
-          os << (declared[static_cast<size_t>(b) * nb + b] ? "; its self-contact pairs allow " + fmt3(limit)
+          os << (declared[static_cast<size_t>(b) * nb + b] ? "; its self-contact pairs allow " + fmt3(lim)
                                                            : "; declare a contact pair between those two faces of " + A.name + " (self-contact)");
         } else {
           os << "interpenetration: " << A.name << "." << A.side_label(sa.patch, sa.side) << " is " << fmt3(depth) << " inside "
              << B.name << " (below " << B.name << "." << B.side_label(sbs.patch, sbs.side) << ") at " << point3(x);
           os << (declared[static_cast<size_t>(S.body) * nb + b]
-                     ? "; the contact pairs between them allow " + fmt3(limit) +
-                           (allowed[ab] >= limit ? std::string(" (3 x their penalty penetration)")
-                                                 : std::string(" (5 % of the face element, above 3 x their penalty penetration)"))
+                     ? "; the contact pairs between them allow " + fmt3(lim) +
+                           (allowed[ab] >= lim ? std::string(" (3 x their penalty penetration)")
+                                               : std::string(" (5 % of the face element, above 3 x their penalty penetration)"))
                      : "; no contact pair is declared between " + A.name + " and " + B.name);
         }
         message = os.str();
