@@ -85,7 +85,7 @@ KOKKOS_INLINE_FUNCTION int surface_basis3(const SurfaceData& sd, const int s[2],
   int n = 0;
   for (int j = 0; j <= sd.p[1]; ++j)
     for (int i = 0; i <= sd.p[0]; ++i, ++n) {
-      const int a = (s[0] - sd.p[0] + i) + sd.n[0] * (s[1] - sd.p[1] + j);
+      const int a = surface_cp(sd, s, i, j);
       const double w = sd.cp(a, 3);
       cp[n] = a;
       for (int k = 0; k < 10; ++k) {

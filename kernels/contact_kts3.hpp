@@ -92,7 +92,7 @@ KOKKOS_INLINE_FUNCTION int surface_basis(const SurfaceData& sd, const int s[2], 
   int k = 0;
   for (int j = 0; j <= sd.p[1]; ++j)
     for (int i = 0; i <= sd.p[0]; ++i, ++k) {
-      const int a = (s[0] - sd.p[0] + i) + sd.n[0] * (s[1] - sd.p[1] + j);
+      const int a = surface_cp(sd, s, i, j);
       const double w = sd.cp(a, 3);
       cp[k] = a;
       R[k] = N[0][i] * M[0][j] * w;

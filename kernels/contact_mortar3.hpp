@@ -753,7 +753,7 @@ KOKKOS_INLINE_FUNCTION int slot_basis_cached(const SurfaceData& sd, const SlaveP
   int k = 0;
   for (int j = 0; j <= sd.p[1]; ++j)
     for (int a = 0; a <= sd.p[0]; ++a, ++k) {
-      cp[k] = (es[0] - sd.p[0] + a) + sd.n[0] * (es[1] - sd.p[1] + j);
+      cp[k] = surface_cp(sd, es, a, j);
       R[k] = sp.R(i, k);
     }
   return k;

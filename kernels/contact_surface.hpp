@@ -44,6 +44,12 @@ struct SurfaceData {
   Kokkos::View<const double* [4], MemSpace> cp;   // current coordinates and weight
 };
 
+/// The surface index of the control point (i, j), i, j in 0..p, of the element with spans s
+/// (the first direction fastest, as the kernels' local basis order i + (p0 + 1) j).
+KOKKOS_INLINE_FUNCTION int surface_cp(const SurfaceData& sd, const int s[2], int i, int j) {
+  return (s[0] - sd.p[0] + i) + sd.n[0] * (s[1] - sd.p[1] + j);
+}
+
 /// S and its first and second parameter derivatives at (u, v) in the element with spans s.
 /// d[0] = S, d[1] = S_u, d[2] = S_v, d[3] = S_uu, d[4] = S_uv, d[5] = S_vv.
 /// The surface point and its derivatives at (u, v) in element span s: d[0] the point, d[1],
@@ -60,7 +66,7 @@ KOKKOS_INLINE_FUNCTION void surface_derivatives_to(const SurfaceData& sd, const 
   double h[K][4] = {};
   for (int j = 0; j <= sd.p[1]; ++j)
     for (int i = 0; i <= sd.p[0]; ++i) {
-      const int a = (s[0] - sd.p[0] + i) + sd.n[0] * (s[1] - sd.p[1] + j);
+      const int a = surface_cp(sd, s, i, j);
       const double w = sd.cp(a, 3);
       double b[K];
       b[0] = N[0][i] * M[0][j];
