@@ -6,7 +6,9 @@
 //  - the reported contact force is the assembled contact residual, so it equals the reactions
 //    to round-off, with friction on a curved master, KTS and mortar, on 1 and 2 ranks;
 //  - a mortar run's outputs (contact CSV, result.h5, the summary) hold no NaN or inf, and the
-//    slave point on the symmetry axis carries the Hertz peak pressure.
+//    slave point on the symmetry axis carries the Hertz peak pressure;
+//  - the 3-D interpenetration check reports a rigid overlap's depth exactly and allows what
+//    a declared pair allows.
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
@@ -15,6 +17,7 @@
 #include <filesystem>
 #include <map>
 
+#include "model/configuration_check.hpp"
 #include "support.hpp"
 
 using namespace iga;
@@ -268,4 +271,44 @@ TEST(MortarOutputs, NoNanAndThePeakPressureOnTheSymmetryAxis) {
     EXPECT_NEAR(axis[4], pmax, 1e-3 * pmax);
     fs::remove_all(dir);
   }
+}
+
+// The 3-D interpenetration check (model/configuration_check3.cpp) on two blocks, the top one
+// moved rigidly down by d into the base: the depth it reports is the overlap d, exactly;
+// touching (d = 0) is no finding; with a contact pair declared, 3 x its penetration and 5 % of
+// the face element (here 0.035: 2 x 2 face elements of 0.5) are allowed, no more.
+TEST(Penetration3, RigidOverlapOfTwoBlocks) {
+  const std::string yaml = R"(analysis: {type: solid}
+bodies:
+  - name: base
+    material: {youngs_modulus: 1.0, poisson_ratio: 0.3}
+    geometry: {box: {origin: [0, 0, 0], size: [2, 2, 1]}}
+    refine: {degree_elevate: 1, subdivide: [4, 4, 2]}
+    boundary: {front: {displacement: {x: 0.0, y: 0.0, z: 0.0}}}
+  - name: top
+    material: {youngs_modulus: 1.0, poisson_ratio: 0.3}
+    geometry: {box: {origin: [0.5, 0.5, 1], size: [1, 1, 1]}}
+    refine: {degree_elevate: 1, subdivide: 2}
+    boundary: {back: {displacement: {x: 0.0, y: 0.0, z: 0.0}}}
+)";
+  const std::string pair = "contact:\n  - {master: {body: base, side: back}, slave: {body: top, side: front}, penalty: 100.0}\n";
+  auto check = [&](bool with_pair, double d, double pen) {
+    const Problem P = parse_problem(yaml + (with_pair ? pair : ""), "blocks.yaml");
+    std::vector<std::vector<double>> u;
+    for (const Body& B : P.bodies) u.emplace_back(3 * static_cast<size_t>(B.num_cps), 0.0);
+    for (int a = 0; a < P.bodies[1].num_cps; ++a) u[1][3 * static_cast<size_t>(a) + 2] = -d;
+    return find_penetration(P, u, with_pair ? std::vector<double>{pen} : std::vector<double>{});
+  };
+  EXPECT_EQ(check(false, 0.0, 0.0), "");
+  for (const auto& [d, text] : {std::pair<double, const char*>{0.05, "is 0.05 inside"}, {0.3, "is 0.3 inside"}}) {
+    const std::string m = check(false, d, 0.0);
+    EXPECT_NE(m.find("interpenetration: "), std::string::npos) << m;
+    EXPECT_NE(m.find(text), std::string::npos) << m;
+    EXPECT_NE(m.find("no contact pair is declared between"), std::string::npos) << m;
+  }
+  EXPECT_EQ(check(true, 0.03, 0.01), "");   // within 0.035
+  EXPECT_EQ(check(true, 0.05, 0.02), "");   // within 3 x 0.02
+  const std::string m = check(true, 0.1, 0.01);
+  EXPECT_NE(m.find("is 0.1 inside"), std::string::npos) << m;
+  EXPECT_NE(m.find("the contact pairs between them allow 0.035"), std::string::npos) << m;
 }
