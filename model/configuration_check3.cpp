@@ -330,6 +330,7 @@ std::string find_penetration3(const Problem& P, const std::vector<std::vector<do
         F.sides.push_back(ps);
         F.ref.push_back(B.patches[k].face(ps.side));
         F.cur.push_back(deformed.back().patches[k].face(ps.side));
+        const double sign = side_normal_sign(ps.side) * B.patches[k].orientation();   // outward normals
         std::vector<Element> cur_el, ref_el;
         patch_elements(F.cur.back(), f, cur_el);
         patch_elements(F.ref.back(), f, ref_el);
@@ -354,7 +355,6 @@ std::string find_penetration3(const Problem& P, const std::vector<std::vector<do
             const double t[3] = {0.5 * (x.t0[0] + x.t1[0]), 0.5 * (x.t0[1] + x.t1[1]), 0.0};
             double J[3][3];
             x.centre = point_jacobian(F.cur.back(), t, J);
-            const double sign = side_normal_sign(ps.side) * B.patches[k].orientation();
             V3 n{J[1][0] * J[2][1] - J[2][0] * J[1][1], J[2][0] * J[0][1] - J[0][0] * J[2][1], J[0][0] * J[1][1] - J[1][0] * J[0][1]};
             const double l = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
             if (l > 0)
@@ -381,19 +381,22 @@ std::string find_penetration3(const Problem& P, const std::vector<std::vector<do
   std::vector<std::vector<char>> test(fe.size(), std::vector<char>(static_cast<size_t>(nb), 0));
   bool any = false;
   for (const auto& bin : fbins.bins)
-    for (size_t p = 0; p < bin.size(); ++p)
+    for (size_t p = 0; p < bin.size(); ++p) {
+      bool around = false;   // adj marks bin[p]'s neighbours
       for (size_t q = p + 1; q < bin.size(); ++q) {
         const FaceElement& A = fe[static_cast<size_t>(bin[p])];
         const FaceElement& B = fe[static_cast<size_t>(bin[q])];
         if (!A.box.meets(B.box, tol_x)) continue;
         if (A.body == B.body) {   // one body: not neighbours along its boundary
-          adj.around(bin[p], kNear);
+          if (!around) adj.around(bin[p], kNear);
+          around = true;
           if (adj.marked(bin[q])) continue;
         }
         test[static_cast<size_t>(bin[p])][static_cast<size_t>(B.body)] = 1;
         test[static_cast<size_t>(bin[q])][static_cast<size_t>(A.body)] = 1;
         any = true;
       }
+    }
   // a body wholly inside another (no faces meet): one face element of each body tested
   // against every other body it does not meet
   for (int a = 0; a < nb; ++a) {
