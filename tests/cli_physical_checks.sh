@@ -13,7 +13,7 @@
 #  - a penalty of 1e10 (2.5e6 E/h): `check` warns in one line and still exits 0;
 #  - an O-ring closing on itself with a self-contact pair (exit 0, equilibrium) and without one
 #    (exit 5, self-penetration);
-#  - the fork on 2 MPI ranks: the same exit code and line as on 1 (the check is collective);
+#  - the fork (2-D and solid) on 2 MPI ranks: the same exit code and line as on 1 (the check is collective);
 #  - solids: the fork as a solid (self-penetration; with a self-contact pair, KTS and mortar,
 #    no finding) and two blocks pushed into each other without a pair (interpenetration);
 #  - a block wholly inside another (2-D and 3-D): exit 5.
@@ -146,11 +146,13 @@ expect_in "inside 3d" "$(cat "$tmp/inside_3d/summary.json")" "is 0.467 inside ba
 
 # 8. 2 ranks: the same line (rank 0 computes the check, every rank stops)
 if [ -n "$mpiexec" ]; then
-  err2=$(env OMP_NUM_THREADS=1 "$mpiexec" -n 2 "$exe" run "$dir/fork.yaml" --output "$tmp/fork2" --quiet 2>&1 >/dev/null); rc=$?
-  expect_rc "fork 2 ranks" "$rc" 5
-  err1=$("$exe" run "$dir/fork.yaml" --output "$tmp/fork1" --quiet 2>&1 >/dev/null)
-  # (mpiexec adds its own lines about the non-zero exit: the program's line is the first)
-  [ "$(printf '%s\n' "$err2" | head -n1)" = "$err1" ] || { echo "FAIL fork 2 ranks: '$err2' differs from 1 rank's '$err1'"; fail=1; }
+  for f in fork fork_3d; do
+    err2=$(env OMP_NUM_THREADS=1 "$mpiexec" -n 2 "$exe" run "$dir/$f.yaml" --output "$tmp/${f}_r2" --quiet 2>&1 >/dev/null); rc=$?
+    expect_rc "$f 2 ranks" "$rc" 5
+    err1=$("$exe" run "$dir/$f.yaml" --output "$tmp/${f}_r1" --quiet 2>&1 >/dev/null)
+    # (mpiexec adds its own lines about the non-zero exit: the program's line is the first)
+    [ "$(printf '%s\n' "$err2" | head -n1)" = "$err1" ] || { echo "FAIL $f 2 ranks: '$err2' differs from 1 rank's '$err1'"; fail=1; }
+  done
 else
   echo "FAIL: no mpiexec given"; fail=1
 fi
