@@ -10,18 +10,30 @@
 
 namespace iga {
 
+std::string check_number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
+// Outer sides of a body (not interfaces, not collapsed to a point).
+std::vector<PatchSide> outer_sides(const Body& b) {
+  std::vector<PatchSide> out;
+  for (size_t k = 0; k < b.patches.size(); ++k)
+    for (int s = 0; s < num_sides(b.patches[k].dim()); ++s) {
+      const PatchSide ps{static_cast<int>(k), static_cast<Side>(s)};
+      if (!b.is_interface(ps) && !side_collapsed(b.patches[k], ps.side, b.tolerance)) out.push_back(ps);
+    }
+  return out;
+}
+
 namespace {
 
 using Vec = std::array<double, 2>;
 
 double dist(const Vec& a, const Vec& b) { return std::hypot(a[0] - b[0], a[1] - b[1]); }
 
-std::string fmt(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
-  return buf;
-}
-std::string point(const Vec& x) { return "(" + fmt(x[0]) + ", " + fmt(x[1]) + ")"; }
+std::string point(const Vec& x) { return "(" + check_number(x[0]) + ", " + check_number(x[1]) + ")"; }
 
 // ------------------------------------------------------------------ curves: points, normals
 
@@ -69,16 +81,6 @@ double smallest_extent(const Body& b) {
   return std::min(hi[0] - lo[0], hi[1] - lo[1]);
 }
 
-// Outer sides of a body (not interfaces, not collapsed to a point).
-std::vector<PatchSide> outer_sides(const Body& b) {
-  std::vector<PatchSide> out;
-  for (size_t k = 0; k < b.patches.size(); ++k)
-    for (int s = 0; s < num_sides(b.patches[k].dim()); ++s) {
-      const PatchSide ps{static_cast<int>(k), static_cast<Side>(s)};
-      if (!b.is_interface(ps) && !side_collapsed(b.patches[k], ps.side, b.tolerance)) out.push_back(ps);
-    }
-  return out;
-}
 
 // ------------------------------------------------------------------ faces (3-D)
 
@@ -231,9 +233,9 @@ std::string penalty_warning(const Problem& P, int k) {
   double E = 0, h = 0;
   const double ratio = penalty_ratio(P, c, &E, &h);
   if (!(ratio > kPenaltyRatioWarning)) return "";
-  return "contact[" + std::to_string(k) + "].penalty = " + fmt(c.penalty) + " is " + fmt(ratio) +
-         " x E/h (E = " + fmt(E) + ", the smaller Young's modulus; h = " + fmt(h) +
-         ", the smallest slave element): above about " + fmt(kPenaltyRatioWarning) +
+  return "contact[" + std::to_string(k) + "].penalty = " + check_number(c.penalty) + " is " + check_number(ratio) +
+         " x E/h (E = " + check_number(E) + ", the smaller Young's modulus; h = " + check_number(h) +
+         ", the smallest slave element): above about " + check_number(kPenaltyRatioWarning) +
          " E/h round-off in the gaps and the tangent's conditioning make the pressure unreliable; take 1-100 E/h, "
          "and an _alm method where the gaps must close further";
 }
@@ -589,18 +591,18 @@ std::string find_penetration(const Problem& P, const std::vector<std::vector<dou
         const Body& B = P.bodies[b];
         std::ostringstream os;
         if (self) {
-          os << "self-penetration: " << A.name << "." << A.side_label(S.patch, S.side) << " passes " << fmt(depth)
+          os << "self-penetration: " << A.name << "." << A.side_label(S.patch, S.side) << " passes " << check_number(depth)
              << " into its own body through " << A.name << "." << B.side_label(through->patch, through->side) << " at "
              << point(x);
           os << (declared[static_cast<size_t>(b) * nb + b]
-                     ? "; its self-contact pairs allow " + fmt(limit)
+                     ? "; its self-contact pairs allow " + check_number(limit)
                      : "; declare a contact pair between those two sides of " + A.name + " (self-contact)");
         } else {
-          os << "interpenetration: " << A.name << "." << A.side_label(S.patch, S.side) << " is " << fmt(depth)
+          os << "interpenetration: " << A.name << "." << A.side_label(S.patch, S.side) << " is " << check_number(depth)
              << " inside " << B.name << " (below " << B.name << "." << B.side_label(through->patch, through->side)
              << ") at " << point(x);
           os << (declared[static_cast<size_t>(S.body) * nb + b]
-                     ? "; the contact pairs between them allow " + fmt(limit) + " (3 x their penalty penetration)"
+                     ? "; the contact pairs between them allow " + check_number(limit) + " (3 x their penalty penetration)"
                      : "; no contact pair is declared between " + A.name + " and " + B.name);
         }
         message = os.str();

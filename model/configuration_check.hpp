@@ -58,7 +58,7 @@ std::string penalty_warning(const Problem& P, int pair);
 /// size). The slave element size of the penalty check and of 3-D contact's tolerances.
 double smallest_element_size(const Patch& face);
 
-/// u: per body, 2 displacements per merged control point (Body::cp_index numbering).
+/// u: per body, dim displacements per merged control point (Body::cp_index numbering).
 /// allowed_penetration[pair]: the largest penetration each contact pair reports now.
 /// Returns "" or one line: bodies, sides, depth and where.
 std::string find_penetration(const Problem& P, const std::vector<std::vector<double>>& u,
@@ -67,6 +67,10 @@ std::string find_penetration(const Problem& P, const std::vector<std::vector<dou
 /// their contact pairs report (pair_penetration[pair]), declared = a pair joins them.
 void pair_allowances(const Problem& P, const std::vector<double>& pair_penetration, std::vector<double>& allowed,
                      std::vector<bool>& declared);
+/// The outer sides (2-D) or faces (3-D) of a body: not interfaces, not collapsed to a point.
+std::vector<PatchSide> outer_sides(const Body& b);
+/// A number of the checks' one-line messages ("%.3g").
+std::string check_number(double v);
 /// The same for solids (model/configuration_check3.cpp: the outer faces' Bezier elements
 /// instead of polylines); find_penetration calls it in 3-D.
 std::string find_penetration3(const Problem& P, const std::vector<std::vector<double>>& u,

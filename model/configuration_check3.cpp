@@ -3,10 +3,11 @@
 // deeper than the contact pairs between those bodies allow. The 2-D check
 // (configuration_check.cpp) works on boundary polylines; this one on the faces' Bezier
 // elements, in the same three steps:
-//  1) Candidates: every outer face element's deformed bounding box (the box of the control
-//     points that support it: a NURBS element lies in their convex hull) binned; two face
-//     elements of two bodies whose boxes overlap, or of one body whose boxes overlap and whose
-//     reference boxes lie more than 4 element sizes apart, are tested further. A locally
+//  1) Candidates: every outer face element's deformed bounding box (the box of its rational
+//     Bezier points: the element lies in their convex hull) binned; two face
+//     elements of two bodies whose boxes overlap, or of one body whose boxes overlap and that
+//     lie more than 4 steps apart along its boundary (face elements sharing a corner are one
+//     step), are tested further. A locally
 //     injective map whose boundary does not meet itself does not overlap itself, and two
 //     bodies whose boundaries do not meet do not overlap unless one lies wholly inside the
 //     other: for that, one face element of each body is tested against every body it does
@@ -28,7 +29,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdio>
 #include <map>
 #include <sstream>
 
@@ -45,12 +45,7 @@ using V3 = std::array<double, 3>;
 
 double dist3(const V3& a, const V3& b) { return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2])); }
 
-std::string fmt3(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
-  return buf;
-}
-std::string point3(const V3& x) { return "(" + fmt3(x[0]) + ", " + fmt3(x[1]) + ", " + fmt3(x[2]) + ")"; }
+std::string point3(const V3& x) { return "(" + check_number(x[0]) + ", " + check_number(x[1]) + ", " + check_number(x[2]) + ")"; }
 
 struct Box {
   V3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
@@ -239,7 +234,7 @@ bool invert(const Patch& P, const double* t0, const double* t1, const V3& x, dou
 struct FaceElement {
   int body = 0, face = 0;   // face: index into Faces::sides / cur / ref of its body
   double t0[2] = {0, 0}, t1[2] = {0, 0};
-  Box box, ref_box;   // deformed control points; reference control points
+  Box box;            // its deformed rational Bezier points' box
   double h = 0;       // the longest reference distance between two of its corners
   int first = 0, count = 0;   // its samples
   std::array<V3, 4> corner;   // reference corners
@@ -321,50 +316,46 @@ std::string find_penetration3(const Problem& P, const std::vector<std::vector<do
     const Body& B = P.bodies[b];
     L = std::max(L, patches_diameter(B.patches));
     deformed.push_back(body_geometry(B, &u[b]));
-    for (size_t k = 0; k < B.patches.size(); ++k)
-      for (int s = 0; s < num_sides(3); ++s) {
-        const PatchSide ps{static_cast<int>(k), static_cast<Side>(s)};
-        if (B.is_interface(ps) || side_collapsed(B.patches[k], ps.side, B.tolerance)) continue;
-        Faces& F = faces[static_cast<size_t>(b)];
-        const int f = static_cast<int>(F.sides.size());
-        F.sides.push_back(ps);
-        F.ref.push_back(B.patches[k].face(ps.side));
-        F.cur.push_back(deformed.back().patches[k].face(ps.side));
-        const double sign = side_normal_sign(ps.side) * B.patches[k].orientation();   // outward normals
-        std::vector<Element> cur_el, ref_el;
-        patch_elements(F.cur.back(), f, cur_el);
-        patch_elements(F.ref.back(), f, ref_el);
-        for (size_t e = 0; e < cur_el.size(); ++e) {
-          FaceElement x;
-          x.body = b;
-          x.face = f;
-          for (int d = 0; d < 2; ++d) { x.t0[d] = cur_el[e].t0[d]; x.t1[d] = cur_el[e].t1[d]; }
-          x.box = cur_el[e].box;
-          x.ref_box = ref_el[e].box;
-          x.first = static_cast<int>(sx.size());
-          for (int j = 0; j <= kPer; ++j)
-            for (int i = 0; i <= kPer; ++i) {
-              const double t[2] = {x.t0[0] + (x.t1[0] - x.t0[0]) * i / kPer, x.t0[1] + (x.t1[1] - x.t0[1]) * j / kPer};
-              sx.push_back(F.cur.back().point(t));
-              sX.push_back(F.ref.back().point(t));
-              s_elem.push_back(static_cast<int>(fe.size()));
-              if ((i == 0 || i == kPer) && (j == 0 || j == kPer)) x.corner[(i ? 1 : 0) + (j ? 2 : 0)] = sX.back();
-            }
-          x.count = static_cast<int>(sx.size()) - x.first;
-          {
-            const double t[3] = {0.5 * (x.t0[0] + x.t1[0]), 0.5 * (x.t0[1] + x.t1[1]), 0.0};
-            double J[3][3];
-            x.centre = point_jacobian(F.cur.back(), t, J);
-            V3 n{J[1][0] * J[2][1] - J[2][0] * J[1][1], J[2][0] * J[0][1] - J[0][0] * J[2][1], J[0][0] * J[1][1] - J[1][0] * J[0][1]};
-            const double l = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-            if (l > 0)
-              for (int c = 0; c < 3; ++c) x.n[c] = sign * n[c] / l;
+    for (const PatchSide& ps : outer_sides(B)) {
+      const size_t k = static_cast<size_t>(ps.patch);
+      Faces& F = faces[static_cast<size_t>(b)];
+      const int f = static_cast<int>(F.sides.size());
+      F.sides.push_back(ps);
+      F.ref.push_back(B.patches[k].face(ps.side));
+      F.cur.push_back(deformed.back().patches[k].face(ps.side));
+      const double sign = side_normal_sign(ps.side) * B.patches[k].orientation();   // outward normals
+      std::vector<Element> cur_el;
+      patch_elements(F.cur.back(), f, cur_el);
+      for (size_t e = 0; e < cur_el.size(); ++e) {
+        FaceElement x;
+        x.body = b;
+        x.face = f;
+        for (int d = 0; d < 2; ++d) { x.t0[d] = cur_el[e].t0[d]; x.t1[d] = cur_el[e].t1[d]; }
+        x.box = cur_el[e].box;
+        x.first = static_cast<int>(sx.size());
+        for (int j = 0; j <= kPer; ++j)
+          for (int i = 0; i <= kPer; ++i) {
+            const double t[2] = {x.t0[0] + (x.t1[0] - x.t0[0]) * i / kPer, x.t0[1] + (x.t1[1] - x.t0[1]) * j / kPer};
+            sx.push_back(F.cur.back().point(t));
+            sX.push_back(F.ref.back().point(t));
+            s_elem.push_back(static_cast<int>(fe.size()));
+            if ((i == 0 || i == kPer) && (j == 0 || j == kPer)) x.corner[(i ? 1 : 0) + (j ? 2 : 0)] = sX.back();
           }
-          for (int a = 0; a < 4; ++a)
-            for (int c = a + 1; c < 4; ++c) x.h = std::max(x.h, dist3(x.corner[a], x.corner[c]));
-          fe.push_back(x);
+        x.count = static_cast<int>(sx.size()) - x.first;
+        {
+          const double t[3] = {0.5 * (x.t0[0] + x.t1[0]), 0.5 * (x.t0[1] + x.t1[1]), 0.0};
+          double J[3][3];
+          x.centre = point_jacobian(F.cur.back(), t, J);
+          V3 n{J[1][0] * J[2][1] - J[2][0] * J[1][1], J[2][0] * J[0][1] - J[0][0] * J[2][1], J[0][0] * J[1][1] - J[1][0] * J[0][1]};
+          const double l = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+          if (l > 0)
+            for (int c = 0; c < 3; ++c) x.n[c] = sign * n[c] / l;
         }
+        for (int a = 0; a < 4; ++a)
+          for (int c = a + 1; c < 4; ++c) x.h = std::max(x.h, dist3(x.corner[a], x.corner[c]));
+        fe.push_back(x);
       }
+    }
   }
   if (fe.empty()) return "";
   std::vector<double> allowed;   // 3 x the penetration of the pairs between two bodies
@@ -543,15 +534,15 @@ std::string find_penetration3(const Problem& P, const std::vector<std::vector<do
         const PatchSide sbs = faces[static_cast<size_t>(b)].sides[static_cast<size_t>(fe[static_cast<size_t>(through)].face)];
         std::ostringstream os;
         if (self) {
-          os << "self-penetration: " << A.name << "." << A.side_label(sa.patch, sa.side) << " passes " << fmt3(depth)
+          os << "self-penetration: " << A.name << "." << A.side_label(sa.patch, sa.side) << " passes " << check_number(depth)
              << " into its own body through " << A.name << "." << B.side_label(sbs.patch, sbs.side) << " at " << point3(x);
-          os << (declared[static_cast<size_t>(b) * nb + b] ? "; its self-contact pairs allow " + fmt3(lim)
+          os << (declared[static_cast<size_t>(b) * nb + b] ? "; its self-contact pairs allow " + check_number(lim)
                                                            : "; declare a contact pair between those two faces of " + A.name + " (self-contact)");
         } else {
-          os << "interpenetration: " << A.name << "." << A.side_label(sa.patch, sa.side) << " is " << fmt3(depth) << " inside "
+          os << "interpenetration: " << A.name << "." << A.side_label(sa.patch, sa.side) << " is " << check_number(depth) << " inside "
              << B.name << " (below " << B.name << "." << B.side_label(sbs.patch, sbs.side) << ") at " << point3(x);
           os << (declared[static_cast<size_t>(S.body) * nb + b]
-                     ? "; the contact pairs between them allow " + fmt3(lim) +
+                     ? "; the contact pairs between them allow " + check_number(lim) +
                            (allowed[ab] >= lim ? std::string(" (3 x their penalty penetration)")
                                                : std::string(" (5 % of the face element, above 3 x their penalty penetration)"))
                      : "; no contact pair is declared between " + A.name + " and " + B.name);
