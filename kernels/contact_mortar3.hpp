@@ -1,7 +1,7 @@
 #pragma once
 // Segment-to-segment mortar contact between faces of solids (3-D, frictionless): the 3-D form
-// of contact_mortar.hpp, with the segmentation of contact_clip.hpp. One slave face and one
-// master face (lists of faces: KTS only, for now).
+// of contact_mortar.hpp, with the segmentation of contact_clip.hpp. One slave face against a
+// master made of one face or a list of patch faces (a slave list: KTS only, for now).
 //
 // Weighted gap of slave control point A (reference measure dGamma_0):
 //   g_A = \int R_A g dGamma_0,  w_A = \int R_A dGamma_0,  g = (x_s - rho(xi)) . n(xi) with xi
@@ -78,7 +78,7 @@ constexpr int kEdgeData = 16;   // doubles per edge point (MortarEdges3::d)
 /// normal of the covered region in the slave parameter plane, times |b - a|), then for corner
 /// a and corner b: the shot (u, v, t) and the master parameters (xi, eta) of the corner.
 struct MortarEdges3 {
-  Kokkos::View<int*, MemSpace> elem, melem;   // slave element; master element of the edge's cell
+  Kokkos::View<int*, MemSpace> elem, melem, mface;   // slave element; master face and element of the edge's cell
   Kokkos::View<double* [kEdgeData], MemSpace> d;
   int per = 0;
 };
@@ -129,42 +129,46 @@ struct MortarSegments3 {
     const double uc = 0.5 * (lo[0] + hi[0]), vc = 0.5 * (lo[1] + hi[1]);
     const double hsz = (hi[0] - lo[0]) > (hi[1] - lo[1]) ? hi[0] - lo[0] : hi[1] - lo[1];
     int used = 0;
-    const SurfaceSearch& g = m.search[0];
-    const SurfaceData& ms = m.f[0].sd;
-    // candidates in this element's row of the scratch (its capacity grows to what is needed)
+    // candidates (master element E of face f as E kMaxFacesPerSurface + f) in this element's
+    // row of the scratch (its capacity grows to what is needed), from every master face's bins
     int nc = 0;
     const int cap = static_cast<int>(cand.extent(1));
-    int c0[3], c1[3];
-    for (int d = 0; d < 3; ++d) {
-      c0[d] = g.cell_of(box[d], d);
-      c1[d] = g.cell_of(box[3 + d], d);
-      if (c0[d] < 0) c0[d] = 0;
-      if (c1[d] > g.nc[d] - 1) c1[d] = g.nc[d] - 1;
-    }
-    for (int cz = c0[2]; cz <= c1[2]; ++cz)
-      for (int cy = c0[1]; cy <= c1[1]; ++cy)
-        for (int cx = c0[0]; cx <= c1[0]; ++cx) {
-          const int cc[3] = {cx, cy, cz};
-          int k0, k1;
-          g.cell_range(cc, k0, k1);
-          for (int k = k0; k < k1; ++k) {
-            const int E = g.elems(k);
-            bool overlap = true;
-            for (int d = 0; d < 3; ++d) overlap = overlap && g.box(E, d) <= box[3 + d] && g.box(E, 3 + d) >= box[d];
-            if (!overlap) continue;
-            bool seen = false;
-            for (int q = 0; q < nc && q < cap && !seen; ++q) seen = cand(e, q) == E;
-            if (seen) continue;
-            if (nc < cap) cand(e, nc) = E;
-            ++nc;
+    for (int f = 0; f < m.n; ++f) {
+      const SurfaceSearch& g = m.search[f];
+      int c0[3], c1[3];
+      for (int d = 0; d < 3; ++d) {
+        c0[d] = g.cell_of(box[d], d);
+        c1[d] = g.cell_of(box[3 + d], d);
+        if (c0[d] < 0) c0[d] = 0;
+        if (c1[d] > g.nc[d] - 1) c1[d] = g.nc[d] - 1;
+      }
+      for (int cz = c0[2]; cz <= c1[2]; ++cz)
+        for (int cy = c0[1]; cy <= c1[1]; ++cy)
+          for (int cx = c0[0]; cx <= c1[0]; ++cx) {
+            const int cc[3] = {cx, cy, cz};
+            int k0, k1;
+            g.cell_range(cc, k0, k1);
+            for (int k = k0; k < k1; ++k) {
+              const int E = g.elems(k);
+              bool overlap = true;
+              for (int d = 0; d < 3; ++d) overlap = overlap && g.box(E, d) <= box[3 + d] && g.box(E, 3 + d) >= box[d];
+              if (!overlap) continue;
+              const int code = E * kMaxFacesPerSurface + f;
+              bool seen = false;
+              for (int q = 0; q < nc && q < cap && !seen; ++q) seen = cand(e, q) == code;
+              if (seen) continue;
+              if (nc < cap) cand(e, nc) = code;
+              ++nc;
+            }
           }
-        }
+    }
     if (nc > cap) {   // the host grows the rows and segments again
       Kokkos::atomic_fetch_max(&flags(1), nc);
       return;
     }
     for (int q = 0; q < nc; ++q) {
-      const int E = cand(e, q);
+      const int E = cand(e, q) / kMaxFacesPerSurface, fm = cand(e, q) % kMaxFacesPerSurface;
+      const SurfaceData& ms = m.f[fm].sd;
       int mspn[2];
       surface_element_spans(ms, E, mspn);
       const double mlo[2] = {ms.U[0](mspn[0]), ms.U[1](mspn[1])}, mhi[2] = {ms.U[0](mspn[0] + 1), ms.U[1](mspn[1] + 1)};
@@ -203,7 +207,7 @@ struct MortarSegments3 {
         shot[k][4] = c.eta;
       }
       if (poly.n < 3 || !cell_image_valid(poly, corner_sign)) continue;
-      if (ed.per > 0) add_edge_points(e, E, ci, cj, mspn, lo, hi, hsz, poly, shot, shot_ok, ref, es, eused);
+      if (ed.per > 0) add_edge_points(e, fm, E, ci, cj, mspn, lo, hi, hsz, poly, shot, shot_ok, ref, es, eused);
       ClipPolygon P;
       if (clip_polygons(rect, poly, P) & kClipOverflow) Kokkos::atomic_fetch_max(&flags(2), 1);
       const double mc[2] = {mlo[0] + (ci + 0.5) / sub * (mhi[0] - mlo[0]), mlo[1] + (cj + 0.5) / sub * (mhi[1] - mlo[1])};
@@ -219,7 +223,7 @@ struct MortarSegments3 {
           sp.uv(i, 1) = x[1];
           sp.weight(i) = w * kmath::sqrt(dot3(nn, nn));
           for (int c = 0; c < 3; ++c) sp.X(i, c) = d[0][c];
-          sp.mface(i) = 0;   // the projection's warm start: this master element
+          sp.mface(i) = fm;   // the projection's warm start: this master element
           sp.melem(i) = E;
           sp.muv(i, 0) = mc[0];
           sp.muv(i, 1) = mc[1];
@@ -390,15 +394,17 @@ struct MortarSegments3 {
     return true;
   }
 
-  /// The edge points of cell (ci, cj) of master element E where its edges are the master
-  /// face's boundary: each such edge a -> b (both corners shot) clipped to the slave element's
-  /// rectangle (Liang-Barsky), with the Gauss rule on the clipped part. An edge along the
-  /// rectangle's side counts for the element on its covered side only.
-  KOKKOS_INLINE_FUNCTION void add_edge_points(int e, int E, int ci, int cj, const int mspn[2], const double lo[2],
+  /// The edge points of cell (ci, cj) of master element E of face fm where its edges are the
+  /// master face's boundary: each such edge a -> b (both corners shot) clipped to the slave
+  /// element's rectangle (Liang-Barsky), with the Gauss rule on the clipped part. An edge along
+  /// the rectangle's side counts for the element on its covered side only. Where two faces of a
+  /// master list meet, each face writes its side of the edge: their sum is the jump term, as at
+  /// a rough edge inside one face (below).
+  KOKKOS_INLINE_FUNCTION void add_edge_points(int e, int fm, int E, int ci, int cj, const int mspn[2], const double lo[2],
                                               const double hi[2], double hsz, const ClipPolygon& poly,
                                               const double (*shot)[5], const bool* shot_ok, const SurfaceData& ref,
                                               const int es[2], int& eused) const {
-    const SurfaceData& ms = m.f[0].sd;
+    const SurfaceData& ms = m.f[fm].sd;
     // the master face's boundary, and master element edges across which the residual's
     // integrand jumps: the master's continuity there below `smooth` (1: the normal, 2: its
     // derivatives, which friction's slip variation carries). Both elements at such an edge
@@ -462,6 +468,7 @@ struct MortarSegments3 {
           surface_derivatives(ref, es, u, v, d);
           cross3(d[1], d[2], nn);
           ed.elem(i) = e;
+          ed.mface(i) = fm;
           ed.melem(i) = E;
           ed.d(i, 0) = u;
           ed.d(i, 1) = v;
@@ -567,9 +574,9 @@ struct MortarEdgePoints3 {
     esp.uv(i, 0) = ed.d(i, 0);
     esp.uv(i, 1) = ed.d(i, 1);
     esp.weight(i) = ed.d(i, 3);
-    if (!edge_point(s.f[0], m.f[0], ed, i, es, ms, Rs, cps, ns, Rm, cpm, nm, n, g, foot, x)) return;
+    if (!edge_point(s.f[0], m.f[ed.mface(i)], ed, i, es, ms, Rs, cps, ns, Rm, cpm, nm, n, g, foot, x)) return;
     esp.valid(i) = 1;
-    esp.mface(i) = 0;
+    esp.mface(i) = ed.mface(i);
     esp.melem(i) = ed.melem(i);
     esp.muv(i, 0) = foot[0];
     esp.muv(i, 1) = foot[1];
@@ -684,7 +691,7 @@ struct AssembleMortarEdge3 {
     const int i = e_begin + k;
     if (ed.elem(i) < 0) return;
     const ContactFace& sf = s.f[0];
-    const ContactFace& mf = m.f[0];
+    const ContactFace& mf = m.f[ed.mface(i)];
     double Rs[kMaxSurfaceBasis], Rm[kMaxSurfaceBasis], n[3], g;
     int cps[kMaxSurfaceBasis], cpm[kMaxSurfaceBasis], es[2], mspn[2], ns, nm;
     if (!edge_point(sf, mf, ed, i, es, mspn, Rs, cps, ns, Rm, cpm, nm, n, g)) return;
@@ -831,12 +838,16 @@ struct MortarPointPressure3 {
 };
 
 /// The dense dof range of slave control point A's mortar vectors (delta g_A, and with friction
-/// V_A): the slave control points within p of A, then the box of master control points that
-/// its slots' and edge points' master elements use; 3 entries (x, y, z) per control point.
+/// V_A): the slave control points within p of A, then per master face the box of its control
+/// points that the slots' and edge points' master elements use; 3 entries (x, y, z) per control
+/// point. A control point shared by two master faces has an entry in each box: the compaction
+/// to the contact matrix's dofs merges them (merge_sorted_dof).
 struct MortarRange3 {
-  int s_lo[2] = {0, 0}, sn[2] = {0, 0}, m_lo[2] = {0, 0}, mn[2] = {0, 0}, ns = 0, sdn0 = 0, mdn0 = 0;
+  int s_lo[2] = {0, 0}, sn[2] = {0, 0}, ns = 0, sdn0 = 0, nf = 0;
+  int m_lo[kMaxFacesPerSurface][2], mn[kMaxFacesPerSurface][2], mdn0[kMaxFacesPerSurface];
+  int moff[kMaxFacesPerSurface + 1];   // the first control point of face f's box, after the slave ones
   /// Returns the range's size, 0 when no slot of A's support has a projection.
-  KOKKOS_INLINE_FUNCTION int init(const SurfaceData& sd, const SurfaceData& md, const SlavePoints3& sp, int slots,
+  KOKKOS_INLINE_FUNCTION int init(const SurfaceData& sd, const ContactFaces& m, const SlavePoints3& sp, int slots,
                                   const MortarEdges3& ed, int A) {
     const int ia = A % sd.n[0], ja = A / sd.n[0];
     s_lo[0] = ia - sd.p[0];
@@ -844,54 +855,96 @@ struct MortarRange3 {
     sn[0] = 2 * sd.p[0] + 1;
     sn[1] = 2 * sd.p[1] + 1;
     sdn0 = sd.n[0];
-    mdn0 = md.n[0];
-    int lo[2] = {md.n[0], md.n[1]}, hi[2] = {-1, -1};
-    auto widen = [&](int E) {
+    nf = m.n;
+    int lo[kMaxFacesPerSurface][2], hi[kMaxFacesPerSurface][2];
+    for (int f = 0; f < nf; ++f) {
+      mdn0[f] = m.f[f].sd.n[0];
+      lo[f][0] = m.f[f].sd.n[0];
+      lo[f][1] = m.f[f].sd.n[1];
+      hi[f][0] = hi[f][1] = -1;
+    }
+    bool any = false;
+    auto widen = [&](int f, int E) {
+      const SurfaceData& md = m.f[f].sd;
       int ms_[2];
       surface_element_spans(md, E, ms_);
       for (int d = 0; d < 2; ++d) {
-        lo[d] = ms_[d] - md.p[d] < lo[d] ? ms_[d] - md.p[d] : lo[d];
-        hi[d] = ms_[d] > hi[d] ? ms_[d] : hi[d];
+        lo[f][d] = ms_[d] - md.p[d] < lo[f][d] ? ms_[d] - md.p[d] : lo[f][d];
+        hi[f][d] = ms_[d] > hi[f][d] ? ms_[d] : hi[f][d];
       }
     };
-    for_each_support_slot_index3(sd, sp, slots, A, [&](int i) { widen(sp.melem(i)); });
-    if (hi[0] < 0) return 0;
-    for_each_support_edge3(sd, ed, A, [&](int i, double, int) { widen(ed.melem(i)); });
-    for (int d = 0; d < 2; ++d) {
-      m_lo[d] = lo[d];
-      mn[d] = hi[d] - lo[d] + 1;
-    }
+    for_each_support_slot_index3(sd, sp, slots, A, [&](int i) {
+      widen(sp.mface(i), sp.melem(i));
+      any = true;
+    });
+    if (!any) return 0;
+    for_each_support_edge3(sd, ed, A, [&](int i, double, int) { widen(ed.mface(i), ed.melem(i)); });
     ns = sn[0] * sn[1];
-    return 3 * (ns + mn[0] * mn[1]);
+    moff[0] = ns;
+    for (int f = 0; f < nf; ++f) {
+      for (int d = 0; d < 2; ++d) {
+        m_lo[f][d] = lo[f][d];
+        mn[f][d] = hi[f][d] >= 0 ? hi[f][d] - lo[f][d] + 1 : 0;
+      }
+      moff[f + 1] = moff[f] + mn[f][0] * mn[f][1];
+    }
+    return 3 * moff[nf];
   }
-  /// The first entry of slave (master) control point cp (its surface index).
+  /// The first entry of slave control point cp (master: of face f; its surface index).
   KOKKOS_INLINE_FUNCTION int slave(int cp) const { return 3 * ((cp % sdn0 - s_lo[0]) + sn[0] * (cp / sdn0 - s_lo[1])); }
-  KOKKOS_INLINE_FUNCTION int master(int cp) const { return 3 * (ns + (cp % mdn0 - m_lo[0]) + mn[0] * (cp / mdn0 - m_lo[1])); }
+  KOKKOS_INLINE_FUNCTION int master(int f, int cp) const {
+    return 3 * (moff[f] + (cp % mdn0[f] - m_lo[f][0]) + mn[f][0] * (cp / mdn0[f] - m_lo[f][1]));
+  }
   /// The contact matrix's dof of entry q (-1: a control point without an overlap dof).
-  KOKKOS_INLINE_FUNCTION int dof(int q, const ContactFace& sf, const ContactFace& mf) const {
+  KOKKOS_INLINE_FUNCTION int dof(int q, const ContactFace& sf, const ContactFaces& m) const {
     const int cpq = q / 3, c = q % 3;
     int lid;
     if (cpq < ns) {
       const int ci = s_lo[0] + cpq % sn[0], cj = s_lo[1] + cpq / sn[0];
       lid = sf.lid(ci + sdn0 * cj);
     } else {
-      const int r = cpq - ns, ci = m_lo[0] + r % mn[0], cj = m_lo[1] + r / mn[0];
-      lid = mf.lid(ci + mdn0 * cj);
+      int f = 0;
+      while (cpq >= moff[f + 1]) ++f;
+      const int r = cpq - moff[f], ci = m_lo[f][0] + r % mn[f][0], cj = m_lo[f][1] + r / mn[f][0];
+      lid = m.f[f].lid(ci + mdn0[f] * cj);
     }
     return lid < 0 ? -1 : dof_of(lid, c, 3);
   }
 };
 
+/// Compaction of a dense range: entry `dof` with its nv values val inserted into the sorted
+/// list dofs[0, nnz) with values vals (nv per entry: vals(pos, b)), or added to the entry of
+/// the same dof (a control point shared by two master faces). The list's storage may be the
+/// dense range itself as long as nnz <= the entry read.
+template <class Dofs, class Vals>
+KOKKOS_INLINE_FUNCTION void merge_sorted_dof(int dof, const double* val, int nv, int& nnz, const Dofs& dofs, const Vals& vals) {
+  int pos = nnz;
+  while (pos > 0 && dofs(pos - 1) > dof) --pos;
+  if (pos > 0 && dofs(pos - 1) == dof) {
+    for (int b = 0; b < nv; ++b) vals(pos - 1, b) += val[b];
+    return;
+  }
+  for (int r = nnz; r > pos; --r) {
+    dofs(r) = dofs(r - 1);
+    for (int b = 0; b < nv; ++b) vals(r, b) = vals(r - 1, b);
+  }
+  dofs(pos) = dof;
+  for (int b = 0; b < nv; ++b) vals(pos, b) = val[b];
+  ++nnz;
+}
+
 /// A slot's part of delta g_A = int R_A N dGamma_0 on A's dense range: add(entry, value) for
 /// the slave control points (w R_a n) and the master ones (-w R_b n) of the slot's elements
-/// (w: R_A times the slot's weight; Rs, Rm the bases at the slot and at its foot).
+/// (w: R_A times the slot's weight; Rs, Rm the bases at the slot and at its foot on master
+/// face mf).
 template <class Add>
-KOKKOS_INLINE_FUNCTION void add_gap_variation(const MortarRange3& rg, const double* Rs, const int* cps, int ns, const double* Rm,
-                                              const int* cpm, int nm, const double n[3], double w, const Add& add) {
+KOKKOS_INLINE_FUNCTION void add_gap_variation(const MortarRange3& rg, const double* Rs, const int* cps, int ns, int mf,
+                                              const double* Rm, const int* cpm, int nm, const double n[3], double w,
+                                              const Add& add) {
   for (int a = 0; a < ns; ++a)
     for (int c = 0; c < 3; ++c) add(rg.slave(cps[a]) + c, w * Rs[a] * n[c]);
   for (int b = 0; b < nm; ++b)
-    for (int c = 0; c < 3; ++c) add(rg.master(cpm[b]) + c, -w * Rm[b] * n[c]);
+    for (int c = 0; c < 3; ++c) add(rg.master(mf, cpm[b]) + c, -w * Rm[b] * n[c]);
 }
 
 /// K_c += eps / w_A delta g_A (x) delta g_A for the active slave control points [a_begin, ...):
@@ -913,9 +966,8 @@ struct AssembleMortarGap3 {
     const int A = a_begin + k;
     if (!ms.active(A)) return;
     const SurfaceData& sd = s.f[0].sd;
-    const SurfaceData& md = m.f[0].sd;
     MortarRange3 rg;
-    const int size = rg.init(sd, md, sp, slots, ed, A);
+    const int size = rg.init(sd, m, sp, slots, ed, A);
     if (size == 0) return;
     if (size > sc.cap()) {
       Kokkos::atomic_fetch_max(&ms.flags(1), size);
@@ -932,9 +984,11 @@ struct AssembleMortarGap3 {
       int es[2], mspn[2];
       surface_element_spans(sd, e, es);
       const int nsb = slot_basis_cached(sd, p, i, es, R, cp);
+      const int mf = p.mface(i);
+      const SurfaceData& md = m.f[mf].sd;
       surface_element_spans(md, p.melem(i), mspn);
       const int nmb = surface_basis(md, mspn, p.muv(i, 0), p.muv(i, 1), Rm, Ru, Rv, cpm);
-      add_gap_variation(rg, R, cp, nsb, Rm, cpm, nmb, n, w, [&](int q, double v) { S.v0(k, q) += v; });
+      add_gap_variation(rg, R, cp, nsb, mf, Rm, cpm, nmb, n, w, [&](int q, double v) { S.v0(k, q) += v; });
     });
     // the boundary part b_A = \oint R_A g V' dl_0 (where the master ends inside A's elements)
     // in the row scratch; the columns are delta g_A + b_A
@@ -942,30 +996,24 @@ struct AssembleMortarGap3 {
     for_each_support_edge3(sd, ed, A, [&](int i, double RA, int) {
       double Rs[kMaxSurfaceBasis], Rm[kMaxSurfaceBasis], n[3], g;
       int cps[kMaxSurfaceBasis], cpm[kMaxSurfaceBasis], es[2], mspn[2], nsb, nmb;
-      if (RA == 0 || !edge_point(s.f[0], m.f[0], ed, i, es, mspn, Rs, cps, nsb, Rm, cpm, nmb, n, g)) return;
+      const int mf = ed.mface(i);
+      if (RA == 0 || !edge_point(s.f[0], m.f[mf], ed, i, es, mspn, Rs, cps, nsb, Rm, cpm, nmb, n, g)) return;
       const double w = RA * g * ed.d(i, 3);
-      edge_velocity(sd, es, md, mspn, ed, i, [&](bool master, int, int cp, int c, double v) {
-        S.row(k, (master ? rg.master(cp) : rg.slave(cp)) + c) += w * v;
+      edge_velocity(sd, es, m.f[mf].sd, mspn, ed, i, [&](bool master, int, int cp, int c, double v) {
+        S.row(k, (master ? rg.master(mf, cp) : rg.slave(cp)) + c) += w * v;
       });
     });
-    // compact to the touched entries with an overlap dof, then sort by dof (insertion sort):
-    // v1 the rows' delta g_A, v0 the columns' delta g_A + b_A
+    // compact to the touched entries with an overlap dof, sorted by dof (insertion sort; a
+    // dof in two master faces' boxes merged): v1 the rows' delta g_A, v0 the columns'
+    // delta g_A + b_A (the list's end stays at or before the entry read)
     int nnz = 0;
     for (int q = 0; q < size; ++q) {
-      const double dg = sc.v0(k, q), col = dg + sc.row(k, q);
-      if (dg == 0 && col == 0) continue;
-      const int dof = rg.dof(q, s.f[0], m.f[0]);
+      const double val[2] = {sc.v0(k, q), sc.v0(k, q) + sc.row(k, q)};
+      if (val[0] == 0 && val[1] == 0) continue;
+      const int dof = rg.dof(q, s.f[0], m);
       if (dof < 0) continue;
-      int pos = nnz++;   // pos <= q: v0 at pos is read already
-      while (pos > 0 && sc.dof(k, pos - 1) > dof) {
-        sc.dof(k, pos) = sc.dof(k, pos - 1);
-        sc.v1(k, pos) = sc.v1(k, pos - 1);
-        sc.v0(k, pos) = sc.v0(k, pos - 1);
-        --pos;
-      }
-      sc.dof(k, pos) = dof;
-      sc.v1(k, pos) = dg;
-      sc.v0(k, pos) = col;
+      merge_sorted_dof(dof, val, 2, nnz, [&](int r) -> int& { return sc.dof(k, r); },
+                       [&](int r, int b) -> double& { return b == 0 ? sc.v1(k, r) : sc.v0(k, r); });
     }
     const double c = eps / ms.wA(A);
     int* dof = &sc.dof(k, 0);

@@ -143,7 +143,7 @@ struct MortarFrictionRanges3 {
     size(k) = 0;
     if (fr.stateA(A) == 0) return;
     MortarRange3 rg;
-    const int n = rg.init(s.f[0].sd, m.f[0].sd, sp, slots, ed, A);
+    const int n = rg.init(s.f[0].sd, m, sp, slots, ed, A);
     if (n > sc.cap()) {
       Kokkos::atomic_fetch_max(&ms.flags(1), n);
       return;
@@ -168,7 +168,8 @@ struct MortarFrictionVectors3 {
     using F = FrictionPoint3::F;
     if (sp.face(i) < 0 || !sp.valid(i)) return;
     const SurfaceData& sd = s.f[0].sd;
-    const SurfaceData& md = m.f[0].sd;
+    const int mf = sp.mface(i);
+    const SurfaceData& md = m.f[mf].sd;
     double Rs[kMaxSurfaceBasis], Ru[kMaxSurfaceBasis], Rv[kMaxSurfaceBasis], Rm[kMaxSurfaceBasis];
     int cps[kMaxSurfaceBasis], cpm[kMaxSurfaceBasis], mspn[2];
     const int ns = slot_basis(sd, sp, i, Rs, cps);
@@ -198,10 +199,11 @@ struct MortarFrictionVectors3 {
       const int sz = size(k);
       const double w = Rs[a] * sp.weight(i);
       if (fr.stateA(A) == 2 && ms.lambda(A) > 0)   // delta g_A, as AssembleMortarGap3
-        add_gap_variation(rg, Rs, cps, ns, Rm, cpm, nm, n, w, [&](int q, double v) { Kokkos::atomic_add(&sc.v0(k, 3 * sz + q), v); });
+        add_gap_variation(rg, Rs, cps, ns, mf, Rm, cpm, nm, n, w,
+                          [&](int q, double v) { Kokkos::atomic_add(&sc.v0(k, 3 * sz + q), v); });
       if (!ref) continue;
       for (int cb = 0; cb < P.ns + P.nm; ++cb) {
-        const int q0 = cb < P.ns ? rg.slave(P.cps[cb]) : rg.master(P.cpm[cb - P.ns]);
+        const int q0 = cb < P.ns ? rg.slave(P.cps[cb]) : rg.master(mf, P.cpm[cb - P.ns]);
         for (int cc = 0; cc < 3; ++cc)
           for (int c = 0; c < 3; ++c) Kokkos::atomic_add(&sc.v0(k, c * sz + q0 + cc), w * P.column(g[c], cb, cc));
       }
@@ -209,24 +211,27 @@ struct MortarFrictionVectors3 {
   }
 };
 
-/// The edge points' references: the slave point in the converged configuration (sc) projected
-/// onto the converged master (mc) without clamping, from the current foot (an edge point's foot
-/// lies on the master's boundary, where a clamped projection would lose half of them).
-struct MortarEdgeReferences3 {
+/// The references of slots and edge points (esp / efr: either): the slave point in the converged
+/// configuration (sc) projected onto the face of its current foot on the converged master (mc),
+/// not clamped, from the current foot (an edge point's foot lies on the master's boundary, where
+/// a clamped projection would lose half of them; a slot whose foot crossed into another face of a
+/// master list during the step keeps its slip measured on that face's polynomial).
+struct MortarReferences3 {
   ContactFaces sc, mc;
   SlavePoints3 esp;
   Friction3 efr;
 
   KOKKOS_INLINE_FUNCTION void operator()(const int i) const {
     efr.ref_face(i) = -1;
-    if (!esp.valid(i)) return;
+    if (esp.face(i) < 0 || !esp.valid(i)) return;
     int es[2], ms[2];
     surface_element_spans(sc.f[0].sd, esp.elem(i), es);
     double ds[6][3], dm[6][3];
     surface_derivatives(sc.f[0].sd, es, esp.uv(i, 0), esp.uv(i, 1), ds);
     double xi = esp.muv(i, 0), eta = esp.muv(i, 1);
-    closest_point_unclamped(mc.f[0].sd, ds[0], xi, eta, ms, true, dm);
-    efr.ref_face(i) = 0;
+    closest_point_unclamped(mc.f[esp.mface(i)].sd, ds[0], xi, eta, ms, true, dm);
+    if (!(kmath::fabs(xi) < 1e300 && kmath::fabs(eta) < 1e300)) return;   // Newton ran away
+    efr.ref_face(i) = esp.mface(i);
     efr.ref_uv(i, 0) = xi;
     efr.ref_uv(i, 1) = eta;
   }
@@ -250,7 +255,8 @@ struct MortarFrictionEdgeVectors3 {
   KOKKOS_INLINE_FUNCTION void operator()(const int i) const {
     if (ed.elem(i) < 0 || !esp.valid(i)) return;
     const SurfaceData& sd = s.f[0].sd;
-    const SurfaceData& md = m.f[0].sd;
+    const int mf = ed.mface(i);
+    const SurfaceData& md = m.f[mf].sd;
     double Rs[kMaxSurfaceBasis];
     int cps[kMaxSurfaceBasis], es[2], mspn[2];
     const int ns = slot_basis(sd, esp, i, Rs, cps);
@@ -265,7 +271,7 @@ struct MortarFrictionEdgeVectors3 {
       const double w = Rs[a] * ed.d(i, 3);
       const bool dlam = fr.stateA(A) == 2 && ms.lambda(A) > 0;
       edge_velocity(sd, es, md, mspn, ed, i, [&](bool master, int, int cp, int c, double v) {
-        const int q = (master ? rg.master(cp) : rg.slave(cp)) + c;
+        const int q = (master ? rg.master(mf, cp) : rg.slave(cp)) + c;
         for (int cc = 0; cc < 3; ++cc)
           if (gT[cc] != 0) Kokkos::atomic_add(&sc.v0(k, (4 + cc) * sz + q), w * gT[cc] * v);
         if (dlam) Kokkos::atomic_add(&sc.v0(k, 7 * sz + q), w * g * v);
@@ -307,13 +313,13 @@ struct AssembleMortarFrictionEdge3 {
     double vel[3 * 2 * kMaxSurfaceBasis];
     for (int q = 0; q < nd; ++q) vel[q] = 0;
     int es[2], mspn[2];
+    const ContactFace& sf = s.f[0];
+    const ContactFace& mf = m.f[ed.mface(i)];
     surface_element_spans(sd, ed.elem(i), es);
-    surface_element_spans(m.f[0].sd, ed.melem(i), mspn);
-    edge_velocity(sd, es, m.f[0].sd, mspn, ed, i,
+    surface_element_spans(mf.sd, ed.melem(i), mspn);
+    edge_velocity(sd, es, mf.sd, mspn, ed, i,
                   [&](bool master, int a, int, int c, double v) { vel[3 * (a + (master ? P.ns : 0)) + c] += v; });
     const double w = ed.d(i, 3);
-    const ContactFace& sf = s.f[0];
-    const ContactFace& mf = m.f[0];
     auto lid = [&](int r) {
       const int cp = r / 3;
       const int l = cp < P.ns ? sf.lid(P.cps[cp]) : mf.lid(P.cpm[cp - P.ns]);
@@ -353,17 +359,11 @@ struct AssembleMortarFriction3 {
         any = any || val[b] != 0;
       }
       if (!any) continue;
-      const int dof = rg.dof(q, s.f[0], m.f[0]);
+      const int dof = rg.dof(q, s.f[0], m);
       if (dof < 0) continue;
       for (int b = 4; b < 8; ++b) val[b] += val[b - 4];
-      int pos = nnz++;
-      while (pos > 0 && sc.dof(k, pos - 1) > dof) {
-        sc.dof(k, pos) = sc.dof(k, pos - 1);
-        for (int b = 0; b < 8; ++b) sc.v1(k, 8 * pos + b) = sc.v1(k, 8 * (pos - 1) + b);
-        --pos;
-      }
-      sc.dof(k, pos) = dof;
-      for (int b = 0; b < 8; ++b) sc.v1(k, 8 * pos + b) = val[b];
+      merge_sorted_dof(dof, val, 8, nnz, [&](int r) -> int& { return sc.dof(k, r); },
+                       [&](int r, int b) -> double& { return sc.v1(k, 8 * r + b); });
     }
     const double wA = ms.wA(A), cT = fr.epsT / wA;
     double that[3] = {0, 0, 0}, cs = 0, cn = 0;

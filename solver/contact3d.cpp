@@ -113,7 +113,8 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
     // quadrature slots per slave element, filled by MortarSegments3 at every update (they grow
     // to what an element needs); w_A = int R_A dGamma_0 by Gauss on the slave elements
     const HostFace& h = hs_[0];
-    const int pmax = std::max({h.p[0], h.p[1], hm_[0].p[0], hm_[0].p[1]});
+    int pmax = std::max(h.p[0], h.p[1]);
+    for (const HostFace& hm : hm_) pmax = std::max({pmax, hm.p[0], hm.p[1]});
     // with friction two more points per direction: the slip's integrand is a polynomial of
     // higher degree, and a rule that does not integrate it exactly makes the residual move with
     // the segments at first order (Newton stalls at 1e-7 on a flat p = 2 master with p + 1)
@@ -305,22 +306,6 @@ SlavePoints3 make_slave_points(int n) {
   return sp;
 }
 
-/// The same points' projections in the converged configuration (mortar friction): their own
-/// parameters (shared views), results of their own.
-SlavePoints3 make_reference_points(const SlavePoints3& sp, int n) {
-  SlavePoints3 r = sp;
-  r.lambda = Kokkos::View<double*, MemSpace>("ref_lambda", n);
-  r.valid = Kokkos::View<int*, MemSpace>("ref_valid", n);
-  r.mface = Kokkos::View<int*, MemSpace>("ref_mface", n);
-  r.melem = Kokkos::View<int*, MemSpace>("ref_melem", n);
-  r.muv = Kokkos::View<double* [2], MemSpace>("ref_muv", n);
-  r.gap = Kokkos::View<double*, MemSpace>("ref_gap", n);
-  r.pressure = Kokkos::View<double*, MemSpace>("ref_pressure", n);
-  r.x = Kokkos::View<double* [3], MemSpace>("ref_x", n);
-  r.normal = Kokkos::View<double* [3], MemSpace>("ref_normal", n);
-  return r;
-}
-
 /// Friction's per-point arrays for n points (mortar: with the slip vectors).
 void make_friction_points(Friction3& fr, int n, bool mortar) {
   fr.ref_face = Kokkos::View<int*, MemSpace>("ref_face", n);
@@ -343,6 +328,7 @@ void ContactSurfaces3::allocate_edges(int per) {
   edges.per = per;
   edges.elem = Kokkos::View<int*, MemSpace>("edge_elem", ne * per);
   edges.melem = Kokkos::View<int*, MemSpace>("edge_melem", ne * per);
+  edges.mface = Kokkos::View<int*, MemSpace>("edge_mface", ne * per);
   edges.d = Kokkos::View<double* [kEdgeData], MemSpace>("edge_data", ne * per);
   Kokkos::deep_copy(edges.elem, -1);
   const auto r = block_range(ne * per, rank_, nranks_);
@@ -369,7 +355,6 @@ void ContactSurfaces3::allocate_points(int n) {
   }
   make_friction_points(fr, n, mortar && friction);
   state_prev_ = Kokkos::View<int*, MemSpace>("friction_state_prev", n);
-  if (mortar && friction) ref_sp_ = make_reference_points(sp, n);
 }
 
 // Mortar: the slave elements this rank segments and projects, [c_begin, c_end): those of its
@@ -546,20 +531,13 @@ void ContactSurfaces3::update_mortar_friction() {
   const int first = c_begin * slots, last = c_end * slots;
   const int e_first = c_begin * edges.per, e_last = c_end * edges.per;
   if (have_committed_) {
-    // warm start: the current foot's element (the converged one is at most a step away)
-    Kokkos::deep_copy(ref_sp_.mface, sp.mface);
-    Kokkos::deep_copy(ref_sp_.melem, sp.melem);
-    Kokkos::deep_copy(ref_sp_.muv, sp.muv);
-    ProjectSlavePoints3 k;
-    k.s = slave_c_; k.m = master_c_; k.sp = ref_sp_; k.eps = pair.penalty;
-    Kokkos::parallel_for("iga::ProjectCommittedSlots3", Kokkos::RangePolicy<ExecSpace>(first, last), k);
-    const auto f = fr;
-    const SlavePoints3 r = ref_sp_;
-    Kokkos::parallel_for("iga::MortarFrictionReferences3", Kokkos::RangePolicy<ExecSpace>(first, last), KOKKOS_LAMBDA(const int i) {
-      f.ref_face(i) = r.valid(i) ? r.mface(i) : -1;
-      f.ref_uv(i, 0) = r.muv(i, 0);
-      f.ref_uv(i, 1) = r.muv(i, 1);
-    });
+    // each slot's slave point in the converged configuration projected onto the converged
+    // master face of its current foot, that face's polynomial not clamped (as the edge points'):
+    // the slip is then defined where the foot crossed into another face of a master list
+    // during the step, or where the reference lies a little beyond the master's boundary
+    MortarReferences3 k;
+    k.sc = slave_c_; k.mc = master_c_; k.esp = sp; k.efr = fr;
+    Kokkos::parallel_for("iga::MortarFrictionReferences3", Kokkos::RangePolicy<ExecSpace>(first, last), k);
   } else {
     Kokkos::deep_copy(fr.ref_face, -1);
   }
@@ -571,7 +549,7 @@ void ContactSurfaces3::update_mortar_friction() {
   kep.s = slave; kep.m = master; kep.ed = edges; kep.esp = esp;
   Kokkos::parallel_for("iga::MortarEdgePoints3", Kokkos::RangePolicy<ExecSpace>(e_first, e_last), kep);
   if (have_committed_) {
-    MortarEdgeReferences3 ker;
+    MortarReferences3 ker;
     ker.sc = slave_c_; ker.mc = master_c_; ker.esp = esp; ker.efr = efr;
     Kokkos::parallel_for("iga::MortarEdgeReferences3", Kokkos::RangePolicy<ExecSpace>(e_first, e_last), ker);
   } else {
@@ -721,7 +699,9 @@ void ContactSurfaces3::refresh() {
       // a curved master's element images are cut into 2 x 2 cells (straight edges per cell: the
       // tangent's consistency error, ~1e-6 with whole elements on a curved test surface, falls
       // by 4); a degree-1 master's elements whole
-      ks.sub = cells > 0 ? std::min(cells, kMaxCells) : std::max(hm_[0].p[0], hm_[0].p[1]) > 1 ? 2 : 1;
+      int pm = 1;
+      for (const HostFace& hm : hm_) pm = std::max({pm, hm.p[0], hm.p[1]});
+      ks.sub = cells > 0 ? std::min(cells, kMaxCells) : pm > 1 ? 2 : 1;
       ks.smooth = friction ? 2 : 1;
       if (static_cast<int>(cand_.extent(0)) != ne) cand_ = decltype(cand_)("mortar_candidates", ne, kMortar3Candidates);
       ks.cand = cand_;
@@ -814,14 +794,15 @@ void ContactSurfaces3::groups(std::vector<std::vector<GO>>& out, int& active) co
   std::vector<std::vector<GO>> per_elem(ne);
   auto eelem = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), edges.elem);
   auto emelem = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), edges.melem);
+  auto emface = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), edges.mface);
   for (int e = c_begin; e < c_end; ++e) {   // the elements this rank segmented
-    std::set<int> melems;
+    std::set<std::pair<int, int>> melems;   // (master face, element)
     for (int i = e * slots; i < (e + 1) * slots; ++i)
-      if (face(i) >= 0 && valid(i)) melems.insert(melem(i));
+      if (face(i) >= 0 && valid(i)) melems.insert({mface(i), melem(i)});
     if (melems.empty()) continue;
-    for (int i = e * edges.per; i < (e + 1) * edges.per && eelem(i) >= 0; ++i) melems.insert(emelem(i));
+    for (int i = e * edges.per; i < (e + 1) * edges.per && eelem(i) >= 0; ++i) melems.insert({emface(i), emelem(i)});
     element_cps(hs, e, 0, per_elem[e]);
-    for (int E : melems) element_cps(hm_[0], E, 1, per_elem[e]);
+    for (const auto& [f, E] : melems) element_cps(hm_[f], E, 1, per_elem[e]);
   }
   auto act = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms.active);
   for (int A = a_begin; A < a_end; ++A) {

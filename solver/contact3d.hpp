@@ -100,10 +100,8 @@ class ContactSurfaces3 {
     Kokkos::View<double* [3], MemSpace> lamTA;
   } committed_;
   // mortar friction: the faces in the last converged configuration (the slots' reference feet
-  // are projected onto it at every update), the slots' projections there, and the per-A states
-  // of the previous update
+  // are projected onto it at every update) and the per-A states of the previous update
   ContactFaces slave_c_, master_c_;
-  SlavePoints3 ref_sp_;
   bool have_committed_ = false;
   Kokkos::View<int*, MemSpace> stateA_prev_;
   Kokkos::View<int*, MemSpace> seg_flags_;

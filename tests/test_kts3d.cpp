@@ -67,6 +67,41 @@ std::string bump_and_box(int p, int n, const std::string& method, const std::str
   return os.str();
 }
 
+// A block 2 x 2 x 1 made of two patches (x <= 1 and x >= 1) whose top faces are rational
+// quadratic arcs in x meeting at a ridge x = 1 (z = 1.2; slopes 0.1 and 0 there: a C^0 kink of
+// the master list [patch0.back, patch1.back]), n / 2 x n elements per patch, and the box of
+// bump_and_box above the ridge (x in [0.4, 1.5]), its bottom at z = 1.2.
+std::string ridge_and_box(int p, int n, const std::string& method, const std::string& analysis, double mu) {
+  std::ostringstream os;
+  os << "analysis: {type: solid" << analysis << "}\n"
+     << "bodies:\n"
+     << "  - name: ridge\n    material: {youngs_modulus: 1000.0, poisson_ratio: 0.3}\n"
+     << "    geometry:\n      patches:\n";
+  const double zt[2][3] = {{1.0, 1.15, 1.2}, {1.2, 1.2, 1.05}};
+  for (int q = 0; q < 2; ++q) {
+    os << "        - {degree: [2, 1, 1], knots: [[0, 0, 0, 1, 1, 1], [0, 0, 1, 1], [0, 0, 1, 1]], control_points: [";
+    for (int k = 0; k < 2; ++k)
+      for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < 3; ++i)
+          os << (i + j + k ? ", " : "") << "[" << q + 0.5 * i << ", " << 2 * j << ", " << (k == 0 ? 0.0 : zt[q][i]) << ", "
+             << (i == 1 ? 0.9 : 1.0) << "]";
+    os << "]}\n";
+  }
+  os << "    refine: {degree_elevate: [" << p - 2 << ", " << p - 1 << ", " << p - 1 << "], subdivide: [" << n / 2 << ", " << n
+     << ", 1]}\n"
+     << "    boundary: {patch0.front: {displacement: {x: 0, y: 0, z: 0}}, patch1.front: {displacement: {x: 0, y: 0, z: 0}}}\n"
+     << "  - name: box\n    material: {youngs_modulus: 500.0, poisson_ratio: 0.25}\n"
+     << "    geometry: {box: {origin: [0.4, 0.5, 1.2], size: [1.1, 0.9, 0.4]}}\n"
+     << "    refine: {degree_elevate: [" << p - 1 << ", " << p - 1 << ", " << p - 1 << "], subdivide: [3, 2, 1]}\n"
+     << "    boundary: {back: {displacement: {x: 0, y: 0, z: -0.01}}}\n"
+     << "contact:\n  - {master: {body: ridge, side: [patch0.back, patch1.back]}, slave: {body: box, side: front}, method: "
+     << method << ", penalty: 1.0e4" << (mu > 0 ? ", friction: " + std::to_string(mu) : std::string())
+     << (mu > 0 && method.rfind("mortar", 0) == 0 ? ", quadrature_points: " + std::to_string(p + 1) : std::string()) << "}\n";
+  return os.str();
+}
+
+using ProblemMaker = std::string (*)(int, int, const std::string&, const std::string&, double);
+
 // K_c against central differences of f_c, and f_c against central differences of the
 // potential, at a state with smooth random displacements of the order of the penetration plus
 // a rigid shift of the box (shift[0] along x: sliding over the master's elements).
@@ -78,9 +113,9 @@ std::string bump_and_box(int p, int n, const std::string& method, const std::str
 // master element (0: its default); potential: whether f_c must be the potential's gradient.
 double check_tangent(int p, bool multipliers, std::array<double, 3> shift, const std::string& analysis = "", bool mortar = false,
                      double mu = 0, std::array<double, 2> slide = {0, 0}, int stride = 5, int cells = 0, bool potential = true,
-                     double tol = 1e-6) {
+                     double tol = 1e-6, ProblemMaker make = bump_and_box) {
   const std::string method = std::string(mortar ? "mortar" : "kts") + (multipliers ? "_alm" : "_penalty");
-  const Problem P = parse_problem(bump_and_box(p, 6, method, analysis, mu), "tangent3d.yaml");
+  const Problem P = parse_problem(make(p, 6, method, analysis, mu), "tangent3d.yaml");
   System sys(P, Tpetra::getDefaultComm());
   std::vector<ContactPairData> pairs{ContactPairData(sys, 0)};
   pairs[0].s3_->cells = cells;
@@ -176,6 +211,33 @@ std::string stacked(int p, int base_n, int top_n, const std::string& method, dou
      << "contact:\n  - {master: {body: base, side: back}, slave: {body: top, side: front}, method: " << method
      << ", penalty: 1.0e5}\n";
   return os.str();
+}
+
+// The same with the base made of two patches split at x = xs (each nb x nb elements, conforming
+// at the interface), the master the list of their top faces.
+std::string stacked_split(int p, int nb, int nt, const std::string& method, double xs) {
+  std::string t = stacked(p, nb, nt, method);
+  std::ostringstream g;
+  g << std::setprecision(17) << "    geometry:\n      patches:\n";
+  for (int q = 0; q < 2; ++q) {
+    const double x0 = q == 0 ? 0.0 : xs, x1 = q == 0 ? xs : 2.0;
+    g << "        - {degree: [1, 1, 1], knots: [[0, 0, 1, 1], [0, 0, 1, 1], [0, 0, 1, 1]], control_points: [";
+    for (int k = 0; k < 2; ++k)
+      for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < 2; ++i) g << (i + j + k ? ", " : "") << "[" << (i ? x1 : x0) << ", " << 2 * j << ", " << k << ", 1]";
+    g << "]}\n";
+  }
+  auto replace = [&](const std::string& a, const std::string& b) {
+    const size_t at = t.find(a);
+    EXPECT_NE(at, std::string::npos) << a;
+    t.replace(at, a.size(), b);
+  };
+  replace("    geometry: {box: {origin: [0, 0, 0], size: [2, 2, 1]}}\n", g.str());
+  replace("    boundary: {front: {displacement: {z: 0}}, west: {displacement: {x: 0}}, south: {displacement: {y: 0}}}",
+          "    boundary: {patch0.front: {displacement: {z: 0}}, patch1.front: {displacement: {z: 0}}, patch0.west: "
+          "{displacement: {x: 0}}, patch0.south: {displacement: {y: 0}}, patch1.south: {displacement: {y: 0}}}");
+  replace("{master: {body: base, side: back}", "{master: {body: base, side: [patch0.back, patch1.back]}");
+  return t;
 }
 
 // The stacked blocks' uniform state at every slave point: the largest |p - 1| and the largest
@@ -320,6 +382,21 @@ TEST(Mortar3Tangent, MasterEndsInsideASlaveElement) {
   EXPECT_LT(e4, e2 / 3);
 }
 
+// A master list whose faces meet at a ridge (ridge_and_box: the two faces' slopes differ there,
+// a C^0 edge between faces): each face's segments end at the ridge's image, and the tangent has
+// each face's boundary term there (their sum the jump term, as at a C^0 edge inside one face);
+// the residual is then not the potential's gradient. Frictionless and with friction after a
+// history, consistent to the straight-edge approximation as above.
+// With friction, a slot whose foot crosses from one face into the other during the step keeps
+// its slip, measured on the new face's polynomial extended (its reference projected there, as
+// the edge points' are): with the reference on the old face instead (no slip for such a slot)
+// the slots' and the edge points' slips disagree at the ridge, 1.3e-2 of the largest column.
+TEST(Mortar3Tangent, OnAMasterListMeetingAtARidge) {
+  check_tangent(2, false, {0.0, 0.0, -0.02}, "", true, 0, {0, 0}, 5, 0, false, 1e-5, ridge_and_box);
+  check_tangent(2, false, {0.0, 0.0, -0.02}, "", true, 0.3, {0.04, -0.03}, 13, 0, false, 1e-5, ridge_and_box);
+  check_tangent(2, false, {-0.3, 0.0, -0.02}, "", true, 0.3, {0.04, -0.03}, 13, 0, false, 1e-5, ridge_and_box);
+}
+
 // Mortar friction (contact_mortar_friction3.hpp): the slots' part at fixed traction and the
 // per-control-point derivative of the traction (stick: eps_T / w_A V_A V_A^T; slip: the turn of
 // the slip direction and the pressure's change), after a history, on the curved master (p = 3):
@@ -408,6 +485,27 @@ TEST(StackedBoxes, MortarPassesThePatchTestToRoundOff) {
         EXPECT_LE(c3.c_end - c3.c_begin, bound);
         if (nranks == 1) EXPECT_EQ(c3.c_end - c3.c_begin, ne);
       }
+}
+
+// The same patch test with a master list: the base made of two patches split at x = 0.7 (slave
+// elements straddle the faces' common edge), each face's segments cover the slave elements'
+// parts it sees, and the uniform state is exact as with one face.
+TEST(StackedBoxes, MortarOnAMasterListPassesThePatchTestToRoundOff) {
+  for (int p : {1, 2, 3})
+    for (const char* method : {"mortar_penalty", "mortar_alm"}) {
+      const Solved s = solve_text(stacked_split(p, 2, 3, method, 0.7));
+      ASSERT_TRUE(s.res.converged);
+      const ContactSummary sm = s.res.contact[0].summary();
+      const UniformError u = stacked_uniform_error(s.res.contact[0], std::string(method) == "mortar_alm");
+      std::printf("  p = %d %s, master [patch0.back, patch1.back] 2 x 2 each, slave 3 x 3: %zu slots, max |p - 1| = %.2e, "
+                  "max |x - exact| = %.2e, force %.15g, Newton %d\n",
+                  p, method, u.points, u.p, u.x, sm.normal_force, newton_total(s));
+      EXPECT_LT(u.p, 1e-9);
+      EXPECT_LT(u.x, 1e-12);
+      EXPECT_NEAR(sm.normal_force, 4.0, 1e-10);
+      EXPECT_NEAR(sm.fz, 4.0, 1e-10);
+      EXPECT_NEAR(sm.contact_length, 4.0, 1e-12);
+    }
 }
 
 // Bodies that touch within round-off at the start (the top block 1e-13 above the base: a gap
