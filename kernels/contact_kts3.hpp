@@ -48,6 +48,7 @@ struct ContactFace {
   Kokkos::View<double* [4], MemSpace> X;         // reference (x, y, z, w)
   Kokkos::View<double* [3], MemSpace> u;         // current displacements
   Kokkos::View<int*, MemSpace> lid;              // overlap cp LID of the contact matrix, -1 absent
+  Kokkos::View<int*, MemSpace> aid;              // mortar slave: the control point's index A
   double sign = 1;                               // outward normal = sign (S_u x S_v) / |S_u x S_v|
 };
 
@@ -56,6 +57,12 @@ struct ContactFaces {
   ContactFace f[kMaxFacesPerSurface];
   SurfaceSearch search[kMaxFacesPerSurface];   // master only: bins over the current element boxes
   double radius = 0;                        // master only: the search radius
+  // mortar slave: the faces' elements numbered face after face (face f's from eoff[f]); the
+  // control points A numbered once where faces share them (ContactFace::aid), and A's
+  // occurrences (face, control point of the face) in [a_ptr(A), a_ptr(A + 1)) of a_occ
+  int eoff[kMaxFacesPerSurface + 1] = {0};
+  Kokkos::View<int*, MemSpace> a_ptr;
+  Kokkos::View<int* [2], MemSpace> a_occ;
 };
 
 struct SlavePoints3 {

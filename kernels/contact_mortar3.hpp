@@ -1,7 +1,9 @@
 #pragma once
 // Segment-to-segment mortar contact between faces of solids (3-D, frictionless): the 3-D form
-// of contact_mortar.hpp, with the segmentation of contact_clip.hpp. One slave face against a
-// master made of one face or a list of patch faces (a slave list: KTS only, for now).
+// of contact_mortar.hpp, with the segmentation of contact_clip.hpp. Either side one face or a
+// list of patch faces: slave elements are numbered face after face (ContactFaces::eoff), the
+// slave control points A once where faces share them (ContactFace::aid, A's occurrences in
+// a_ptr / a_occ), and a slot or edge point carries its slave and master face.
 //
 // Weighted gap of slave control point A (reference measure dGamma_0):
 //   g_A = \int R_A g dGamma_0,  w_A = \int R_A dGamma_0,  g = (x_s - rho(xi)) . n(xi) with xi
@@ -68,6 +70,15 @@ KOKKOS_INLINE_FUNCTION SurfaceData reference_surface(const ContactFace& f) {
   return r;
 }
 
+/// The slave face of element eg of a list (the faces' elements numbered face after face,
+/// ContactFaces::eoff) and, in e, its element within that face.
+KOKKOS_INLINE_FUNCTION int slave_face_of(const ContactFaces& s, int eg, int& e) {
+  int f = 0;
+  while (f + 1 < s.n && eg >= s.eoff[f + 1]) ++f;
+  e = eg - s.eoff[f];
+  return f;
+}
+
 constexpr int kEdgeData = 16;   // doubles per edge point (MortarEdges3::d)
 
 /// Points on the image of the master face's boundary inside slave elements, where the covered
@@ -78,7 +89,7 @@ constexpr int kEdgeData = 16;   // doubles per edge point (MortarEdges3::d)
 /// normal of the covered region in the slave parameter plane, times |b - a|), then for corner
 /// a and corner b: the shot (u, v, t) and the master parameters (xi, eta) of the corner.
 struct MortarEdges3 {
-  Kokkos::View<int*, MemSpace> elem, melem, mface;   // slave element; master face and element of the edge's cell
+  Kokkos::View<int*, MemSpace> elem, sface, melem, mface;   // slave element and face; master element and face of the edge's cell
   Kokkos::View<double* [kEdgeData], MemSpace> d;
   int per = 0;
 };
@@ -95,17 +106,19 @@ struct MortarSegments3 {
   Kokkos::View<int*, MemSpace> flags;
   Kokkos::View<int**, Kokkos::LayoutRight, MemSpace> cand;   // per slave element: candidate master elements
 
-  KOKKOS_INLINE_FUNCTION void operator()(const int e) const {
-    const ContactFace& sf = s.f[0];
+  KOKKOS_INLINE_FUNCTION void operator()(const int eg) const {
+    int e;   // slave element eg of the list: element e of face fs
+    const int fs = slave_face_of(s, eg, e);
+    const ContactFace& sf = s.f[fs];
     const SurfaceData& ss = sf.sd;
     int es[2];
     surface_element_spans(ss, e, es);
     const double lo[2] = {ss.U[0](es[0]), ss.U[1](es[1])}, hi[2] = {ss.U[0](es[0] + 1), ss.U[1](es[1] + 1)};
     for (int k = 0; k < slots; ++k) {
-      sp.face(e * slots + k) = -1;
-      sp.valid(e * slots + k) = 0;
+      sp.face(eg * slots + k) = -1;
+      sp.valid(eg * slots + k) = 0;
     }
-    for (int k = 0; k < ed.per; ++k) ed.elem(e * ed.per + k) = -1;
+    for (int k = 0; k < ed.per; ++k) ed.elem(eg * ed.per + k) = -1;
     int eused = 0;
     // the slave element's box (current control points)
     double box[6] = {1e300, 1e300, 1e300, -1e300, -1e300, -1e300};
@@ -155,9 +168,9 @@ struct MortarSegments3 {
               if (!overlap) continue;
               const int code = E * kMaxFacesPerSurface + f;
               bool seen = false;
-              for (int q = 0; q < nc && q < cap && !seen; ++q) seen = cand(e, q) == code;
+              for (int q = 0; q < nc && q < cap && !seen; ++q) seen = cand(eg, q) == code;
               if (seen) continue;
-              if (nc < cap) cand(e, nc) = code;
+              if (nc < cap) cand(eg, nc) = code;
               ++nc;
             }
           }
@@ -167,7 +180,7 @@ struct MortarSegments3 {
       return;
     }
     for (int q = 0; q < nc; ++q) {
-      const int E = cand(e, q) / kMaxFacesPerSurface, fm = cand(e, q) % kMaxFacesPerSurface;
+      const int E = cand(eg, q) / kMaxFacesPerSurface, fm = cand(eg, q) % kMaxFacesPerSurface;
       const SurfaceData& ms = m.f[fm].sd;
       int mspn[2];
       surface_element_spans(ms, E, mspn);
@@ -207,17 +220,17 @@ struct MortarSegments3 {
         shot[k][4] = c.eta;
       }
       if (poly.n < 3 || !cell_image_valid(poly, corner_sign)) continue;
-      if (ed.per > 0) add_edge_points(e, fm, E, ci, cj, mspn, lo, hi, hsz, poly, shot, shot_ok, ref, es, eused);
+      if (ed.per > 0) add_edge_points(eg, e, fs, fm, E, ci, cj, mspn, lo, hi, hsz, poly, shot, shot_ok, ref, es, eused);
       ClipPolygon P;
       if (clip_polygons(rect, poly, P) & kClipOverflow) Kokkos::atomic_fetch_max(&flags(2), 1);
       const double mc[2] = {mlo[0] + (ci + 0.5) / sub * (mhi[0] - mlo[0]), mlo[1] + (cj + 0.5) / sub * (mhi[1] - mlo[1])};
       for_each_polygon_point(P, tri, [&](const double x[2], double w) {
         if (used < slots) {
-          const int i = e * slots + used;
+          const int i = eg * slots + used;
           double d[3][3], nn[3];
           surface_first_derivatives(ref, es, x[0], x[1], d);
           cross3(d[1], d[2], nn);
-          sp.face(i) = 0;
+          sp.face(i) = fs;
           sp.elem(i) = e;
           sp.uv(i, 0) = x[0];
           sp.uv(i, 1) = x[1];
@@ -394,13 +407,14 @@ struct MortarSegments3 {
     return true;
   }
 
-  /// The edge points of cell (ci, cj) of master element E of face fm where its edges are the
+  /// The edge points of cell (ci, cj) of master element E of face fm in slave element eg (element
+  /// e of slave face fs) where its edges are the
   /// master face's boundary: each such edge a -> b (both corners shot) clipped to the slave
   /// element's rectangle (Liang-Barsky), with the Gauss rule on the clipped part. An edge along
   /// the rectangle's side counts for the element on its covered side only. Where two faces of a
   /// master list meet, each face writes its side of the edge: their sum is the jump term, as at
   /// a rough edge inside one face (below).
-  KOKKOS_INLINE_FUNCTION void add_edge_points(int e, int fm, int E, int ci, int cj, const int mspn[2], const double lo[2],
+  KOKKOS_INLINE_FUNCTION void add_edge_points(int eg, int e, int fs, int fm, int E, int ci, int cj, const int mspn[2], const double lo[2],
                                               const double hi[2], double hsz, const ClipPolygon& poly,
                                               const double (*shot)[5], const bool* shot_ok, const SurfaceData& ref,
                                               const int es[2], int& eused) const {
@@ -461,13 +475,14 @@ struct MortarSegments3 {
       if (!inside) continue;
       for (int q = 0; q < gauss.n; ++q) {
         if (eused < ed.per) {
-          const int i = e * ed.per + eused;
+          const int i = eg * ed.per + eused;
           const double sq = s0 + 0.5 * (s1 - s0) * (gauss.x[q] + 1);
           const double u = A[0] + sq * D[0], v = A[1] + sq * D[1];
           double d[6][3], nn[3];
           surface_derivatives(ref, es, u, v, d);
           cross3(d[1], d[2], nn);
           ed.elem(i) = e;
+          ed.sface(i) = fs;
           ed.mface(i) = fm;
           ed.melem(i) = E;
           ed.d(i, 0) = u;
@@ -569,12 +584,12 @@ struct MortarEdgePoints3 {
     if (ed.elem(i) < 0) return;
     double Rs[kMaxSurfaceBasis], Rm[kMaxSurfaceBasis], n[3], g, foot[2], x[3];
     int cps[kMaxSurfaceBasis], cpm[kMaxSurfaceBasis], es[2], ms[2], ns, nm;
-    esp.face(i) = 0;
+    esp.face(i) = ed.sface(i);
     esp.elem(i) = ed.elem(i);
     esp.uv(i, 0) = ed.d(i, 0);
     esp.uv(i, 1) = ed.d(i, 1);
     esp.weight(i) = ed.d(i, 3);
-    if (!edge_point(s.f[0], m.f[ed.mface(i)], ed, i, es, ms, Rs, cps, ns, Rm, cpm, nm, n, g, foot, x)) return;
+    if (!edge_point(s.f[ed.sface(i)], m.f[ed.mface(i)], ed, i, es, ms, Rs, cps, ns, Rm, cpm, nm, n, g, foot, x)) return;
     esp.valid(i) = 1;
     esp.mface(i) = ed.mface(i);
     esp.melem(i) = ed.melem(i);
@@ -636,18 +651,18 @@ KOKKOS_INLINE_FUNCTION void edge_velocity(const SurfaceData& ss, const int es[2]
   }
 }
 
-/// f(i, R_A(edge point i), its slave element) for the edge points of the slave elements in A's
+/// f(i, R_A(edge point i), its slave face) for the edge points of the slave elements in A's
 /// support.
 template <class F>
-KOKKOS_INLINE_FUNCTION void for_each_support_edge3(const SurfaceData& sd, const MortarEdges3& ed, int A, const F& f) {
+KOKKOS_INLINE_FUNCTION void for_each_support_edge3(const ContactFaces& s, const MortarEdges3& ed, int A, const F& f) {
   if (ed.per == 0) return;
-  for_each_support_element3(sd, A, [&](int e, int la, const int es[2]) {
-    for (int i = e * ed.per; i < (e + 1) * ed.per; ++i) {
+  for_each_support_element3(s, A, [&](int eg, int fa, int la, const int es[2]) {
+    for (int i = eg * ed.per; i < (eg + 1) * ed.per; ++i) {
       if (ed.elem(i) < 0) break;   // filled from the element's first entry on
       double R[kMaxSurfaceBasis], Ru[kMaxSurfaceBasis], Rv[kMaxSurfaceBasis];
       int cp[kMaxSurfaceBasis];
-      surface_basis(sd, es, ed.d(i, 0), ed.d(i, 1), R, Ru, Rv, cp);
-      f(i, R[la], e);
+      surface_basis(s.f[fa].sd, es, ed.d(i, 0), ed.d(i, 1), R, Ru, Rv, cp);
+      f(i, R[la], fa);
     }
   });
 }
@@ -690,13 +705,13 @@ struct AssembleMortarEdge3 {
   KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
     const int i = e_begin + k;
     if (ed.elem(i) < 0) return;
-    const ContactFace& sf = s.f[0];
+    const ContactFace& sf = s.f[ed.sface(i)];
     const ContactFace& mf = m.f[ed.mface(i)];
     double Rs[kMaxSurfaceBasis], Rm[kMaxSurfaceBasis], n[3], g;
     int cps[kMaxSurfaceBasis], cpm[kMaxSurfaceBasis], es[2], mspn[2], ns, nm;
     if (!edge_point(sf, mf, ed, i, es, mspn, Rs, cps, ns, Rm, cpm, nm, n, g)) return;
     double p = 0;
-    for (int a = 0; a < ns; ++a) p += ms.lambda(cps[a]) * Rs[a];
+    for (int a = 0; a < ns; ++a) p += ms.lambda(sf.aid(cps[a])) * Rs[a];
     if (!(p > 0)) return;
     // V' on the element pair's entries: 3 per slave cp (the element's order), then 3 per master cp
     double vel[3 * 2 * kMaxSurfaceBasis];
@@ -719,31 +734,36 @@ struct AssembleMortarEdge3 {
   }
 };
 
-/// f(e, la, es) for the slave elements e in the support of slave control point A: la the local
-/// index of A in e, es the element's spans.
+/// f(eg, fa, la, es) for the slave elements eg in the support of slave control point A, on each
+/// slave face fa that holds A: la the local index of A in the element (element e of face fa,
+/// eg = eoff[fa] + e), es the element's spans.
 template <class F>
-KOKKOS_INLINE_FUNCTION void for_each_support_element3(const SurfaceData& sd, int A, const F& f) {
-  const int ia = A % sd.n[0], ja = A / sd.n[0];
-  for (int e1 = 0; e1 < sd.ne[1]; ++e1) {
-    const int s1 = sd.span[1](e1);
-    if (s1 < ja || s1 > ja + sd.p[1]) continue;
-    for (int e0 = 0; e0 < sd.ne[0]; ++e0) {
-      const int s0 = sd.span[0](e0);
-      if (s0 < ia || s0 > ia + sd.p[0]) continue;
-      const int es[2] = {s0, s1};
-      f(e0 + sd.ne[0] * e1, (ia - (s0 - sd.p[0])) + (sd.p[0] + 1) * (ja - (s1 - sd.p[1])), es);
+KOKKOS_INLINE_FUNCTION void for_each_support_element3(const ContactFaces& s, int A, const F& f) {
+  for (int k = s.a_ptr(A); k < s.a_ptr(A + 1); ++k) {
+    const int fa = s.a_occ(k, 0), a = s.a_occ(k, 1);
+    const SurfaceData& sd = s.f[fa].sd;
+    const int ia = a % sd.n[0], ja = a / sd.n[0];
+    for (int e1 = 0; e1 < sd.ne[1]; ++e1) {
+      const int s1 = sd.span[1](e1);
+      if (s1 < ja || s1 > ja + sd.p[1]) continue;
+      for (int e0 = 0; e0 < sd.ne[0]; ++e0) {
+        const int s0 = sd.span[0](e0);
+        if (s0 < ia || s0 > ia + sd.p[0]) continue;
+        const int es[2] = {s0, s1};
+        f(s.eoff[fa] + e0 + sd.ne[0] * e1, fa, (ia - (s0 - sd.p[0])) + (sd.p[0] + 1) * (ja - (s1 - sd.p[1])), es);
+      }
     }
   }
 }
 
-/// The slave basis at every slot of [first, last) into sp.R (a mortar pair's slave face 0):
-/// surface_basis once per slot, where the sums per slave control point read it (each slot is
-/// in the support of (p + 1)^2 of them).
+/// The slave basis at every slot of [first, last) into sp.R: surface_basis once per slot, where
+/// the sums per slave control point read it (each slot is in the support of (p + 1)^2 of them).
 struct SlotBasis3 {
-  SurfaceData sd;
+  ContactFaces s;
   SlavePoints3 sp;
   KOKKOS_INLINE_FUNCTION void operator()(const int i) const {
     if (sp.face(i) < 0) return;
+    const SurfaceData& sd = s.f[sp.face(i)].sd;
     int es[2];
     surface_element_spans(sd, sp.elem(i), es);
     double R[kMaxSurfaceBasis], Ru[kMaxSurfaceBasis], Rv[kMaxSurfaceBasis];
@@ -754,7 +774,7 @@ struct SlotBasis3 {
 };
 
 /// The slave basis at slot i (as surface_basis: R and the control points cp of the element with
-/// spans es) from sp.R.
+/// spans es of the slot's face sd) from sp.R.
 KOKKOS_INLINE_FUNCTION int slot_basis_cached(const SurfaceData& sd, const SlavePoints3& sp, int i, const int es[2], double* R,
                                              int* cp) {
   int k = 0;
@@ -766,25 +786,25 @@ KOKKOS_INLINE_FUNCTION int slot_basis_cached(const SurfaceData& sd, const SlaveP
   return k;
 }
 
-/// f(i, R_A(slot i), slot element) for the valid slots of the slave elements in A's support
-/// (R_A from sp.R).
+/// f(i, R_A(slot i), the slot's face, its element's spans) for the valid slots of the slave
+/// elements in A's support (R_A from sp.R).
 template <class F>
-KOKKOS_INLINE_FUNCTION void for_each_support_slot3(const SurfaceData& sd, const SlavePoints3& sp, int slots, int A,
+KOKKOS_INLINE_FUNCTION void for_each_support_slot3(const ContactFaces& s, const SlavePoints3& sp, int slots, int A,
                                                    const F& f) {
-  for_each_support_element3(sd, A, [&](int e, int la, const int*) {
-    for (int i = e * slots; i < (e + 1) * slots; ++i) {
+  for_each_support_element3(s, A, [&](int eg, int fa, int la, const int es[2]) {
+    for (int i = eg * slots; i < (eg + 1) * slots; ++i) {
       if (sp.face(i) < 0 || !sp.valid(i)) continue;
-      f(i, sp.R(i, la), e);
+      f(i, sp.R(i, la), fa, es);
     }
   });
 }
 
 /// f(i) for the valid slots of the slave elements in A's support.
 template <class F>
-KOKKOS_INLINE_FUNCTION void for_each_support_slot_index3(const SurfaceData& sd, const SlavePoints3& sp, int slots, int A,
+KOKKOS_INLINE_FUNCTION void for_each_support_slot_index3(const ContactFaces& s, const SlavePoints3& sp, int slots, int A,
                                                          const F& f) {
-  for_each_support_element3(sd, A, [&](int e, int, const int*) {
-    for (int i = e * slots; i < (e + 1) * slots; ++i)
+  for_each_support_element3(s, A, [&](int eg, int, int, const int*) {
+    for (int i = eg * slots; i < (eg + 1) * slots; ++i)
       if (sp.face(i) >= 0 && sp.valid(i)) f(i);
   });
 }
@@ -801,7 +821,7 @@ struct MortarGaps3 {
     double g = 0;
     int cov = 0;
     const SlavePoints3& p = sp;
-    for_each_support_slot3(s.f[0].sd, sp, slots, A, [&](int i, double RA, int) {
+    for_each_support_slot3(s, sp, slots, A, [&](int i, double RA, int, const int*) {
       g += RA * p.weight(i) * p.gap(i);
       cov = 1;
     });
@@ -809,8 +829,9 @@ struct MortarGaps3 {
   }
 };
 
-/// The slave basis R (and the control points cp) at slot i of a mortar pair's slave face.
-KOKKOS_INLINE_FUNCTION int slot_basis(const SurfaceData& sd, const SlavePoints3& sp, int i, double* R, int* cp) {
+/// The slave basis R (and the control points cp of its face) at slot i of a mortar pair.
+KOKKOS_INLINE_FUNCTION int slot_basis(const ContactFaces& s, const SlavePoints3& sp, int i, double* R, int* cp) {
+  const SurfaceData& sd = s.f[sp.face(i)].sd;
   int es[2];
   surface_element_spans(sd, sp.elem(i), es);
   double Ru[kMaxSurfaceBasis], Rv[kMaxSurfaceBasis];
@@ -830,38 +851,46 @@ struct MortarPointPressure3 {
     }
     double R[kMaxSurfaceBasis];
     int cp[kMaxSurfaceBasis];
-    const int n = slot_basis(s.f[0].sd, sp, i, R, cp);
+    const int n = slot_basis(s, sp, i, R, cp);
+    const ContactFace& sf = s.f[sp.face(i)];
     double pr = 0;
-    for (int a = 0; a < n; ++a) pr += ms.lambda(cp[a]) * R[a];
+    for (int a = 0; a < n; ++a) pr += ms.lambda(sf.aid(cp[a])) * R[a];
     sp.pressure(i) = pr;
   }
 };
 
 /// The dense dof range of slave control point A's mortar vectors (delta g_A, and with friction
-/// V_A): the slave control points within p of A, then per master face the box of its control
-/// points that the slots' and edge points' master elements use; 3 entries (x, y, z) per control
-/// point. A control point shared by two master faces has an entry in each box: the compaction
-/// to the contact matrix's dofs merges them (merge_sorted_dof).
+/// V_A): per slave face that holds A the box of its control points within p of A, then per
+/// master face the box of its control points that the slots' and edge points' master elements
+/// use; 3 entries (x, y, z) per control point. A control point shared by two faces has an entry
+/// in each box: the compaction to the contact matrix's dofs merges them (merge_sorted_dof).
+/// Boxes 0 .. ns - 1 are the slave faces', ns .. ns + nm - 1 the master faces'.
 struct MortarRange3 {
-  int s_lo[2] = {0, 0}, sn[2] = {0, 0}, ns = 0, sdn0 = 0, nf = 0;
-  int m_lo[kMaxFacesPerSurface][2], mn[kMaxFacesPerSurface][2], mdn0[kMaxFacesPerSurface];
-  int moff[kMaxFacesPerSurface + 1];   // the first control point of face f's box, after the slave ones
+  static constexpr int kBoxes = 2 * kMaxFacesPerSurface;
+  int ns = 0, nb = 0;
+  int lo[kBoxes][2], n[kBoxes][2], dn0[kBoxes];
+  int off[kBoxes + 1];   // the first control point of box b
   /// Returns the range's size, 0 when no slot of A's support has a projection.
-  KOKKOS_INLINE_FUNCTION int init(const SurfaceData& sd, const ContactFaces& m, const SlavePoints3& sp, int slots,
+  KOKKOS_INLINE_FUNCTION int init(const ContactFaces& s, const ContactFaces& m, const SlavePoints3& sp, int slots,
                                   const MortarEdges3& ed, int A) {
-    const int ia = A % sd.n[0], ja = A / sd.n[0];
-    s_lo[0] = ia - sd.p[0];
-    s_lo[1] = ja - sd.p[1];
-    sn[0] = 2 * sd.p[0] + 1;
-    sn[1] = 2 * sd.p[1] + 1;
-    sdn0 = sd.n[0];
-    nf = m.n;
-    int lo[kMaxFacesPerSurface][2], hi[kMaxFacesPerSurface][2];
-    for (int f = 0; f < nf; ++f) {
-      mdn0[f] = m.f[f].sd.n[0];
-      lo[f][0] = m.f[f].sd.n[0];
-      lo[f][1] = m.f[f].sd.n[1];
-      hi[f][0] = hi[f][1] = -1;
+    ns = s.n;
+    nb = s.n + m.n;
+    int hi[kBoxes][2];
+    for (int b = 0; b < nb; ++b) {
+      const SurfaceData& sd = b < ns ? s.f[b].sd : m.f[b - ns].sd;
+      dn0[b] = sd.n[0];
+      lo[b][0] = sd.n[0];
+      lo[b][1] = sd.n[1];
+      hi[b][0] = hi[b][1] = -1;
+    }
+    for (int k = s.a_ptr(A); k < s.a_ptr(A + 1); ++k) {   // the slave control points within p of A
+      const int fa = s.a_occ(k, 0), a = s.a_occ(k, 1);
+      const SurfaceData& sd = s.f[fa].sd;
+      const int ia = a % sd.n[0], ja = a / sd.n[0];
+      lo[fa][0] = ia - sd.p[0];
+      lo[fa][1] = ja - sd.p[1];
+      hi[fa][0] = ia + sd.p[0];
+      hi[fa][1] = ja + sd.p[1];
     }
     bool any = false;
     auto widen = [&](int f, int E) {
@@ -869,45 +898,37 @@ struct MortarRange3 {
       int ms_[2];
       surface_element_spans(md, E, ms_);
       for (int d = 0; d < 2; ++d) {
-        lo[f][d] = ms_[d] - md.p[d] < lo[f][d] ? ms_[d] - md.p[d] : lo[f][d];
-        hi[f][d] = ms_[d] > hi[f][d] ? ms_[d] : hi[f][d];
+        lo[ns + f][d] = ms_[d] - md.p[d] < lo[ns + f][d] ? ms_[d] - md.p[d] : lo[ns + f][d];
+        hi[ns + f][d] = ms_[d] > hi[ns + f][d] ? ms_[d] : hi[ns + f][d];
       }
     };
-    for_each_support_slot_index3(sd, sp, slots, A, [&](int i) {
+    for_each_support_slot_index3(s, sp, slots, A, [&](int i) {
       widen(sp.mface(i), sp.melem(i));
       any = true;
     });
     if (!any) return 0;
-    for_each_support_edge3(sd, ed, A, [&](int i, double, int) { widen(ed.mface(i), ed.melem(i)); });
-    ns = sn[0] * sn[1];
-    moff[0] = ns;
-    for (int f = 0; f < nf; ++f) {
-      for (int d = 0; d < 2; ++d) {
-        m_lo[f][d] = lo[f][d];
-        mn[f][d] = hi[f][d] >= 0 ? hi[f][d] - lo[f][d] + 1 : 0;
-      }
-      moff[f + 1] = moff[f] + mn[f][0] * mn[f][1];
+    for_each_support_edge3(s, ed, A, [&](int i, double, int) { widen(ed.mface(i), ed.melem(i)); });
+    off[0] = 0;
+    for (int b = 0; b < nb; ++b) {
+      for (int d = 0; d < 2; ++d) n[b][d] = hi[b][d] >= 0 ? hi[b][d] - lo[b][d] + 1 : 0;
+      off[b + 1] = off[b] + n[b][0] * n[b][1];
     }
-    return 3 * moff[nf];
+    return 3 * off[nb];
   }
-  /// The first entry of slave control point cp (master: of face f; its surface index).
-  KOKKOS_INLINE_FUNCTION int slave(int cp) const { return 3 * ((cp % sdn0 - s_lo[0]) + sn[0] * (cp / sdn0 - s_lo[1])); }
-  KOKKOS_INLINE_FUNCTION int master(int f, int cp) const {
-    return 3 * (moff[f] + (cp % mdn0[f] - m_lo[f][0]) + mn[f][0] * (cp / mdn0[f] - m_lo[f][1]));
+  /// The first entry of control point cp (its surface index) of box b.
+  KOKKOS_INLINE_FUNCTION int box(int b, int cp) const {
+    return 3 * (off[b] + (cp % dn0[b] - lo[b][0]) + n[b][0] * (cp / dn0[b] - lo[b][1]));
   }
+  KOKKOS_INLINE_FUNCTION int slave(int f, int cp) const { return box(f, cp); }
+  KOKKOS_INLINE_FUNCTION int master(int f, int cp) const { return box(ns + f, cp); }
   /// The contact matrix's dof of entry q (-1: a control point without an overlap dof).
-  KOKKOS_INLINE_FUNCTION int dof(int q, const ContactFace& sf, const ContactFaces& m) const {
+  KOKKOS_INLINE_FUNCTION int dof(int q, const ContactFaces& s, const ContactFaces& m) const {
     const int cpq = q / 3, c = q % 3;
-    int lid;
-    if (cpq < ns) {
-      const int ci = s_lo[0] + cpq % sn[0], cj = s_lo[1] + cpq / sn[0];
-      lid = sf.lid(ci + sdn0 * cj);
-    } else {
-      int f = 0;
-      while (cpq >= moff[f + 1]) ++f;
-      const int r = cpq - moff[f], ci = m_lo[f][0] + r % mn[f][0], cj = m_lo[f][1] + r / mn[f][0];
-      lid = m.f[f].lid(ci + mdn0[f] * cj);
-    }
+    int b = 0;
+    while (cpq >= off[b + 1]) ++b;
+    const int r = cpq - off[b], ci = lo[b][0] + r % n[b][0], cj = lo[b][1] + r / n[b][0];
+    const ContactFace& f = b < ns ? s.f[b] : m.f[b - ns];
+    const int lid = f.lid(ci + dn0[b] * cj);
     return lid < 0 ? -1 : dof_of(lid, c, 3);
   }
 };
@@ -935,14 +956,14 @@ KOKKOS_INLINE_FUNCTION void merge_sorted_dof(int dof, const double* val, int nv,
 
 /// A slot's part of delta g_A = int R_A N dGamma_0 on A's dense range: add(entry, value) for
 /// the slave control points (w R_a n) and the master ones (-w R_b n) of the slot's elements
-/// (w: R_A times the slot's weight; Rs, Rm the bases at the slot and at its foot on master
-/// face mf).
+/// (w: R_A times the slot's weight; Rs, Rm the bases at the slot on slave face sf and at its
+/// foot on master face mf).
 template <class Add>
-KOKKOS_INLINE_FUNCTION void add_gap_variation(const MortarRange3& rg, const double* Rs, const int* cps, int ns, int mf,
+KOKKOS_INLINE_FUNCTION void add_gap_variation(const MortarRange3& rg, int sf, const double* Rs, const int* cps, int ns, int mf,
                                               const double* Rm, const int* cpm, int nm, const double n[3], double w,
                                               const Add& add) {
   for (int a = 0; a < ns; ++a)
-    for (int c = 0; c < 3; ++c) add(rg.slave(cps[a]) + c, w * Rs[a] * n[c]);
+    for (int c = 0; c < 3; ++c) add(rg.slave(sf, cps[a]) + c, w * Rs[a] * n[c]);
   for (int b = 0; b < nm; ++b)
     for (int c = 0; c < 3; ++c) add(rg.master(mf, cpm[b]) + c, -w * Rm[b] * n[c]);
 }
@@ -965,9 +986,8 @@ struct AssembleMortarGap3 {
   KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
     const int A = a_begin + k;
     if (!ms.active(A)) return;
-    const SurfaceData& sd = s.f[0].sd;
     MortarRange3 rg;
-    const int size = rg.init(sd, m, sp, slots, ed, A);
+    const int size = rg.init(s, m, sp, slots, ed, A);
     if (size == 0) return;
     if (size > sc.cap()) {
       Kokkos::atomic_fetch_max(&ms.flags(1), size);
@@ -976,41 +996,40 @@ struct AssembleMortarGap3 {
     const SlavePoints3& p = sp;
     for (int q = 0; q < size; ++q) sc.v0(k, q) = 0;
     const MortarScratch& S = sc;
-    for_each_support_slot3(sd, sp, slots, A, [&](int i, double RA, int e) {
+    for_each_support_slot3(s, sp, slots, A, [&](int i, double RA, int fa, const int es[2]) {
       const double w = RA * p.weight(i);
       const double n[3] = {p.normal(i, 0), p.normal(i, 1), p.normal(i, 2)};
       double R[kMaxSurfaceBasis], Rm[kMaxSurfaceBasis], Ru[kMaxSurfaceBasis], Rv[kMaxSurfaceBasis];
       int cp[kMaxSurfaceBasis], cpm[kMaxSurfaceBasis];
-      int es[2], mspn[2];
-      surface_element_spans(sd, e, es);
-      const int nsb = slot_basis_cached(sd, p, i, es, R, cp);
+      int mspn[2];
+      const int nsb = slot_basis_cached(s.f[fa].sd, p, i, es, R, cp);
       const int mf = p.mface(i);
       const SurfaceData& md = m.f[mf].sd;
       surface_element_spans(md, p.melem(i), mspn);
       const int nmb = surface_basis(md, mspn, p.muv(i, 0), p.muv(i, 1), Rm, Ru, Rv, cpm);
-      add_gap_variation(rg, R, cp, nsb, mf, Rm, cpm, nmb, n, w, [&](int q, double v) { S.v0(k, q) += v; });
+      add_gap_variation(rg, fa, R, cp, nsb, mf, Rm, cpm, nmb, n, w, [&](int q, double v) { S.v0(k, q) += v; });
     });
     // the boundary part b_A = \oint R_A g V' dl_0 (where the master ends inside A's elements)
     // in the row scratch; the columns are delta g_A + b_A
     for (int q = 0; q < size; ++q) sc.row(k, q) = 0;
-    for_each_support_edge3(sd, ed, A, [&](int i, double RA, int) {
+    for_each_support_edge3(s, ed, A, [&](int i, double RA, int fa) {
       double Rs[kMaxSurfaceBasis], Rm[kMaxSurfaceBasis], n[3], g;
       int cps[kMaxSurfaceBasis], cpm[kMaxSurfaceBasis], es[2], mspn[2], nsb, nmb;
       const int mf = ed.mface(i);
-      if (RA == 0 || !edge_point(s.f[0], m.f[mf], ed, i, es, mspn, Rs, cps, nsb, Rm, cpm, nmb, n, g)) return;
+      if (RA == 0 || !edge_point(s.f[fa], m.f[mf], ed, i, es, mspn, Rs, cps, nsb, Rm, cpm, nmb, n, g)) return;
       const double w = RA * g * ed.d(i, 3);
-      edge_velocity(sd, es, m.f[mf].sd, mspn, ed, i, [&](bool master, int, int cp, int c, double v) {
-        S.row(k, (master ? rg.master(mf, cp) : rg.slave(cp)) + c) += w * v;
+      edge_velocity(s.f[fa].sd, es, m.f[mf].sd, mspn, ed, i, [&](bool master, int, int cp, int c, double v) {
+        S.row(k, (master ? rg.master(mf, cp) : rg.slave(fa, cp)) + c) += w * v;
       });
     });
     // compact to the touched entries with an overlap dof, sorted by dof (insertion sort; a
-    // dof in two master faces' boxes merged): v1 the rows' delta g_A, v0 the columns'
+    // dof in two faces' boxes merged): v1 the rows' delta g_A, v0 the columns'
     // delta g_A + b_A (the list's end stays at or before the entry read)
     int nnz = 0;
     for (int q = 0; q < size; ++q) {
       const double val[2] = {sc.v0(k, q), sc.v0(k, q) + sc.row(k, q)};
       if (val[0] == 0 && val[1] == 0) continue;
-      const int dof = rg.dof(q, s.f[0], m);
+      const int dof = rg.dof(q, s, m);
       if (dof < 0) continue;
       merge_sorted_dof(dof, val, 2, nnz, [&](int r) -> int& { return sc.dof(k, r); },
                        [&](int r, int b) -> double& { return b == 0 ? sc.v1(k, r) : sc.v0(k, r); });

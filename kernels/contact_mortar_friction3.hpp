@@ -58,7 +58,7 @@ struct MortarFrictionLaw3 {
     double sum[3] = {0, 0, 0};
     const SlavePoints3& p = sp;
     const Friction3& f = fr;
-    for_each_support_slot3(s.f[0].sd, sp, slots, A, [&](int i, double RA, int) {
+    for_each_support_slot3(s, sp, slots, A, [&](int i, double RA, int, const int*) {
       for (int c = 0; c < 3; ++c) sum[c] += RA * p.weight(i) * f.gv(i, c);
     });
     for (int c = 0; c < 3; ++c) {
@@ -105,11 +105,12 @@ struct MortarFrictionPoints3 {
     if (sp.face(i) < 0 || !sp.valid(i)) return;
     double R[kMaxSurfaceBasis];
     int cp[kMaxSurfaceBasis];
-    const int n = slot_basis(s.f[0].sd, sp, i, R, cp);
+    const int n = slot_basis(s, sp, i, R, cp);
+    const ContactFace& sf = s.f[sp.face(i)];
     double slip = 0, best = -1;
     int st = 0;
     for (int a = 0; a < n; ++a) {
-      const int A = cp[a];
+      const int A = sf.aid(cp[a]);
       for (int c = 0; c < 3; ++c) fr.t(i, c) += fr.tauA(A, c) * R[a];
       slip += fr.slipA(A) * R[a];
       if (ms.lambda(A) * R[a] > best) {
@@ -143,7 +144,7 @@ struct MortarFrictionRanges3 {
     size(k) = 0;
     if (fr.stateA(A) == 0) return;
     MortarRange3 rg;
-    const int n = rg.init(s.f[0].sd, m, sp, slots, ed, A);
+    const int n = rg.init(s, m, sp, slots, ed, A);
     if (n > sc.cap()) {
       Kokkos::atomic_fetch_max(&ms.flags(1), n);
       return;
@@ -167,18 +168,18 @@ struct MortarFrictionVectors3 {
   KOKKOS_INLINE_FUNCTION void operator()(const int i) const {
     using F = FrictionPoint3::F;
     if (sp.face(i) < 0 || !sp.valid(i)) return;
-    const SurfaceData& sd = s.f[0].sd;
-    const int mf = sp.mface(i);
+    const int fs = sp.face(i), mf = sp.mface(i);
+    const ContactFace& sf = s.f[fs];
     const SurfaceData& md = m.f[mf].sd;
     double Rs[kMaxSurfaceBasis], Ru[kMaxSurfaceBasis], Rv[kMaxSurfaceBasis], Rm[kMaxSurfaceBasis];
     int cps[kMaxSurfaceBasis], cpm[kMaxSurfaceBasis], mspn[2];
-    const int ns = slot_basis(sd, sp, i, Rs, cps);
+    const int ns = slot_basis(s, sp, i, Rs, cps);
     bool any = false, slip = false;
     for (int a = 0; a < ns; ++a) {
-      const int k = cps[a] - a_begin;
-      if (cps[a] < a_begin || cps[a] >= a_end || size(k) == 0) continue;
+      const int A = sf.aid(cps[a]), k = A - a_begin;
+      if (A < a_begin || A >= a_end || size(k) == 0) continue;
       any = true;
-      slip = slip || (fr.stateA(cps[a]) == 2 && ms.lambda(cps[a]) > 0);
+      slip = slip || (fr.stateA(A) == 2 && ms.lambda(A) > 0);
     }
     if (!any) return;
     const bool ref = fr.ref_face(i) == sp.mface(i);
@@ -193,17 +194,17 @@ struct MortarFrictionVectors3 {
     }
     const double n[3] = {sp.normal(i, 0), sp.normal(i, 1), sp.normal(i, 2)};
     for (int a = 0; a < ns; ++a) {
-      const int A = cps[a], k = A - a_begin;
+      const int A = sf.aid(cps[a]), k = A - a_begin;
       if (A < a_begin || A >= a_end || size(k) == 0) continue;
       const MortarRange3& rg = range(k);
       const int sz = size(k);
       const double w = Rs[a] * sp.weight(i);
       if (fr.stateA(A) == 2 && ms.lambda(A) > 0)   // delta g_A, as AssembleMortarGap3
-        add_gap_variation(rg, Rs, cps, ns, mf, Rm, cpm, nm, n, w,
+        add_gap_variation(rg, fs, Rs, cps, ns, mf, Rm, cpm, nm, n, w,
                           [&](int q, double v) { Kokkos::atomic_add(&sc.v0(k, 3 * sz + q), v); });
       if (!ref) continue;
       for (int cb = 0; cb < P.ns + P.nm; ++cb) {
-        const int q0 = cb < P.ns ? rg.slave(P.cps[cb]) : rg.master(mf, P.cpm[cb - P.ns]);
+        const int q0 = cb < P.ns ? rg.slave(fs, P.cps[cb]) : rg.master(mf, P.cpm[cb - P.ns]);
         for (int cc = 0; cc < 3; ++cc)
           for (int c = 0; c < 3; ++c) Kokkos::atomic_add(&sc.v0(k, c * sz + q0 + cc), w * P.column(g[c], cb, cc));
       }
@@ -225,9 +226,10 @@ struct MortarReferences3 {
     efr.ref_face(i) = -1;
     if (esp.face(i) < 0 || !esp.valid(i)) return;
     int es[2], ms[2];
-    surface_element_spans(sc.f[0].sd, esp.elem(i), es);
+    const SurfaceData& sd = sc.f[esp.face(i)].sd;
+    surface_element_spans(sd, esp.elem(i), es);
     double ds[6][3], dm[6][3];
-    surface_derivatives(sc.f[0].sd, es, esp.uv(i, 0), esp.uv(i, 1), ds);
+    surface_derivatives(sd, es, esp.uv(i, 0), esp.uv(i, 1), ds);
     double xi = esp.muv(i, 0), eta = esp.muv(i, 1);
     closest_point_unclamped(mc.f[esp.mface(i)].sd, ds[0], xi, eta, ms, true, dm);
     if (!(kmath::fabs(xi) < 1e300 && kmath::fabs(eta) < 1e300)) return;   // Newton ran away
@@ -254,24 +256,25 @@ struct MortarFrictionEdgeVectors3 {
 
   KOKKOS_INLINE_FUNCTION void operator()(const int i) const {
     if (ed.elem(i) < 0 || !esp.valid(i)) return;
-    const SurfaceData& sd = s.f[0].sd;
-    const int mf = ed.mface(i);
+    const int fs = ed.sface(i), mf = ed.mface(i);
+    const ContactFace& sf = s.f[fs];
+    const SurfaceData& sd = sf.sd;
     const SurfaceData& md = m.f[mf].sd;
     double Rs[kMaxSurfaceBasis];
     int cps[kMaxSurfaceBasis], es[2], mspn[2];
-    const int ns = slot_basis(sd, esp, i, Rs, cps);
+    const int ns = slot_basis(s, esp, i, Rs, cps);
     surface_element_spans(sd, ed.elem(i), es);
     surface_element_spans(md, ed.melem(i), mspn);
     const double gT[3] = {efr.gv(i, 0), efr.gv(i, 1), efr.gv(i, 2)}, g = esp.gap(i);
     for (int a = 0; a < ns; ++a) {
-      const int A = cps[a], k = A - a_begin;
+      const int A = sf.aid(cps[a]), k = A - a_begin;
       if (A < a_begin || A >= a_end || size(k) == 0) continue;
       const MortarRange3& rg = range(k);
       const int sz = size(k);
       const double w = Rs[a] * ed.d(i, 3);
       const bool dlam = fr.stateA(A) == 2 && ms.lambda(A) > 0;
       edge_velocity(sd, es, md, mspn, ed, i, [&](bool master, int, int cp, int c, double v) {
-        const int q = (master ? rg.master(mf, cp) : rg.slave(cp)) + c;
+        const int q = (master ? rg.master(mf, cp) : rg.slave(fs, cp)) + c;
         for (int cc = 0; cc < 3; ++cc)
           if (gT[cc] != 0) Kokkos::atomic_add(&sc.v0(k, (4 + cc) * sz + q), w * gT[cc] * v);
         if (dlam) Kokkos::atomic_add(&sc.v0(k, 7 * sz + q), w * g * v);
@@ -296,13 +299,14 @@ struct AssembleMortarFrictionEdge3 {
     using F = FrictionPoint3::F;
     const int i = e_begin + k;
     if (ed.elem(i) < 0 || !esp.valid(i) || efr.ref_face(i) != esp.mface(i)) return;
-    const SurfaceData& sd = s.f[0].sd;
+    const ContactFace& sf = s.f[ed.sface(i)];
+    const SurfaceData& sd = sf.sd;
     double Rs[kMaxSurfaceBasis];
     int cps[kMaxSurfaceBasis];
-    const int ns = slot_basis(sd, esp, i, Rs, cps);
+    const int ns = slot_basis(s, esp, i, Rs, cps);
     double t[3] = {0, 0, 0};
     for (int a = 0; a < ns; ++a)
-      for (int c = 0; c < 3; ++c) t[c] += fr.tauA(cps[a], c) * Rs[a];
+      for (int c = 0; c < 3; ++c) t[c] += fr.tauA(sf.aid(cps[a]), c) * Rs[a];
     if (t[0] == 0 && t[1] == 0 && t[2] == 0) return;
     FrictionPoint3 P;
     friction_point3(s, m, esp, efr, i, P);
@@ -313,7 +317,6 @@ struct AssembleMortarFrictionEdge3 {
     double vel[3 * 2 * kMaxSurfaceBasis];
     for (int q = 0; q < nd; ++q) vel[q] = 0;
     int es[2], mspn[2];
-    const ContactFace& sf = s.f[0];
     const ContactFace& mf = m.f[ed.mface(i)];
     surface_element_spans(sd, ed.elem(i), es);
     surface_element_spans(mf.sd, ed.melem(i), mspn);
@@ -359,7 +362,7 @@ struct AssembleMortarFriction3 {
         any = any || val[b] != 0;
       }
       if (!any) continue;
-      const int dof = rg.dof(q, s.f[0], m);
+      const int dof = rg.dof(q, s, m);
       if (dof < 0) continue;
       for (int b = 4; b < 8; ++b) val[b] += val[b - 4];
       merge_sorted_dof(dof, val, 8, nnz, [&](int r) -> int& { return sc.dof(k, r); },

@@ -105,10 +105,6 @@ void read_contact_pairs(const Reader& R, const YAML::Node& root, Problem& P) {
         else if (m == "mortar_alm") cp.method = ContactMethod::MortarAlm;
         else R.fail(path + ".method", n["method"], "expected kts_penalty, kts_alm, mortar_penalty or mortar_alm");
       }
-      if (R.dim == 3 && (cp.method == ContactMethod::MortarPenalty || cp.method == ContactMethod::MortarAlm) &&
-          cp.slave.sides.size() > 1)
-        R.fail(path + ".method", n["method"],
-               "mortar between solids takes one slave face (the master may be a list; a list on both sides: kts_penalty or kts_alm)");
       if (!n["penalty"]) R.missing(path + ".penalty");
       cp.penalty = R.positive(n["penalty"], path + ".penalty");
       if (n["quadrature_points"]) {

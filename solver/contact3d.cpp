@@ -10,6 +10,8 @@
 
 #include <algorithm>
 #include <array>
+#include <climits>
+#include <map>
 #include <set>
 #include <cmath>
 #include <stdexcept>
@@ -112,16 +114,18 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
   if (mortar) {
     // quadrature slots per slave element, filled by MortarSegments3 at every update (they grow
     // to what an element needs); w_A = int R_A dGamma_0 by Gauss on the slave elements
-    const HostFace& h = hs_[0];
-    int pmax = std::max(h.p[0], h.p[1]);
+    number_slave_control_points();
+    int pmax = 1, ps = 1;
+    for (const HostFace& h : hs_) ps = std::max({ps, h.p[0], h.p[1]});
     for (const HostFace& hm : hm_) pmax = std::max({pmax, hm.p[0], hm.p[1]});
+    pmax = std::max(pmax, ps);
     // with friction two more points per direction: the slip's integrand is a polynomial of
     // higher degree, and a rule that does not integrate it exactly makes the residual move with
     // the segments at first order (Newton stalls at 1e-7 on a flat p = 2 master with p + 1)
     gauss = gauss_rule(pair.quadrature_points > 0 ? pair.quadrature_points : std::min(pmax + (friction ? 3 : 1), kMaxGauss));
     tri = triangle_rule(polygon_rule_degree(gauss.n));
     slots = 4 * 6 * tri.n;   // room for 4 segments of 6 fan triangles to start with
-    const int ne = h.ne[0] * h.ne[1], na = h.n[0] * h.n[1];
+    const int ne = slave.eoff[slave.n], na = num_control_points_;
     allocate_points(ne * slots);
     allocate_edges(8 * gauss.n);
     ms.wA = Kokkos::View<double*, MemSpace>("wA", na);
@@ -154,10 +158,14 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
       }
     }
     {
-      const SurfaceData ref = reference_surface(slave.f[0]);
-      const GaussRule g = gauss_rule(std::min(std::max(h.p[0], h.p[1]) + 2, kMaxGauss));
+      const ContactFaces s = slave;
+      const GaussRule g = gauss_rule(std::min(ps + 2, kMaxGauss));
       const auto wA = ms.wA;
-      Kokkos::parallel_for("iga::MortarWeights3", Kokkos::RangePolicy<ExecSpace>(0, ne), KOKKOS_LAMBDA(const int e) {
+      Kokkos::parallel_for("iga::MortarWeights3", Kokkos::RangePolicy<ExecSpace>(0, ne), KOKKOS_LAMBDA(const int eg) {
+        int e;
+        const int fs = slave_face_of(s, eg, e);
+        const SurfaceData ref = reference_surface(s.f[fs]);
+        const auto aid = s.f[fs].aid;
         int es[2];
         surface_element_spans(ref, e, es);
         const double a0 = ref.U[0](es[0]), b0 = ref.U[0](es[0] + 1), a1 = ref.U[1](es[1]), b1 = ref.U[1](es[1] + 1);
@@ -170,7 +178,7 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
             cross3(d[1], d[2], nn);
             const double w = g.w[q0] * g.w[q1] * 0.25 * (b0 - a0) * (b1 - a1) * kmath::sqrt(dot3(nn, nn));
             const int nb = surface_basis(ref, es, u, v, R, Ru, Rv, cp);
-            for (int a = 0; a < nb; ++a) Kokkos::atomic_add(&wA(cp[a]), R[a] * w);
+            for (int a = 0; a < nb; ++a) Kokkos::atomic_add(&wA(aid(cp[a])), R[a] * w);
           }
       });
     }
@@ -323,10 +331,52 @@ void make_friction_points(Friction3& fr, int n, bool mortar) {
 
 }  // namespace
 
+// Mortar: the slave faces' elements numbered face after face (ContactFaces::eoff) and their
+// control points numbered A = 0, 1, ... in the order of the faces and of each face's control
+// points, once where faces share one (the same global control point): w_A, g_A, lambda_A and
+// the friction law live per A, and A's support is its elements on every face that holds it.
+// One face: A is the face's own control point index.
+void ContactSurfaces3::number_slave_control_points() {
+  slave.eoff[0] = 0;
+  for (int f = 0; f < slave.n; ++f) slave.eoff[f + 1] = slave.eoff[f] + hs_[f].ne[0] * hs_[f].ne[1];
+  std::map<GO, int> index;
+  std::vector<std::vector<std::pair<int, int>>> occ;
+  for (int f = 0; f < slave.n; ++f) {
+    const HostFace& h = hs_[f];
+    std::vector<int> aid(h.gid.size());
+    for (size_t a = 0; a < h.gid.size(); ++a) {
+      const auto [it, fresh] = index.emplace(h.gid[a], static_cast<int>(occ.size()));
+      if (fresh) occ.emplace_back();
+      occ[it->second].push_back({f, static_cast<int>(a)});
+      aid[a] = it->second;
+    }
+    slave.f[f].aid = to_device("face_aid", aid);
+  }
+  num_control_points_ = static_cast<int>(occ.size());
+  a_ptr_h_.assign(1, 0);
+  a_occ_h_.clear();
+  for (const auto& o : occ) {
+    for (const auto& [f, a] : o) {
+      a_occ_h_.push_back(f);
+      a_occ_h_.push_back(a);
+    }
+    a_ptr_h_.push_back(static_cast<int>(a_occ_h_.size() / 2));
+  }
+  slave.a_ptr = to_device("slave_a_ptr", a_ptr_h_);
+  slave.a_occ = Kokkos::View<int* [2], MemSpace>("slave_a_occ", a_occ_h_.size() / 2);
+  auto h = Kokkos::create_mirror_view(slave.a_occ);
+  for (size_t k = 0; k < a_occ_h_.size() / 2; ++k) {
+    h(k, 0) = a_occ_h_[2 * k];
+    h(k, 1) = a_occ_h_[2 * k + 1];
+  }
+  Kokkos::deep_copy(slave.a_occ, h);
+}
+
 void ContactSurfaces3::allocate_edges(int per) {
-  const int ne = hs_[0].ne[0] * hs_[0].ne[1];
+  const int ne = slave.eoff[slave.n];
   edges.per = per;
   edges.elem = Kokkos::View<int*, MemSpace>("edge_elem", ne * per);
+  edges.sface = Kokkos::View<int*, MemSpace>("edge_sface", ne * per);
   edges.melem = Kokkos::View<int*, MemSpace>("edge_melem", ne * per);
   edges.mface = Kokkos::View<int*, MemSpace>("edge_mface", ne * per);
   edges.d = Kokkos::View<double* [kEdgeData], MemSpace>("edge_data", ne * per);
@@ -351,7 +401,9 @@ void ContactSurfaces3::allocate_points(int n) {
   p_end = static_cast<int>(r.second);
   if (mortar) {
     segment_range();
-    sp.R = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>("slot_basis", n, (hs_[0].p[0] + 1) * (hs_[0].p[1] + 1));
+    int nb = 1;
+    for (const HostFace& h : hs_) nb = std::max(nb, (h.p[0] + 1) * (h.p[1] + 1));
+    sp.R = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>("slot_basis", n, nb);
   }
   make_friction_points(fr, n, mortar && friction);
   state_prev_ = Kokkos::View<int*, MemSpace>("friction_state_prev", n);
@@ -360,11 +412,11 @@ void ContactSurfaces3::allocate_points(int n) {
 // Mortar: the slave elements this rank segments and projects, [c_begin, c_end): those of its
 // slots [p_begin, p_end) and edge points [e_begin, e_end) (which it assembles), and those in
 // the support of its control points [a_begin, a_end) (whose weighted gaps and slips it sums).
-// Control point A = i + n0 j lies in the support of the element rows whose span s1 has
-// s1 - p1 <= j <= s1; the rows are whole (a superset), so the range stays one interval.
+// Control point (i, j) of a face lies in the support of the element rows whose span s1 has
+// s1 - p1 <= j <= s1; per face the rows between those of its lowest and highest j of this
+// rank's control points are taken whole (a superset), so the range stays one interval.
 void ContactSurfaces3::segment_range() {
-  const HostFace& h = hs_[0];
-  const int ne0 = h.ne[0], ne = h.ne[0] * h.ne[1];
+  const int ne = slave.eoff[slave.n];
   int lo = ne, hi = 0;
   auto take = [&](int first, int last) {   // elements [first, last)
     if (last <= first) return;
@@ -376,13 +428,22 @@ void ContactSurfaces3::segment_range() {
   support_[0] = ne;
   support_[1] = 0;
   if (a_end > a_begin) {
-    const int j_lo = a_begin / h.n[0], j_hi = (a_end - 1) / h.n[0];
-    for (int e1 = 0; e1 < h.ne[1]; ++e1)
-      if (h.span[1][e1] - h.p[1] <= j_hi && h.span[1][e1] >= j_lo) {
-        take(e1 * ne0, (e1 + 1) * ne0);
-        support_[0] = std::min(support_[0], e1 * ne0);
-        support_[1] = std::max(support_[1], (e1 + 1) * ne0);
-      }
+    std::vector<int> j_lo(slave.n, INT_MAX), j_hi(slave.n, -1);
+    for (int k = a_ptr_h_[a_begin]; k < a_ptr_h_[a_end]; ++k) {
+      const int f = a_occ_h_[2 * k], j = a_occ_h_[2 * k + 1] / hs_[f].n[0];
+      j_lo[f] = std::min(j_lo[f], j);
+      j_hi[f] = std::max(j_hi[f], j);
+    }
+    for (int f = 0; f < slave.n; ++f) {
+      const HostFace& h = hs_[f];
+      const int ne0 = h.ne[0], e0 = slave.eoff[f];
+      for (int e1 = 0; e1 < h.ne[1]; ++e1)
+        if (h.span[1][e1] - h.p[1] <= j_hi[f] && h.span[1][e1] >= j_lo[f]) {
+          take(e0 + e1 * ne0, e0 + (e1 + 1) * ne0);
+          support_[0] = std::min(support_[0], e0 + e1 * ne0);
+          support_[1] = std::max(support_[1], e0 + (e1 + 1) * ne0);
+        }
+    }
   }
   c_begin = std::min(lo, hi);
   c_end = hi;
@@ -431,7 +492,7 @@ void ContactSurfaces3::balance_slots() {
 // Active slots per slave element after an update, every rank's (the ranks that segmented an
 // element counted the same slots: the maximum over the ranks).
 void ContactSurfaces3::count_element_loads() {
-  const int ne = hs_[0].ne[0] * hs_[0].ne[1], per = slots;
+  const int ne = slave.eoff[slave.n], per = slots;
   // counted where the slots live (ne numbers come back, not the slots)
   Kokkos::View<int*, MemSpace> load("element_load", ne);
   const SlavePoints3 p = sp;
@@ -692,7 +753,7 @@ void ContactSurfaces3::refresh() {
     // this rank's slots: a share of the last update's active slots (several ranks)
     balance_slots();
     // segments; where an element needs more slots than it has, grow them and segment again
-    const int ne = hs_[0].ne[0] * hs_[0].ne[1];
+    const int ne = slave.eoff[slave.n];
     for (;;) {
       MortarSegments3 ks;
       ks.s = slave; ks.m = master; ks.sp = sp; ks.ed = edges; ks.gauss = gauss; ks.tri = tri; ks.slots = slots; ks.flags = seg_flags_;
@@ -725,7 +786,7 @@ void ContactSurfaces3::refresh() {
   }
   if (mortar) {   // the slave basis at the segmented slots, once for the sums per control point
     SlotBasis3 kb;
-    kb.sd = slave.f[0].sd;
+    kb.s = slave;
     kb.sp = sp;
     Kokkos::parallel_for("iga::SlotBasis3", Kokkos::RangePolicy<ExecSpace>(c_begin * slots, c_end * slots), kb);
   }
@@ -789,8 +850,7 @@ void ContactSurfaces3::groups(std::vector<std::vector<GO>>& out, int& active) co
   if (!mortar) return;
   // mortar: delta g_A couples every control point of its support's slots: per slave element
   // the union of its slots' groups, per A of this rank the union over its elements
-  const HostFace& hs = hs_[0];
-  const int ne = hs.ne[0] * hs.ne[1];
+  const int ne = slave.eoff[slave.n];
   std::vector<std::vector<GO>> per_elem(ne);
   auto eelem = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), edges.elem);
   auto emelem = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), edges.melem);
@@ -801,21 +861,26 @@ void ContactSurfaces3::groups(std::vector<std::vector<GO>>& out, int& active) co
       if (face(i) >= 0 && valid(i)) melems.insert({mface(i), melem(i)});
     if (melems.empty()) continue;
     for (int i = e * edges.per; i < (e + 1) * edges.per && eelem(i) >= 0; ++i) melems.insert({emface(i), emelem(i)});
-    element_cps(hs, e, 0, per_elem[e]);
+    const int f = static_cast<int>(std::upper_bound(slave.eoff + 1, slave.eoff + slave.n, e) - (slave.eoff + 1));
+    element_cps(hs_[f], e - slave.eoff[f], 0, per_elem[e]);
     for (const auto& [f, E] : melems) element_cps(hm_[f], E, 1, per_elem[e]);
   }
   auto act = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms.active);
   for (int A = a_begin; A < a_end; ++A) {
     if (act(A)) ++active;
-    const int ia = A % hs.n[0], ja = A / hs.n[0];
     std::vector<GO> g;
-    for (int e1 = 0; e1 < hs.ne[1]; ++e1)
-      for (int e0 = 0; e0 < hs.ne[0]; ++e0) {
-        const int s0 = hs.span[0][e0], s1 = hs.span[1][e1];
-        if (s0 < ia || s0 > ia + hs.p[0] || s1 < ja || s1 > ja + hs.p[1]) continue;
-        const auto& pe = per_elem[e0 + hs.ne[0] * e1];
-        g.insert(g.end(), pe.begin(), pe.end());
-      }
+    for (int k = a_ptr_h_[A]; k < a_ptr_h_[A + 1]; ++k) {   // A's elements on every face that holds it
+      const int f = a_occ_h_[2 * k], a = a_occ_h_[2 * k + 1];
+      const HostFace& hs = hs_[f];
+      const int ia = a % hs.n[0], ja = a / hs.n[0];
+      for (int e1 = 0; e1 < hs.ne[1]; ++e1)
+        for (int e0 = 0; e0 < hs.ne[0]; ++e0) {
+          const int s0 = hs.span[0][e0], s1 = hs.span[1][e1];
+          if (s0 < ia || s0 > ia + hs.p[0] || s1 < ja || s1 > ja + hs.p[1]) continue;
+          const auto& pe = per_elem[slave.eoff[f] + e0 + hs.ne[0] * e1];
+          g.insert(g.end(), pe.begin(), pe.end());
+        }
+    }
     std::sort(g.begin(), g.end());
     g.erase(std::unique(g.begin(), g.end()), g.end());
     if (!g.empty()) out.push_back(std::move(g));

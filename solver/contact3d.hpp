@@ -106,6 +106,11 @@ class ContactSurfaces3 {
   Kokkos::View<int*, MemSpace> stateA_prev_;
   Kokkos::View<int*, MemSpace> seg_flags_;
   Kokkos::View<int**, Kokkos::LayoutRight, MemSpace> cand_;   // mortar: candidate master elements per slave element
+  // mortar: the slave control points A (number_slave_control_points): how many, and A's
+  // occurrences (face, face control point) in [a_ptr_h_[A], a_ptr_h_[A + 1]) of a_occ_h_ (pairs)
+  void number_slave_control_points();
+  int num_control_points_ = 0;
+  std::vector<int> a_ptr_h_, a_occ_h_;
   std::vector<int> elem_load_;   // mortar on several ranks: active slots per slave element (last update, every rank's)
   int support_[2] = {0, 0};   // the slave elements in the support of this rank's control points
   int rank_ = 0, nranks_ = 1;

@@ -100,6 +100,43 @@ std::string ridge_and_box(int p, int n, const std::string& method, const std::st
   return os.str();
 }
 
+// The first occurrence of a in a test's problem text t replaced by b.
+void replace_once(std::string& t, const std::string& a, const std::string& b) {
+  const size_t at = t.find(a);
+  EXPECT_NE(at, std::string::npos) << a;
+  if (at != std::string::npos) t.replace(at, a.size(), b);
+}
+
+// The geometry of two degree-1 patches splitting the box [x0, x1] x [y0, y1] x [z0, z1] at x = xs.
+std::string split_box_patches(double x0, double xs, double x1, double y0, double y1, double z0, double z1) {
+  std::ostringstream g;
+  g << std::setprecision(17) << "    geometry:\n      patches:\n";
+  for (int q = 0; q < 2; ++q) {
+    const double a = q == 0 ? x0 : xs, b = q == 0 ? xs : x1;
+    g << "        - {degree: [1, 1, 1], knots: [[0, 0, 1, 1], [0, 0, 1, 1], [0, 0, 1, 1]], control_points: [";
+    for (int k = 0; k < 2; ++k)
+      for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < 2; ++i)
+          g << (i + j + k ? ", " : "") << "[" << (i ? b : a) << ", " << (j ? y1 : y0) << ", " << (k ? z1 : z0) << ", 1]";
+    g << "]}\n";
+  }
+  return g.str();
+}
+
+// The same with the box made of two patches split at x = 0.95 (over the ridge's one side), the
+// slave the list [patch0.front, patch1.front].
+std::string ridge_and_split_box(int p, int n, const std::string& method, const std::string& analysis, double mu) {
+  std::string t = ridge_and_box(p, n, method, analysis, mu);
+  auto replace = [&](const std::string& a, const std::string& b) { replace_once(t, a, b); };
+  replace("    geometry: {box: {origin: [0.4, 0.5, 1.2], size: [1.1, 0.9, 0.4]}}\n",
+          split_box_patches(0.4, 0.95, 1.5, 0.5, 1.4, 1.2, 1.6));
+  replace("subdivide: [3, 2, 1]}", "subdivide: [2, 2, 1]}");
+  replace("    boundary: {back: {displacement: {x: 0, y: 0, z: -0.01}}}",
+          "    boundary: {patch0.back: {displacement: {x: 0, y: 0, z: -0.01}}, patch1.back: {displacement: {x: 0, y: 0, z: -0.01}}}");
+  replace("slave: {body: box, side: front}", "slave: {body: box, side: [patch0.front, patch1.front]}");
+  return t;
+}
+
 using ProblemMaker = std::string (*)(int, int, const std::string&, const std::string&, double);
 
 // K_c against central differences of f_c, and f_c against central differences of the
@@ -213,30 +250,26 @@ std::string stacked(int p, int base_n, int top_n, const std::string& method, dou
   return os.str();
 }
 
-// The same with the base made of two patches split at x = xs (each nb x nb elements, conforming
-// at the interface), the master the list of their top faces.
-std::string stacked_split(int p, int nb, int nt, const std::string& method, double xs) {
+// The same with the base (master: [patch0.back, patch1.back]) and / or the top (slave:
+// [patch0.front, patch1.front]) made of two patches split at x = xs (each nb x nb or nt x nt
+// elements, conforming at the interface); xs <= 0: that body one patch.
+std::string stacked_split(int p, int nb, int nt, const std::string& method, double xs_base, double xs_top = 0) {
   std::string t = stacked(p, nb, nt, method);
-  std::ostringstream g;
-  g << std::setprecision(17) << "    geometry:\n      patches:\n";
-  for (int q = 0; q < 2; ++q) {
-    const double x0 = q == 0 ? 0.0 : xs, x1 = q == 0 ? xs : 2.0;
-    g << "        - {degree: [1, 1, 1], knots: [[0, 0, 1, 1], [0, 0, 1, 1], [0, 0, 1, 1]], control_points: [";
-    for (int k = 0; k < 2; ++k)
-      for (int j = 0; j < 2; ++j)
-        for (int i = 0; i < 2; ++i) g << (i + j + k ? ", " : "") << "[" << (i ? x1 : x0) << ", " << 2 * j << ", " << k << ", 1]";
-    g << "]}\n";
+  auto replace = [&](const std::string& a, const std::string& b) { replace_once(t, a, b); };
+  if (xs_base > 0) {
+    replace("    geometry: {box: {origin: [0, 0, 0], size: [2, 2, 1]}}\n", split_box_patches(0, xs_base, 2, 0, 2, 0, 1));
+    replace("    boundary: {front: {displacement: {z: 0}}, west: {displacement: {x: 0}}, south: {displacement: {y: 0}}}",
+            "    boundary: {patch0.front: {displacement: {z: 0}}, patch1.front: {displacement: {z: 0}}, patch0.west: "
+            "{displacement: {x: 0}}, patch0.south: {displacement: {y: 0}}, patch1.south: {displacement: {y: 0}}}");
+    replace("{master: {body: base, side: back}", "{master: {body: base, side: [patch0.back, patch1.back]}");
   }
-  auto replace = [&](const std::string& a, const std::string& b) {
-    const size_t at = t.find(a);
-    EXPECT_NE(at, std::string::npos) << a;
-    t.replace(at, a.size(), b);
-  };
-  replace("    geometry: {box: {origin: [0, 0, 0], size: [2, 2, 1]}}\n", g.str());
-  replace("    boundary: {front: {displacement: {z: 0}}, west: {displacement: {x: 0}}, south: {displacement: {y: 0}}}",
-          "    boundary: {patch0.front: {displacement: {z: 0}}, patch1.front: {displacement: {z: 0}}, patch0.west: "
-          "{displacement: {x: 0}}, patch0.south: {displacement: {y: 0}}, patch1.south: {displacement: {y: 0}}}");
-  replace("{master: {body: base, side: back}", "{master: {body: base, side: [patch0.back, patch1.back]}");
+  if (xs_top > 0) {
+    replace("    geometry: {box: {origin: [0, 0, 1], size: [2, 2, 1]}}\n", split_box_patches(0, xs_top, 2, 0, 2, 1, 2));
+    replace("    boundary: {back: {pressure: 1.0}, west: {displacement: {x: 0}}, south: {displacement: {y: 0}}}",
+            "    boundary: {patch0.back: {pressure: 1.0}, patch1.back: {pressure: 1.0}, patch0.west: {displacement: {x: 0}}, "
+            "patch0.south: {displacement: {y: 0}}, patch1.south: {displacement: {y: 0}}}");
+    replace("slave: {body: top, side: front}", "slave: {body: top, side: [patch0.front, patch1.front]}");
+  }
   return t;
 }
 
@@ -397,6 +430,18 @@ TEST(Mortar3Tangent, OnAMasterListMeetingAtARidge) {
   check_tangent(2, false, {-0.3, 0.0, -0.02}, "", true, 0.3, {0.04, -0.03}, 13, 0, false, 1e-5, ridge_and_box);
 }
 
+// Lists on both sides: the box of the ridge check made of two patches (the slave list
+// [patch0.front, patch1.front]; the control points on the patches' common edge one mortar
+// control point each, their weighted gaps and slips summed over both faces). The straight
+// edges of the cells' images bound the consistency here: 2.9e-6 of the largest column with the
+// default 2 x 2 cells per master element, 6.2e-8 with 4 x 4, 8.9e-9 with 8 x 8.
+TEST(Mortar3Tangent, OnListsOfFacesOnBothSides) {
+  check_tangent(2, false, {0.0, 0.0, -0.02}, "", true, 0, {0, 0}, 5, 0, false, 1e-5, ridge_and_split_box);
+  check_tangent(2, true, {0.0, 0.0, -0.02}, "", true, 0, {0, 0}, 5, 0, false, 1e-5, ridge_and_split_box);
+  check_tangent(2, false, {-0.3, 0.0, -0.02}, "", true, 0.3, {0.04, -0.03}, 13, 0, false, 1e-5, ridge_and_split_box);
+  check_tangent(2, false, {0.0, 0.0, -0.02}, "", true, 0.3, {1e-4, -5e-5}, 13, 0, false, 1e-5, ridge_and_split_box);
+}
+
 // Mortar friction (contact_mortar_friction3.hpp): the slots' part at fixed traction and the
 // per-control-point derivative of the traction (stick: eps_T / w_A V_A V_A^T; slip: the turn of
 // the slip direction and the pressure's change), after a history, on the curved master (p = 3):
@@ -487,25 +532,29 @@ TEST(StackedBoxes, MortarPassesThePatchTestToRoundOff) {
       }
 }
 
-// The same patch test with a master list: the base made of two patches split at x = 0.7 (slave
-// elements straddle the faces' common edge), each face's segments cover the slave elements'
-// parts it sees, and the uniform state is exact as with one face.
-TEST(StackedBoxes, MortarOnAMasterListPassesThePatchTestToRoundOff) {
-  for (int p : {1, 2, 3})
-    for (const char* method : {"mortar_penalty", "mortar_alm"}) {
-      const Solved s = solve_text(stacked_split(p, 2, 3, method, 0.7));
-      ASSERT_TRUE(s.res.converged);
-      const ContactSummary sm = s.res.contact[0].summary();
-      const UniformError u = stacked_uniform_error(s.res.contact[0], std::string(method) == "mortar_alm");
-      std::printf("  p = %d %s, master [patch0.back, patch1.back] 2 x 2 each, slave 3 x 3: %zu slots, max |p - 1| = %.2e, "
-                  "max |x - exact| = %.2e, force %.15g, Newton %d\n",
-                  p, method, u.points, u.p, u.x, sm.normal_force, newton_total(s));
-      EXPECT_LT(u.p, 1e-9);
-      EXPECT_LT(u.x, 1e-12);
-      EXPECT_NEAR(sm.normal_force, 4.0, 1e-10);
-      EXPECT_NEAR(sm.fz, 4.0, 1e-10);
-      EXPECT_NEAR(sm.contact_length, 4.0, 1e-12);
-    }
+// The same patch test with lists of faces: the base made of two patches split at x = 0.7 (the
+// master [patch0.back, patch1.back]: slave elements straddle the faces' common edge), the top
+// split at x = 1.3 (the slave [patch0.front, patch1.front]: the control points on the faces'
+// common edge are one mortar control point A each, with its support on both faces), or both;
+// the uniform state is exact as with one face each.
+TEST(StackedBoxes, MortarOnListsOfFacesPassesThePatchTestToRoundOff) {
+  for (auto [xb, xt] : {std::pair<double, double>{0.7, 0}, {0, 1.3}, {0.7, 1.3}})
+    for (int p : {1, 2, 3})
+      for (const char* method : {"mortar_penalty", "mortar_alm"}) {
+        const Solved s = solve_text(stacked_split(p, 2, 3, method, xb, xt));
+        ASSERT_TRUE(s.res.converged);
+        const ContactSummary sm = s.res.contact[0].summary();
+        const UniformError u = stacked_uniform_error(s.res.contact[0], std::string(method) == "mortar_alm");
+        std::printf("  p = %d %s, master %s, slave %s: %zu slots, max |p - 1| = %.2e, max |x - exact| = %.2e, force %.15g, "
+                    "Newton %d\n",
+                    p, method, xb > 0 ? "2 faces of 2 x 2" : "2 x 2", xt > 0 ? "2 faces of 3 x 3" : "3 x 3", u.points, u.p, u.x,
+                    sm.normal_force, newton_total(s));
+        EXPECT_LT(u.p, 1e-9);
+        EXPECT_LT(u.x, 1e-12);
+        EXPECT_NEAR(sm.normal_force, 4.0, 1e-10);
+        EXPECT_NEAR(sm.fz, 4.0, 1e-10);
+        EXPECT_NEAR(sm.contact_length, 4.0, 1e-12);
+      }
 }
 
 // Bodies that touch within round-off at the start (the top block 1e-13 above the base: a gap
