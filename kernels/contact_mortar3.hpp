@@ -194,11 +194,15 @@ struct MortarSegments3 {
       // The (sub + 1)^2 grid points are shot once each, a row of cells at a time (two rows of
       // shots kept), instead of four times per cell point.
       Shot rows[2][kMaxCells + 1];
-      for (int i = 0; i <= sub; ++i) shoot(ss, es, ms, mspn, mlo, mhi, i, 0, uc, vc, hsz, margin, rows[0][i]);
+      // each shot's Newton starts from its neighbour's result (a cell away: 2-3 steps instead
+      // of ~5 from the slave element's centre), the first from the centre
+      for (int i = 0; i <= sub; ++i)
+        shoot(ss, es, ms, mspn, mlo, mhi, i, 0, uc, vc, hsz, margin, i > 0 ? &rows[0][i - 1] : nullptr, rows[0][i]);
       for (int cj = 0; cj < sub; ++cj) {
       const Shot* below = rows[cj % 2];
       Shot* above = rows[(cj + 1) % 2];
-      for (int i = 0; i <= sub; ++i) shoot(ss, es, ms, mspn, mlo, mhi, i, cj + 1, uc, vc, hsz, margin, above[i]);
+      for (int i = 0; i <= sub; ++i)
+        shoot(ss, es, ms, mspn, mlo, mhi, i, cj + 1, uc, vc, hsz, margin, i > 0 ? &above[i - 1] : &below[0], above[i]);
       for (int ci = 0; ci < sub; ++ci) {
       ClipPolygon poly;
       poly.n = 0;
@@ -319,11 +323,11 @@ struct MortarSegments3 {
   };
 
   /// Grid point (i, j) of the sub x sub cells of master element [mlo, mhi]: x_s(u, v) = rho +
-  /// t n by Newton on (u, v, t) from the slave element's centre; ok where it converged with
-  /// |t| <= margin.
+  /// t n by Newton on (u, v, t) from a neighbouring grid point's shot where that converged
+  /// (start), else from the slave element's centre; ok where it converged with |t| <= margin.
   KOKKOS_INLINE_FUNCTION void shoot(const SurfaceData& ss, const int es[2], const SurfaceData& ms, const int mspn[2],
                                     const double mlo[2], const double mhi[2], int i, int j, double uc, double vc,
-                                    double hsz, double margin, Shot& out) const {
+                                    double hsz, double margin, const Shot* start, Shot& out) const {
     out.ok = false;
     const double a = static_cast<double>(i) / sub, b = static_cast<double>(j) / sub;
     const double xi[2] = {mlo[0] + a * (mhi[0] - mlo[0]), mlo[1] + b * (mhi[1] - mlo[1])};
@@ -334,8 +338,9 @@ struct MortarSegments3 {
     const double l = kmath::sqrt(dot3(n, n));
     if (!(l > 0)) return;
     for (int c = 0; c < 3; ++c) n[c] /= l;
-    // x_s(u, v) = rho + t n: Newton on (u, v, t) from the slave element's centre
-    double u = uc, v = vc, tt = 0, oc = 0;
+    // x_s(u, v) = rho + t n: Newton on (u, v, t)
+    const bool warm = start && start->ok;
+    double u = warm ? start->u : uc, v = warm ? start->v : vc, tt = warm ? start->t : 0, oc = 0;
     bool ok = false;
     for (int it = 0; it < 30; ++it) {
       double ds[3][3];
