@@ -213,10 +213,14 @@ struct MortarFrictionVectors3 {
 };
 
 /// The references of slots and edge points (esp / efr: either): the slave point in the converged
-/// configuration (sc) projected onto the face of its current foot on the converged master (mc),
-/// not clamped, from the current foot (an edge point's foot lies on the master's boundary, where
-/// a clamped projection would lose half of them; a slot whose foot crossed into another face of a
-/// master list during the step keeps its slip measured on that face's polynomial).
+/// configuration (sc) projected onto the polynomial piece of its current foot's element on the
+/// converged master (mc), extended beyond the element and the face (not clamped), from the
+/// current foot. So the slip a_al(xi) (xi - xi_n) is measured in one polynomial chart, that of
+/// the foot's element: an edge point's foot lies on the master's boundary, where a clamped
+/// projection would lose half of them; a slot whose foot crossed into another face of a master
+/// list, or across a C^0 edge inside a face, during the step keeps its slip (the reference
+/// projected onto the whole face, following its elements, made the tangent miss 4e-3 of the
+/// largest column across a C^0 ridge inside one face: Mortar3FrictionTangent.AcrossAC0Ridge).
 struct MortarReferences3 {
   ContactFaces sc, mc;
   SlavePoints3 esp;
@@ -231,7 +235,8 @@ struct MortarReferences3 {
     double ds[6][3], dm[6][3];
     surface_derivatives(sd, es, esp.uv(i, 0), esp.uv(i, 1), ds);
     double xi = esp.muv(i, 0), eta = esp.muv(i, 1);
-    closest_point_unclamped(mc.f[esp.mface(i)].sd, ds[0], xi, eta, ms, true, dm);
+    surface_element_spans(mc.f[esp.mface(i)].sd, esp.melem(i), ms);
+    closest_point_unclamped(mc.f[esp.mface(i)].sd, ds[0], xi, eta, ms, false, dm);
     if (!(kmath::fabs(xi) < 1e300 && kmath::fabs(eta) < 1e300)) return;   // Newton ran away
     efr.ref_face(i) = esp.mface(i);
     efr.ref_uv(i, 0) = xi;

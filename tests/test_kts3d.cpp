@@ -143,6 +143,27 @@ std::string ridge_and_split_box(int p, int n, const std::string& method, const s
   return t;
 }
 
+// The ridge of ridge_and_box as one patch: a C^0 knot at x = 1 (the knot 0.5 doubled) inside
+// the master face.
+std::string ridge_one_patch(int p, int n, const std::string& method, const std::string& analysis, double mu) {
+  std::string t = ridge_and_box(p, n, method, analysis, mu);
+  std::ostringstream g;
+  g << "    geometry:\n      patches:\n        - {degree: [2, 1, 1], knots: [[0, 0, 0, 0.5, 0.5, 1, 1, 1], [0, 0, 1, 1], [0, 0, 1, 1]], "
+       "control_points: [";
+  const double zt[5] = {1.0, 1.15, 1.2, 1.2, 1.05};
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 5; ++i)
+        g << (i + j + k ? ", " : "") << "[" << 0.5 * i << ", " << 2 * j << ", " << (k == 0 ? 0.0 : zt[i]) << ", "
+          << (i % 2 ? 0.9 : 1.0) << "]";
+  g << "]}\n";
+  size_t a = t.find("    geometry:"), b = t.find("    refine:");
+  t.replace(a, b - a, g.str());
+  replace_once(t, "{patch0.front: {displacement: {x: 0, y: 0, z: 0}}, patch1.front: {displacement: {x: 0, y: 0, z: 0}}}",
+               "{front: {displacement: {x: 0, y: 0, z: 0}}}");
+  replace_once(t, "[patch0.back, patch1.back]", "back");
+  return t;
+}
 using ProblemMaker = std::string (*)(int, int, const std::string&, const std::string&, double);
 
 // K_c against central differences of f_c, and f_c against central differences of the
@@ -474,6 +495,17 @@ TEST(Mortar3FrictionTangent, MatchesFiniteDifferencesInStickAndSlip) {
 TEST(Mortar3FrictionTangent, OnAC1Master) {
   check_tangent(2, false, {0.0, 0.0, -0.02}, "", true, 0.3, {1e-4, -5e-5}, 26);
   check_tangent(2, false, {-0.35, 0.3, -0.03}, ", kinematics: finite", true, 0.3, {0.05, 0.02}, 26, 4);
+}
+
+// The ridge inside one face (ridge_one_patch: a C^0 knot; KTS for comparison): a slot whose
+// converged point lies beyond the ridge had its reference on the other polynomial piece (the
+// projection followed the face's elements), and the tangent missed 4e-3 (stick) and 7e-4
+// (slip) of the largest column; with the reference on the foot's own piece, extended,
+// 1e-6.
+TEST(Mortar3FrictionTangent, AcrossAC0Ridge) {
+  check_tangent(2, false, {-0.3, 0.0, -0.02}, "", false, 0.3, {0.04, -0.03}, 13, 0, false, 1e-5, ridge_one_patch);
+  check_tangent(2, false, {-0.3, 0.0, -0.02}, "", true, 0.3, {0.04, -0.03}, 13, 0, false, 1e-5, ridge_one_patch);
+  check_tangent(2, false, {-0.3, 0.0, -0.02}, "", true, 0.3, {1e-4, -5e-5}, 13, 0, false, 1e-5, ridge_one_patch);
 }
 
 TEST(Mortar3FrictionTangent, MasterEndsInsideASlaveElement) {
