@@ -888,14 +888,16 @@ struct MortarRange3 {
       lo[b][1] = sd.n[1];
       hi[b][0] = hi[b][1] = -1;
     }
-    for (int k = s.a_ptr(A); k < s.a_ptr(A + 1); ++k) {   // the slave control points within p of A
+    // the slave control points within p of A on each face that holds it (widened over A's
+    // occurrences: a face may hold A twice, where a patch's interface is with itself)
+    for (int k = s.a_ptr(A); k < s.a_ptr(A + 1); ++k) {
       const int fa = s.a_occ(k, 0), a = s.a_occ(k, 1);
       const SurfaceData& sd = s.f[fa].sd;
-      const int ia = a % sd.n[0], ja = a / sd.n[0];
-      lo[fa][0] = ia - sd.p[0];
-      lo[fa][1] = ja - sd.p[1];
-      hi[fa][0] = ia + sd.p[0];
-      hi[fa][1] = ja + sd.p[1];
+      const int ij[2] = {a % sd.n[0], a / sd.n[0]};
+      for (int d = 0; d < 2; ++d) {
+        lo[fa][d] = ij[d] - sd.p[d] < lo[fa][d] ? ij[d] - sd.p[d] : lo[fa][d];
+        hi[fa][d] = ij[d] + sd.p[d] > hi[fa][d] ? ij[d] + sd.p[d] : hi[fa][d];
+      }
     }
     bool any = false;
     auto widen = [&](int f, int E) {

@@ -124,9 +124,9 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
     // makes the residual jump where a segment gains or loses a corner as u changes, at the level
     // of its error. With p + 1 (degree 2 p), Newton stalled at relative residuals of 1e-8
     // (p = 2) and 4e-10 (p = 3) on a flat punch pressed into a block, above its 1e-10; with
-    // p + 2 it converges quadratically to 1e-12 (docs/contact-methods.md). With friction the slip's
-    // integrand is of higher degree still (Newton stalled at 1e-7 on a flat p = 2 master with
-    // p + 1)
+    // p + 2 it converges quadratically to 1e-12 (docs/verification.md, "3-D contact"). With
+    // friction the slip's integrand is of higher degree still (Newton stalled at 1e-7 on a flat
+    // p = 2 master with p + 1)
     gauss = gauss_rule(pair.quadrature_points > 0 ? pair.quadrature_points : std::min(pmax + (friction ? 3 : 2), kMaxGauss));
     tri = triangle_rule(polygon_rule_degree(gauss.n));
     slots = 4 * 6 * tri.n;   // room for 4 segments of 6 fan triangles to start with
