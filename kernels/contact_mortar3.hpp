@@ -148,32 +148,17 @@ struct MortarSegments3 {
     const int cap = static_cast<int>(cand.extent(1));
     for (int f = 0; f < m.n; ++f) {
       const SurfaceSearch& g = m.search[f];
-      int c0[3], c1[3];
-      for (int d = 0; d < 3; ++d) {
-        c0[d] = g.cell_of(box[d], d);
-        c1[d] = g.cell_of(box[3 + d], d);
-        if (c0[d] < 0) c0[d] = 0;
-        if (c1[d] > g.nc[d] - 1) c1[d] = g.nc[d] - 1;
-      }
-      for (int cz = c0[2]; cz <= c1[2]; ++cz)
-        for (int cy = c0[1]; cy <= c1[1]; ++cy)
-          for (int cx = c0[0]; cx <= c1[0]; ++cx) {
-            const int cc[3] = {cx, cy, cz};
-            int k0, k1;
-            g.cell_range(cc, k0, k1);
-            for (int k = k0; k < k1; ++k) {
-              const int E = g.elems(k);
-              bool overlap = true;
-              for (int d = 0; d < 3; ++d) overlap = overlap && g.box(E, d) <= box[3 + d] && g.box(E, 3 + d) >= box[d];
-              if (!overlap) continue;
-              const int code = E * kMaxFacesPerSurface + f;
-              bool seen = false;
-              for (int q = 0; q < nc && q < cap && !seen; ++q) seen = cand(eg, q) == code;
-              if (seen) continue;
-              if (nc < cap) cand(eg, nc) = code;
-              ++nc;
-            }
-          }
+      g.for_each_in_box(box, box + 3, [&](const int E) {
+        bool overlap = true;
+        for (int d = 0; d < 3; ++d) overlap = overlap && g.box(E, d) <= box[3 + d] && g.box(E, 3 + d) >= box[d];
+        if (!overlap) return;
+        const int code = E * kMaxFacesPerSurface + f;
+        bool seen = false;
+        for (int q = 0; q < nc && q < cap && !seen; ++q) seen = cand(eg, q) == code;
+        if (seen) return;
+        if (nc < cap) cand(eg, nc) = code;
+        ++nc;
+      });
     }
     if (nc > cap) {   // the host grows the rows and segments again
       Kokkos::atomic_fetch_max(&flags(1), nc);

@@ -218,6 +218,26 @@ struct SurfaceSearch {
     }
     if (lo < static_cast<int>(key.extent(0)) && key(lo) == id) { k0 = start(lo); k1 = start(lo + 1); }
   }
+  /// f(e) for the element ids listed in the cells that the box [lo, hi] meets (cells in z, y,
+  /// x order; an element listed in several of them comes once per cell).
+  template <class F>
+  KOKKOS_INLINE_FUNCTION void for_each_in_box(const double lo[3], const double hi[3], const F& f) const {
+    int c0[3], c1[3];
+    for (int d = 0; d < 3; ++d) {
+      c0[d] = cell_of(lo[d], d);
+      c1[d] = cell_of(hi[d], d);
+      if (c0[d] < 0) c0[d] = 0;
+      if (c1[d] > nc[d] - 1) c1[d] = nc[d] - 1;
+    }
+    for (int cz = c0[2]; cz <= c1[2]; ++cz)
+      for (int cy = c0[1]; cy <= c1[1]; ++cy)
+        for (int cx = c0[0]; cx <= c1[0]; ++cx) {
+          const int c[3] = {cx, cy, cz};
+          int k0, k1;
+          cell_range(c, k0, k1);
+          for (int k = k0; k < k1; ++k) f(elems(k));
+        }
+  }
   KOKKOS_INLINE_FUNCTION double box_distance2(int e, const double x[3]) const {
     double s = 0;
     for (int d = 0; d < 3; ++d) {
@@ -314,42 +334,28 @@ struct SurfaceSearch {
 constexpr int kMaxSurfaceCandidates = 64;
 KOKKOS_INLINE_FUNCTION int closest_on_surface(const SurfaceData& sd, const SurfaceSearch& g, const double x[3], double radius,
                                               double uv[2], double foot[3], double& dist2, bool& inside) {
-  int c0[3], c1[3];
-  for (int d = 0; d < 3; ++d) {
-    c0[d] = g.cell_of(x[d] - radius, d);
-    c1[d] = g.cell_of(x[d] + radius, d);
-    if (c0[d] < 0) c0[d] = 0;
-    if (c1[d] > g.nc[d] - 1) c1[d] = g.nc[d] - 1;
-  }
   int cand[kMaxSurfaceCandidates];
   double cd[kMaxSurfaceCandidates];
   int nc = 0;
   const double r2 = radius * radius;
-  for (int cz = c0[2]; cz <= c1[2]; ++cz)
-    for (int cy = c0[1]; cy <= c1[1]; ++cy)
-      for (int cx = c0[0]; cx <= c1[0]; ++cx) {
-        const int c[3] = {cx, cy, cz};
-        int k0, k1;
-        g.cell_range(c, k0, k1);
-        for (int k = k0; k < k1; ++k) {
-          const int e = g.elems(k);
-          const double b2 = g.box_distance2(e, x);
-          if (b2 > r2) continue;
-          bool seen = false;
-          for (int m = 0; m < nc && !seen; ++m) seen = cand[m] == e;
-          if (seen) continue;
-          // insertion, nearest box first; beyond the capacity the farthest is dropped
-          int pos = nc < kMaxSurfaceCandidates ? nc++ : kMaxSurfaceCandidates - 1;
-          if (pos == kMaxSurfaceCandidates - 1 && nc == kMaxSurfaceCandidates && b2 >= cd[pos]) continue;
-          while (pos > 0 && cd[pos - 1] > b2) {
-            cand[pos] = cand[pos - 1];
-            cd[pos] = cd[pos - 1];
-            --pos;
-          }
-          cand[pos] = e;
-          cd[pos] = b2;
-        }
-      }
+  const double lo[3] = {x[0] - radius, x[1] - radius, x[2] - radius}, hi[3] = {x[0] + radius, x[1] + radius, x[2] + radius};
+  g.for_each_in_box(lo, hi, [&](const int e) {
+    const double b2 = g.box_distance2(e, x);
+    if (b2 > r2) return;
+    bool seen = false;
+    for (int m = 0; m < nc && !seen; ++m) seen = cand[m] == e;
+    if (seen) return;
+    // insertion, nearest box first; beyond the capacity the farthest is dropped
+    int pos = nc < kMaxSurfaceCandidates ? nc++ : kMaxSurfaceCandidates - 1;
+    if (pos == kMaxSurfaceCandidates - 1 && nc == kMaxSurfaceCandidates && b2 >= cd[pos]) return;
+    while (pos > 0 && cd[pos - 1] > b2) {
+      cand[pos] = cand[pos - 1];
+      cd[pos] = cd[pos - 1];
+      --pos;
+    }
+    cand[pos] = e;
+    cd[pos] = b2;
+  });
   int best = -1;
   dist2 = 1e300;
   for (int m = 0; m < nc; ++m) {
