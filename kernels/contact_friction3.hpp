@@ -156,7 +156,7 @@ struct UpdateFriction3 {
       int ms[2];
       surface_element_spans(mf.sd, sp.melem(i), ms);
       double d[6][3];
-      surface_derivatives(mf.sd, ms, sp.muv(i, 0), sp.muv(i, 1), d);
+      surface_first_derivatives(mf.sd, ms, sp.muv(i, 0), sp.muv(i, 1), d);
       const double dxi[2] = {sp.muv(i, 0) - fr.ref_uv(i, 0), sp.muv(i, 1) - fr.ref_uv(i, 1)};
       for (int c = 0; c < 3; ++c) fr.gv(i, c) = d[1][c] * dxi[0] + d[2][c] * dxi[1];
       return;
@@ -166,7 +166,7 @@ struct UpdateFriction3 {
     int ms[2];
     surface_element_spans(mf.sd, sp.melem(i), ms);
     double d[6][3];
-    surface_derivatives(mf.sd, ms, sp.muv(i, 0), sp.muv(i, 1), d);
+    surface_first_derivatives(mf.sd, ms, sp.muv(i, 0), sp.muv(i, 1), d);
     double len[2], e[2][3], dxi[2] = {0, 0};
     for (int al = 0; al < 2; ++al) {
       len[al] = kmath::sqrt(dot3(d[1 + al], d[1 + al]));

@@ -157,7 +157,7 @@ struct ProjectSlavePoints3 {
     int es[2];
     surface_element_spans(ss, sp.elem(i), es);
     double d[6][3];
-    surface_derivatives(ss, es, sp.uv(i, 0), sp.uv(i, 1), d);
+    surface_derivatives_to<0>(ss, es, sp.uv(i, 0), sp.uv(i, 1), d);
     const double x[3] = {d[0][0], d[0][1], d[0][2]};
     for (int c = 0; c < 3; ++c) sp.x(i, c) = x[c];
     double best = 1e300, buv[2] = {0, 0}, bfoot[3] = {0, 0, 0};
@@ -195,7 +195,7 @@ struct ProjectSlavePoints3 {
     const ContactFace& mf = m.f[bface];
     int ms[2];
     surface_element_spans(mf.sd, belem, ms);
-    surface_derivatives(mf.sd, ms, buv[0], buv[1], d);
+    surface_first_derivatives(mf.sd, ms, buv[0], buv[1], d);
     double n[3];
     cross3(d[1], d[2], n);
     const double l = kmath::sqrt(dot3(n, n));
@@ -219,13 +219,39 @@ using ContactTeam = Kokkos::TeamPolicy<ExecSpace>::member_type;
 /// Team scratch (level 1) of sum_segments for blocks of at most nd_max dofs.
 inline size_t segment_block_bytes(int nd_max) { return sizeof(double) * nd_max * nd_max + 2 * sizeof(int) * nd_max + 64; }
 
+/// The block of sum_segments in team scratch: add(r, lr, cb, c3, vals) adds three columns of
+/// control point cb to row r (dof lr); row(r, lr) gives row r itself (all its columns, in the
+/// slot's order 3 cb + cc) and column(k, dof) names column k, for slots that fill whole rows.
+struct SegmentBlock {
+  static constexpr bool whole_rows = true;
+  double* B;
+  int* rows;
+  int* cols;
+  int nd_max;
+  int* nd;
+  KOKKOS_INLINE_FUNCTION void operator()(int r, int lr, int cb, const int* c3, const double* vals) const {
+    rows[r] = lr;
+    double* b = B + r * nd_max + 3 * cb;
+    if (r == 0)   // a slot's columns are the same in every row
+      for (int cc = 0; cc < 3; ++cc) cols[3 * cb + cc] = c3[cc];
+    for (int cc = 0; cc < 3; ++cc) b[cc] += vals[cc];
+    if (r + 1 > *nd) *nd = r + 1;
+  }
+  KOKKOS_INLINE_FUNCTION double* row(int r, int lr) const {
+    rows[r] = lr;
+    if (r + 1 > *nd) *nd = r + 1;
+    return B + r * nd_max;
+  }
+  KOKKOS_INLINE_FUNCTION void column(int k, int dof) const { cols[k] = dof; }
+};
+
 /// Mortar by segments: the slots of slave element e = e_first + the team's league rank (those
 /// in [p_begin, p_end); `slots` per element) that project onto one master element share their
 /// rows and columns. A run of them is summed into a block in team scratch memory (nd_max^2
 /// doubles, rows and columns) and scattered into K once: one lookup per entry per segment
-/// instead of per slot. slot(i, add) assembles slot i, calling add(r, lr, cb, cols, vals) for
-/// the three columns of control point cb in row r (dof lr) (false: nothing assembled). One
-/// thread of the team does it (team size 1 on the host).
+/// instead of per slot. slot(i, add) assembles slot i through the SegmentBlock add (three
+/// columns at a time, or whole rows where the slot fills them) and returns false where it
+/// assembled nothing. One thread of the team does it (team size 1 on the host).
 template <class LocalMatrix, class Slot>
 KOKKOS_INLINE_FUNCTION void sum_segments(const ContactTeam& t, const SlavePoints3& sp, int e_first, int slots, int p_begin,
                                          int p_end, int nd_max, const LocalMatrix& K, const Slot& slot) {
@@ -236,23 +262,18 @@ KOKKOS_INLINE_FUNCTION void sum_segments(const ContactTeam& t, const SlavePoints
   int* cols = static_cast<int*>(t.team_scratch(1).get_shmem(sizeof(int) * nd_max));
   Kokkos::single(Kokkos::PerTeam(t), [&]() {
     int run_face = -1, run_elem = -1, nd = 0;
-    auto flush = [&]() {
-      for (int r = 0; r < nd; ++r) K.sumIntoValues(rows[r], cols, nd, B + r * nd_max, true, true);
+    for (int k = 0; k < nd_max * nd_max; ++k) B[k] = 0.0;
+    auto flush = [&]() {   // scatter the block, and zero the part of it that was used
+      for (int r = 0; r < nd; ++r) {
+        K.sumIntoValues(rows[r], cols, nd, B + r * nd_max, true, true);
+        for (int k = 0; k < nd; ++k) B[r * nd_max + k] = 0.0;
+      }
       nd = 0;
     };
-    auto add = [&](int r, int lr, int cb, const int* c3, const double* vals) {
-      rows[r] = lr;
-      for (int cc = 0; cc < 3; ++cc) {
-        cols[3 * cb + cc] = c3[cc];
-        B[r * nd_max + 3 * cb + cc] += vals[cc];
-      }
-      if (r + 1 > nd) nd = r + 1;
-    };
+    const SegmentBlock add{B, rows, cols, nd_max, &nd};
     for (int i = i_lo; i < i_hi; ++i) {
       if (sp.face(i) < 0 || !sp.valid(i)) continue;
       if (nd > 0 && (sp.mface(i) != run_face || sp.melem(i) != run_elem)) flush();
-      if (nd == 0)
-        for (int k = 0; k < nd_max * nd_max; ++k) B[k] = 0.0;
       run_face = sp.mface(i);
       run_elem = sp.melem(i);
       slot(i, add);
@@ -260,6 +281,18 @@ KOKKOS_INLINE_FUNCTION void sum_segments(const ContactTeam& t, const SlavePoints
     if (nd > 0) flush();
   });
 }
+
+/// Three columns at a time straight into K (KTS: one slot per point, nothing to sum first).
+template <class LocalMatrix>
+struct DirectColumns {
+  static constexpr bool whole_rows = false;
+  LocalMatrix K;
+  KOKKOS_INLINE_FUNCTION void operator()(int, int lr, int, const int* cols, const double* vals) const {
+    K.sumIntoValues(lr, cols, 3, vals, true, true);   // rows sorted (assemble_contact): binary search
+  }
+  KOKKOS_INLINE_FUNCTION double* row(int, int) const { return nullptr; }
+  KOKKOS_INLINE_FUNCTION void column(int, int) const {}
+};
 
 /// Residual and consistent tangent of the active slave points [p_begin, p_end) (see header).
 /// `mortar`: the pressure is the mortar field already in sp.pressure (contact_mortar3.hpp) and
@@ -334,6 +367,12 @@ struct AssembleKts3 {
       }
     };
     const int nd = 3 * (ns + nm);
+    int cl[2 * kMaxSurfaceBasis];   // the columns' control points (local ids), slave then master
+    for (int cb = 0; cb < ns + nm; ++cb) cl[cb] = cb < ns ? sf.lid(cps[cb]) : mf.lid(cpm[cb - ns]);
+    // whole rows (a segment's block) or three columns at a time
+    constexpr bool rows = std::remove_reference_t<AddK>::whole_rows;
+    if constexpr (rows)
+      for (int k = 0; k < nd; ++k) addK.column(k, dof_of(cl[k / 3], k % 3, 3));
     for (int r = 0; r < nd; ++r) {
       double Nr, tr[2], nbr[2];
       int lr;
@@ -355,7 +394,7 @@ struct AssembleKts3 {
       // (control point cb, component cc) of sign s (+1 slave, -1 master): tc = s R_cb
       // (d1[cc], d2[cc]), nbc = (R1_cb, R2_cb) n[cc] (master only), Nc = s R_cb n[cc]. So
       // G = -s R_cb X[cc] - n[cc] (Y . (R1_cb, R2_cb)) with X[cc] = (Ctr + Hnbr) . (d1[cc], d2[cc])
-      // and Y = g Hnbr + Htr, the row's factors formed once.
+      // and Y = g Hnbr + Htr, the row's factors formed once. Entry: w (eps N_r N_c - p G).
       const double Xa[2] = {Ctr[0] + Hnbr[0], Ctr[1] + Hnbr[1]};
       const double Y[2] = {g * Hnbr[0] + Htr[0], g * Hnbr[1] + Htr[1]};
       double X[3], EN[3];
@@ -363,17 +402,34 @@ struct AssembleKts3 {
         X[cc] = Xa[0] * d[1][cc] + Xa[1] * d[2][cc];
         EN[cc] = epsN * Nr * n[cc];
       }
+      auto entry = [&](int cb, int cc, double R, double Yn) {
+        const double G = -R * X[cc] - n[cc] * Yn;
+        return w * (EN[cc] * R - pr * G);
+      };
+      if constexpr (rows) {   // the block's row, in place: entry = s R_cb al[cc] + Yn_cb be[cc]
+        double* b = addK.row(r, lr);
+        double al[3], be[3];
+        for (int cc = 0; cc < 3; ++cc) {
+          al[cc] = w * (EN[cc] + pr * X[cc]);
+          be[cc] = w * pr * n[cc];
+        }
+        for (int cb = 0; cb < ns; ++cb)   // slave columns: s R_cb = R_cb, no curvature part
+          for (int cc = 0; cc < 3; ++cc) b[3 * cb + cc] += Rs[cb] * al[cc];
+        for (int cb = ns; cb < ns + nm; ++cb) {   // master columns: s R_cb = -R_cb
+          const double Yn = Y[0] * Rm1[cb - ns] + Y[1] * Rm2[cb - ns], R = -Rm[cb - ns];
+          for (int cc = 0; cc < 3; ++cc) b[3 * cb + cc] += R * al[cc] + Yn * be[cc];
+        }
+        continue;
+      }
       for (int cb = 0; cb < ns + nm; ++cb) {
         double vals[3];
         int cols[3];
         const bool slave = cb < ns;
         const double R = slave ? Rs[cb] : -Rm[cb - ns];   // s R_cb
         const double Yn = slave ? 0.0 : Y[0] * Rm1[cb - ns] + Y[1] * Rm2[cb - ns];
-        const int cl = slave ? sf.lid(cps[cb]) : mf.lid(cpm[cb - ns]);
         for (int cc = 0; cc < 3; ++cc) {
-          cols[cc] = dof_of(cl, cc, 3);
-          const double G = -R * X[cc] - n[cc] * Yn;
-          vals[cc] = w * (EN[cc] * R - pr * G);
+          cols[cc] = dof_of(cl[cb], cc, 3);
+          vals[cc] = entry(cb, cc, R, Yn);
         }
         addK(r, lr, cb, cols, vals);
       }
@@ -388,9 +444,7 @@ struct AssembleKts3 {
   /// One point (KTS): its block straight into K.
   KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
     double fs[4] = {0, 0, 0, 0};
-    const bool on = slot(p_begin + k, [&](int, int lr, int, const int* cols, const double* vals) {
-      K.sumIntoValues(lr, cols, 3, vals, true, true);   // rows sorted (assemble_contact): binary search
-    }, fs);
+    const bool on = slot(p_begin + k, DirectColumns<LocalMatrix>{K}, fs);
     if (on) add_forces(fs);
   }
 

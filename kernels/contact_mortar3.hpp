@@ -469,7 +469,7 @@ struct MortarSegments3 {
           const double sq = s0 + 0.5 * (s1 - s0) * (gauss.x[q] + 1);
           const double u = A[0] + sq * D[0], v = A[1] + sq * D[1];
           double d[6][3], nn[3];
-          surface_derivatives(ref, es, u, v, d);
+          surface_first_derivatives(ref, es, u, v, d);
           cross3(d[1], d[2], nn);
           ed.elem(i) = e;
           ed.sface(i) = fs;
@@ -495,7 +495,7 @@ struct MortarSegments3 {
 /// The closest point to x of a surface's polynomial pieces, not clamped to an element or to
 /// the face: Newton from (xi, eta) on the piece with spans ms (follow: the piece of each
 /// iterate instead, its parameters clamped into the face to pick it, and returned in ms).
-/// dm: S and its derivatives at the foot.
+/// dm: S and its first derivatives at the foot (dm[0..2]).
 KOKKOS_INLINE_FUNCTION void closest_point_unclamped(const SurfaceData& md, const double x[3], double& xi, double& eta, int ms[2],
                                                     bool follow, double dm[6][3]) {
   const double hsz = md.U[0](md.n[0]) - md.U[0](md.p[0]) + md.U[1](md.n[1]) - md.U[1](md.p[1]);
@@ -521,7 +521,7 @@ KOKKOS_INLINE_FUNCTION void closest_point_unclamped(const SurfaceData& md, const
     ms[0] = find_span(md.n[0], md.p[0], xi, md.U[0].data());
     ms[1] = find_span(md.n[1], md.p[1], eta, md.U[1].data());
   }
-  surface_derivatives(md, ms, xi, eta, dm);
+  surface_first_derivatives(md, ms, xi, eta, dm);
 }
 
 /// Edge point i of a mortar pair: the slave basis at it (Rs, cps; element spans es), the
@@ -540,7 +540,7 @@ KOKKOS_INLINE_FUNCTION bool edge_point(const ContactFace& sf, const ContactFace&
   double xi = (1 - s) * ed.d(i, 9) + s * ed.d(i, 14), eta = (1 - s) * ed.d(i, 10) + s * ed.d(i, 15);
   double Ru[kMaxSurfaceBasis], Rv[kMaxSurfaceBasis], ds[6][3], dm[6][3];
   ns = surface_basis(sf.sd, es, ed.d(i, 0), ed.d(i, 1), Rs, Ru, Rv, cps);
-  surface_derivatives(sf.sd, es, ed.d(i, 0), ed.d(i, 1), ds);
+  surface_derivatives_to<0>(sf.sd, es, ed.d(i, 0), ed.d(i, 1), ds);
   closest_point_unclamped(mf.sd, ds[0], xi, eta, ms, false, dm);
   nm = surface_basis(mf.sd, ms, xi, eta, Rm, Ru, Rv, cpm);
   cross3(dm[1], dm[2], n);
@@ -614,8 +614,8 @@ KOKKOS_INLINE_FUNCTION void edge_velocity(const SurfaceData& ss, const int es[2]
     const int ns = surface_basis(ss, es, uc, vc, R, Ru, Rv, cp);
     const int nm = surface_basis(md, ms, xi, eta, Rm, Rm1, Rm2, cpm);
     double ds[6][3], dm[6][3];
-    surface_derivatives(ss, es, uc, vc, ds);
-    surface_derivatives(md, ms, xi, eta, dm);
+    surface_first_derivatives(ss, es, uc, vc, ds);
+    surface_first_derivatives(md, ms, xi, eta, dm);
     double n[3];
     cross3(dm[1], dm[2], n);
     const double l = kmath::sqrt(dot3(n, n));

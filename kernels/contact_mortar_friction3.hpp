@@ -233,7 +233,7 @@ struct MortarReferences3 {
     const SurfaceData& sd = sc.f[esp.face(i)].sd;
     surface_element_spans(sd, esp.elem(i), es);
     double ds[6][3], dm[6][3];
-    surface_derivatives(sd, es, esp.uv(i, 0), esp.uv(i, 1), ds);
+    surface_derivatives_to<0>(sd, es, esp.uv(i, 0), esp.uv(i, 1), ds);
     double xi = esp.muv(i, 0), eta = esp.muv(i, 1);
     surface_element_spans(mc.f[esp.mface(i)].sd, esp.melem(i), ms);
     closest_point_unclamped(mc.f[esp.mface(i)].sd, ds[0], xi, eta, ms, false, dm);

@@ -54,11 +54,13 @@ KOKKOS_INLINE_FUNCTION int surface_cp(const SurfaceData& sd, const int s[2], int
 /// d[0] = S, d[1] = S_u, d[2] = S_v, d[3] = S_uu, d[4] = S_uv, d[5] = S_vv.
 /// The surface point and its derivatives at (u, v) in element span s: d[0] the point, d[1],
 /// d[2] the first derivatives and, for Order = 2, d[3..5] the second (uu, uv, vv); Order = 1
-/// fills d[0..2] only, with the same arithmetic (about half the work: the shots of the mortar
-/// segmentation need no curvature).
+/// fills d[0..2] only and Order = 0 the point d[0] only, with the same arithmetic (the lower
+/// orders' entries are bit-identical to Order = 2's; about half and a fifth of its work: the
+/// shots of the mortar segmentation and the normals need no curvature, a sample no tangent).
 template <int Order>
 KOKKOS_INLINE_FUNCTION void surface_derivatives_to(const SurfaceData& sd, const int s[2], double u, double v, double d[][3]) {
-  constexpr int K = Order == 1 ? 3 : 6;
+  static_assert(Order >= 0 && Order <= 2, "surface_derivatives_to: orders 0, 1, 2");
+  constexpr int K = Order == 0 ? 1 : Order == 1 ? 3 : 6;
   double N[Order + 1][kMaxBasis1D], M[Order + 1][kMaxBasis1D];
   bspline_ders(s[0], u, sd.p[0], sd.U[0].data(), Order, N);
   bspline_ders(s[1], v, sd.p[1], sd.U[1].data(), Order, M);
@@ -70,8 +72,10 @@ KOKKOS_INLINE_FUNCTION void surface_derivatives_to(const SurfaceData& sd, const 
       const double w = sd.cp(a, 3);
       double b[K];
       b[0] = N[0][i] * M[0][j];
-      b[1] = N[1][i] * M[0][j];
-      b[2] = N[0][i] * M[1][j];
+      if constexpr (Order >= 1) {
+        b[1] = N[1][i] * M[0][j];
+        b[2] = N[0][i] * M[1][j];
+      }
       if constexpr (Order == 2) {
         b[3] = N[2][i] * M[0][j];
         b[4] = N[1][i] * M[1][j];
@@ -86,8 +90,10 @@ KOKKOS_INLINE_FUNCTION void surface_derivatives_to(const SurfaceData& sd, const 
   const double W = h[0][3];
   for (int c = 0; c < 3; ++c) {
     d[0][c] = h[0][c] / W;
-    d[1][c] = (h[1][c] - d[0][c] * h[1][3]) / W;
-    d[2][c] = (h[2][c] - d[0][c] * h[2][3]) / W;
+    if constexpr (Order >= 1) {
+      d[1][c] = (h[1][c] - d[0][c] * h[1][3]) / W;
+      d[2][c] = (h[2][c] - d[0][c] * h[2][3]) / W;
+    }
     if constexpr (Order == 2) {
       d[3][c] = (h[3][c] - 2 * d[1][c] * h[1][3] - d[0][c] * h[3][3]) / W;
       d[4][c] = (h[4][c] - d[1][c] * h[2][3] - d[2][c] * h[1][3] - d[0][c] * h[4][3]) / W;
@@ -133,7 +139,7 @@ KOKKOS_INLINE_FUNCTION double project_on_surface_element(const SurfaceData& sd, 
   for (int b = 0; b <= 2 && !warm; ++b)
     for (int a = 0; a <= 2; ++a) {
       const double t[2] = {lo[0] + 0.5 * a * (hi[0] - lo[0]), lo[1] + 0.5 * b * (hi[1] - lo[1])};
-      surface_derivatives(sd, s, t[0], t[1], d);
+      surface_derivatives_to<0>(sd, s, t[0], t[1], d);
       double r[3];
       for (int c = 0; c < 3; ++c) r[c] = x[c] - d[0][c];
       const double dist2 = dot3(r, r);
@@ -176,7 +182,7 @@ KOKKOS_INLINE_FUNCTION double project_on_surface_element(const SurfaceData& sd, 
     }
     if (step < 1e-12) break;
   }
-  surface_derivatives(sd, s, uv[0], uv[1], d);
+  surface_first_derivatives(sd, s, uv[0], uv[1], d);
   double r[3];
   for (int c = 0; c < 3; ++c) {
     foot[c] = d[0][c];
