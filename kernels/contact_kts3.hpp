@@ -160,8 +160,9 @@ struct ProjectSlavePoints3 {
     surface_derivatives_to<0>(ss, es, sp.uv(i, 0), sp.uv(i, 1), d);
     const double x[3] = {d[0][0], d[0][1], d[0][2]};
     for (int c = 0; c < 3; ++c) sp.x(i, c) = x[c];
-    double best = 1e300, buv[2] = {0, 0}, bfoot[3] = {0, 0, 0};
+    double best = 1e300, buv[2] = {0, 0}, bfoot[3] = {0, 0, 0}, bt[2][3];
     int bface = -1, belem = -1;
+    bool have_tangents = false;   // bt holds S_u, S_v at the foot (the warm start's projection)
     auto keep = [&](int f, int e, double d2, const double uv[2], const double foot[3]) {
       best = d2;
       bface = f;
@@ -176,12 +177,20 @@ struct ProjectSlavePoints3 {
       const SurfaceData& sd = m.f[prev_face].sd;
       double uv[2] = {sp.muv(i, 0), sp.muv(i, 1)}, foot[3];
       bool inside = false;
-      const double d2 = project_on_surface_element(sd, prev_elem, x, uv, foot, inside, true);
+      double t[2][3];
+      const double d2 = project_on_surface_element(sd, prev_elem, x, uv, foot, inside, true, t);
       int ps[2];
       surface_element_spans(sd, prev_elem, ps);
       bool interior = inside;
       for (int k = 0; k < 2; ++k) interior = interior && uv[k] > sd.U[k](ps[k]) && uv[k] < sd.U[k](ps[k] + 1);
-      if (interior && d2 <= m.radius * m.radius) keep(prev_face, prev_elem, d2, uv, foot);
+      if (interior && d2 <= m.radius * m.radius) {
+        keep(prev_face, prev_elem, d2, uv, foot);
+        for (int c = 0; c < 3; ++c) {
+          bt[0][c] = t[0][c];
+          bt[1][c] = t[1][c];
+        }
+        have_tangents = true;
+      }
     }
     const int nsearch = bface < 0 ? m.n : 0;   // no warm start: every master face, the nearest foot
     for (int f = 0; f < nsearch; ++f) {
@@ -194,8 +203,15 @@ struct ProjectSlavePoints3 {
     if (bface < 0) return;
     const ContactFace& mf = m.f[bface];
     int ms[2];
-    surface_element_spans(mf.sd, belem, ms);
-    surface_first_derivatives(mf.sd, ms, buv[0], buv[1], d);
+    if (have_tangents) {
+      for (int c = 0; c < 3; ++c) {
+        d[1][c] = bt[0][c];
+        d[2][c] = bt[1][c];
+      }
+    } else {
+      surface_element_spans(mf.sd, belem, ms);
+      surface_first_derivatives(mf.sd, ms, buv[0], buv[1], d);
+    }
     double n[3];
     cross3(d[1], d[2], n);
     const double l = kmath::sqrt(dot3(n, n));
@@ -402,7 +418,7 @@ struct AssembleKts3 {
         X[cc] = Xa[0] * d[1][cc] + Xa[1] * d[2][cc];
         EN[cc] = epsN * Nr * n[cc];
       }
-      auto entry = [&](int cb, int cc, double R, double Yn) {
+      auto entry = [&](int cc, double R, double Yn) {
         const double G = -R * X[cc] - n[cc] * Yn;
         return w * (EN[cc] * R - pr * G);
       };
@@ -429,7 +445,7 @@ struct AssembleKts3 {
         const double Yn = slave ? 0.0 : Y[0] * Rm1[cb - ns] + Y[1] * Rm2[cb - ns];
         for (int cc = 0; cc < 3; ++cc) {
           cols[cc] = dof_of(cl[cb], cc, 3);
-          vals[cc] = entry(cb, cc, R, Yn);
+          vals[cc] = entry(cc, R, Yn);
         }
         addK(r, lr, cb, cols, vals);
       }

@@ -123,8 +123,10 @@ KOKKOS_INLINE_FUNCTION double dot3(const double* a, const double* b) { return a[
 /// Stops when a Newton step is below 1e-12 of the element's parameter size (quadratic
 /// convergence: the error after it is ~ 1e-24) or after 30 steps.
 /// `warm`: Newton starts from uv as given (the previous projection) instead of the sample.
+/// `tangents` (when given): S_u and S_v at the foot.
 KOKKOS_INLINE_FUNCTION double project_on_surface_element(const SurfaceData& sd, int e, const double x[3], double uv[2],
-                                                         double foot[3], bool& inside, bool warm = false) {
+                                                         double foot[3], bool& inside, bool warm = false,
+                                                         double (*tangents)[3] = nullptr) {
   const int ei[2] = {e % sd.ne[0], e / sd.ne[0]};
   int s[2];
   double lo[2], hi[2];
@@ -187,6 +189,10 @@ KOKKOS_INLINE_FUNCTION double project_on_surface_element(const SurfaceData& sd, 
   for (int c = 0; c < 3; ++c) {
     foot[c] = d[0][c];
     r[c] = x[c] - d[0][c];
+    if (tangents) {
+      tangents[0][c] = d[1][c];
+      tangents[1][c] = d[2][c];
+    }
   }
   F[0] = dot3(r, d[1]);
   F[1] = dot3(r, d[2]);

@@ -100,6 +100,7 @@ struct ContactPair {
   ContactMethod method = ContactMethod::KtsPenalty;
   double penalty = 0;
   int quadrature_points = 0;        // per slave knot span; 0 = degree + 2
+  int segment_cells = 0;            // 3-D mortar: cells per direction of a master element (0: auto)
   int augmentations = 50;           // ALM: maximum multiplier updates
   double alm_tolerance = 1e-8;      // ALM: gap tolerance relative to slave element size
   double friction = 0;              // Coulomb coefficient mu (0: frictionless)
@@ -212,6 +213,7 @@ constexpr long long kAutoDirectMaxDofsFriction = 200000;
 constexpr size_t kMaxInsertedKnots = 1000;            // per direction; subdivide refines uniformly
 constexpr int kMaxLoadSteps = 10000;
 constexpr int kMaxContactQuadrature = 12;             // contact quadrature points per slave span
+constexpr int kMaxSegmentCells = 8;                   // 3-D mortar: cells per direction of a master element
 constexpr int kMaxContactFaces = 6;                    // 3-D: patch faces of one contact surface
 
 /// A body's geometry with its topology (interfaces, the outer sides, named boundaries), as a

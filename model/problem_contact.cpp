@@ -81,8 +81,8 @@ void read_contact_pairs(const Reader& R, const YAML::Node& root, Problem& P) {
     for (size_t k = 0; k < c.size(); ++k) {
       const std::string path = "contact[" + std::to_string(k) + "]";
       const YAML::Node n = c[k];
-      R.keys(n, path, {"master", "slave", "method", "penalty", "quadrature_points", "augmentations", "alm_tolerance",
-                       "friction", "tangential_penalty"});
+      R.keys(n, path, {"master", "slave", "method", "penalty", "quadrature_points", "segment_cells", "augmentations",
+                       "alm_tolerance", "friction", "tangential_penalty"});
       ContactPair cp;
       if (!n["master"]) R.missing(path + ".master");
       if (!n["slave"]) R.missing(path + ".slave");
@@ -112,6 +112,14 @@ void read_contact_pairs(const Reader& R, const YAML::Node& root, Problem& P) {
         if (cp.quadrature_points < 1 || cp.quadrature_points > kMaxContactQuadrature)
           R.fail(path + ".quadrature_points", n["quadrature_points"],
                  "must be 1.." + std::to_string(kMaxContactQuadrature));
+      }
+      if (n["segment_cells"]) {   // 3-D mortar: see solver/contact3d.hpp (ContactSurfaces3::cells)
+        cp.segment_cells = R.integer(n["segment_cells"], path + ".segment_cells");
+        if (cp.segment_cells < 1 || cp.segment_cells > kMaxSegmentCells)
+          R.fail(path + ".segment_cells", n["segment_cells"], "must be 1.." + std::to_string(kMaxSegmentCells));
+        if (P.dim() != 3 || (cp.method != ContactMethod::MortarPenalty && cp.method != ContactMethod::MortarAlm))
+          R.fail(path + ".segment_cells", n["segment_cells"],
+                 "applies to the mortar methods between solids (3-D) only: the cells of each master element in the segmentation");
       }
       if (n["augmentations"]) {
         cp.augmentations = R.integer(n["augmentations"], path + ".augmentations");

@@ -762,12 +762,17 @@ void ContactSurfaces3::refresh() {
     for (;;) {
       MortarSegments3 ks;
       ks.s = slave; ks.m = master; ks.sp = sp; ks.ed = edges; ks.gauss = gauss; ks.tri = tri; ks.slots = slots; ks.flags = seg_flags_;
-      // a curved master's element images are cut into 2 x 2 cells (straight edges per cell: the
-      // tangent's consistency error, ~1e-6 with whole elements on a curved test surface, falls
-      // by 4); a degree-1 master's elements whole
+      // the element images of a master of degree > 1 are cut into 2 x 2 cells (straight edges
+      // per cell follow the curved images: the tangent's consistency error on the curved test
+      // surfaces of tests/test_kts3d.cpp falls from up to 1e-3 with whole elements below their
+      // 5e-4, and the coarse Hertz ball's fitted p0 from +2.1 % to +1.9 %); a degree-1 master's
+      // elements whole. contact.segment_cells sets it: whole elements (1) have 2.3x fewer slots
+      // and halve the Hertz ball's contact stage (docs/performance.md)
       int pm = 1;
       for (const HostFace& hm : hm_) pm = std::max({pm, hm.p[0], hm.p[1]});
-      ks.sub = cells > 0 ? std::min(cells, kMaxCells) : pm > 1 ? 2 : 1;
+      static_assert(kMaxSegmentCells <= kMaxCells, "contact.segment_cells beyond the segmentation's cells");
+      const int asked = cells > 0 ? cells : pair.segment_cells;   // a test's setting, else the problem file's
+      ks.sub = asked > 0 ? std::min(asked, kMaxCells) : pm > 1 ? 2 : 1;
       ks.smooth = friction ? 2 : 1;
       if (static_cast<int>(cand_.extent(0)) != ne) cand_ = decltype(cand_)("mortar_candidates", ne, kMortar3Candidates);
       ks.cand = cand_;

@@ -570,6 +570,31 @@ TEST(StackedBoxes, MortarPassesThePatchTestToRoundOff) {
       }
 }
 
+// contact.segment_cells: the master elements' images whole (1) or cut into 2 x 2 (the default
+// for degree 2) or 3 x 3 cells: the patch test exact with each, and the slots fewer with fewer
+// cells (the key reaches the segmentation).
+TEST(StackedBoxes, MortarPassesThePatchTestWithAnySegmentCells) {
+  for (int p : {2, 3})
+    for (const char* method : {"mortar_penalty", "mortar_alm"}) {
+      size_t slots[3] = {0, 0, 0};
+      for (int cells : {1, 2, 3}) {
+        const Solved s = solve_text(stacked(p, 2, 3, std::string(method) + ", segment_cells: " + std::to_string(cells)));
+        ASSERT_TRUE(s.res.converged);
+        const ContactSummary sm = s.res.contact[0].summary();
+        const UniformError u = stacked_uniform_error(s.res.contact[0], std::string(method) == "mortar_alm");
+        std::printf("  p = %d %s, segment_cells %d: %zu slots, max |p - 1| = %.2e, max |x - exact| = %.2e, force %.15g\n", p,
+                    method, cells, u.points, u.p, u.x, sm.normal_force);
+        EXPECT_LT(u.p, 1e-9);
+        EXPECT_LT(u.x, 1e-12);
+        EXPECT_NEAR(sm.normal_force, 4.0, 1e-10);
+        EXPECT_NEAR(sm.contact_length, 4.0, 1e-12);
+        slots[cells - 1] = u.points;
+      }
+      EXPECT_LT(slots[0], slots[1]);
+      EXPECT_LT(slots[1], slots[2]);
+    }
+}
+
 // The same patch test with lists of faces: the base made of two patches split at x = 0.7 (the
 // master [patch0.back, patch1.back]: slave elements straddle the faces' common edge), the top
 // split at x = 1.3 (the slave [patch0.front, patch1.front]: the control points on the faces'
