@@ -177,18 +177,13 @@ struct ProjectSlavePoints3 {
       const SurfaceData& sd = m.f[prev_face].sd;
       double uv[2] = {sp.muv(i, 0), sp.muv(i, 1)}, foot[3];
       bool inside = false;
-      double t[2][3];
-      const double d2 = project_on_surface_element(sd, prev_elem, x, uv, foot, inside, true, t);
+      const double d2 = project_on_surface_element(sd, prev_elem, x, uv, foot, inside, true, bt);
       int ps[2];
       surface_element_spans(sd, prev_elem, ps);
       bool interior = inside;
       for (int k = 0; k < 2; ++k) interior = interior && uv[k] > sd.U[k](ps[k]) && uv[k] < sd.U[k](ps[k] + 1);
       if (interior && d2 <= m.radius * m.radius) {
         keep(prev_face, prev_elem, d2, uv, foot);
-        for (int c = 0; c < 3; ++c) {
-          bt[0][c] = t[0][c];
-          bt[1][c] = t[1][c];
-        }
         have_tangents = true;
       }
     }

@@ -55,8 +55,9 @@ KOKKOS_INLINE_FUNCTION int surface_cp(const SurfaceData& sd, const int s[2], int
 /// The surface point and its derivatives at (u, v) in element span s: d[0] the point, d[1],
 /// d[2] the first derivatives and, for Order = 2, d[3..5] the second (uu, uv, vv); Order = 1
 /// fills d[0..2] only and Order = 0 the point d[0] only, with the same arithmetic (the lower
-/// orders' entries are bit-identical to Order = 2's; about half and a fifth of its work: the
-/// shots of the mortar segmentation and the normals need no curvature, a sample no tangent).
+/// orders' entries are bit-identical to Order = 2's, from 3 or 1 of its 6 homogeneous sums and
+/// fewer basis derivatives: the shots of the mortar segmentation and the normals need no
+/// curvature, a sample no tangent).
 template <int Order>
 KOKKOS_INLINE_FUNCTION void surface_derivatives_to(const SurfaceData& sd, const int s[2], double u, double v, double d[][3]) {
   static_assert(Order >= 0 && Order <= 2, "surface_derivatives_to: orders 0, 1, 2");
