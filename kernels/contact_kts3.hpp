@@ -301,8 +301,6 @@ struct DirectColumns {
   KOKKOS_INLINE_FUNCTION void operator()(int, int lr, int, const int* cols, const double* vals) const {
     K.sumIntoValues(lr, cols, 3, vals, true, true);   // rows sorted (assemble_contact): binary search
   }
-  KOKKOS_INLINE_FUNCTION double* row(int, int) const { return nullptr; }
-  KOKKOS_INLINE_FUNCTION void column(int, int) const {}
 };
 
 /// Residual and consistent tangent of the active slave points [p_begin, p_end) (see header).
@@ -413,17 +411,14 @@ struct AssembleKts3 {
         X[cc] = Xa[0] * d[1][cc] + Xa[1] * d[2][cc];
         EN[cc] = epsN * Nr * n[cc];
       }
-      auto entry = [&](int cc, double R, double Yn) {
-        const double G = -R * X[cc] - n[cc] * Yn;
-        return w * (EN[cc] * R - pr * G);
-      };
-      if constexpr (rows) {   // the block's row, in place: entry = s R_cb al[cc] + Yn_cb be[cc]
+      // the entry w (EN[cc] s R_cb - p G) = s R_cb al[cc] + Yn be[cc]
+      double al[3], be[3];
+      for (int cc = 0; cc < 3; ++cc) {
+        al[cc] = w * (EN[cc] + pr * X[cc]);
+        be[cc] = w * pr * n[cc];
+      }
+      if constexpr (rows) {   // the block's row, in place
         double* b = addK.row(r, lr);
-        double al[3], be[3];
-        for (int cc = 0; cc < 3; ++cc) {
-          al[cc] = w * (EN[cc] + pr * X[cc]);
-          be[cc] = w * pr * n[cc];
-        }
         for (int cb = 0; cb < ns; ++cb)   // slave columns: s R_cb = R_cb, no curvature part
           for (int cc = 0; cc < 3; ++cc) b[3 * cb + cc] += Rs[cb] * al[cc];
         for (int cb = ns; cb < ns + nm; ++cb) {   // master columns: s R_cb = -R_cb
@@ -440,7 +435,7 @@ struct AssembleKts3 {
         const double Yn = slave ? 0.0 : Y[0] * Rm1[cb - ns] + Y[1] * Rm2[cb - ns];
         for (int cc = 0; cc < 3; ++cc) {
           cols[cc] = dof_of(cl[cb], cc, 3);
-          vals[cc] = entry(cc, R, Yn);
+          vals[cc] = R * al[cc] + Yn * be[cc];
         }
         addK(r, lr, cb, cols, vals);
       }
