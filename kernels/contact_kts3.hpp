@@ -56,6 +56,9 @@ struct ContactFaces {
   int n = 0;
   ContactFace f[kMaxFacesPerSurface];
   SurfaceSearch search[kMaxFacesPerSurface];   // master only: bins over the current element boxes
+  // master of a mortar pair: per element of face f the unit normal S_u x S_v at its centre and
+  // the spread (contact_mortar3.hpp, centre_normal; -1: no normal there), once per update
+  Kokkos::View<double* [4], MemSpace> frame[kMaxFacesPerSurface];
   double radius = 0;                        // master only: the search radius
   // mortar slave: the faces' elements numbered face after face (face f's from eoff[f]); the
   // control points A numbered once where faces share them (ContactFace::aid), and A's

@@ -94,6 +94,191 @@ struct MortarEdges3 {
   int per = 0;
 };
 
+/// The box of slave element es's current control points, grown by the box's largest side (the
+/// returned margin): a master element whose box misses it is too far from the slave element
+/// to touch it (a global radius would take in many elements of a graded master).
+KOKKOS_INLINE_FUNCTION double grown_box(const SurfaceData& ss, const int es[2], double box[6]) {
+  for (int c = 0; c < 3; ++c) {
+    box[c] = 1e300;
+    box[3 + c] = -1e300;
+  }
+  for (int j = es[1] - ss.p[1]; j <= es[1]; ++j)
+    for (int i = es[0] - ss.p[0]; i <= es[0]; ++i)
+      for (int c = 0; c < 3; ++c) {
+        const double x = ss.cp(i + ss.n[0] * j, c);
+        box[c] = x < box[c] ? x : box[c];
+        box[3 + c] = x > box[3 + c] ? x : box[3 + c];
+      }
+  double margin = 0;
+  for (int c = 0; c < 3; ++c) margin = box[3 + c] - box[c] > margin ? box[3 + c] - box[c] : margin;
+  for (int c = 0; c < 3; ++c) {
+    box[c] -= margin;
+    box[3 + c] += margin;
+  }
+  return margin;
+}
+
+/// f(E, f) for each master element E of face f whose box meets `box` (the candidates).
+template <class F>
+KOKKOS_INLINE_FUNCTION void for_each_candidate(const ContactFaces& m, const double box[6], const F& fn) {
+  for (int f = 0; f < m.n; ++f) {
+    const SurfaceSearch& g = m.search[f];
+    g.for_each_in_box(box, box + 3, [&](const int E) {
+      bool overlap = true;
+      for (int d = 0; d < 3; ++d) overlap = overlap && g.box(E, d) <= box[3 + d] && g.box(E, 3 + d) >= box[d];
+      if (overlap) fn(E, f);
+    });
+  }
+}
+
+/// The unit normal nb (S_u x S_v) at the centre of element [mlo, mhi] and the spread, the
+/// largest |n - nb| at its corners; false where the surface has no normal there.
+KOKKOS_INLINE_FUNCTION bool centre_normal(const SurfaceData& ms, const int mspn[2], const double mlo[2], const double mhi[2],
+                                          double nb[3], double& spread) {
+  double d[3][3];
+  surface_first_derivatives(ms, mspn, 0.5 * (mlo[0] + mhi[0]), 0.5 * (mlo[1] + mhi[1]), d);
+  cross3(d[1], d[2], nb);
+  const double lb = kmath::sqrt(dot3(nb, nb));
+  if (!(lb > 0)) return false;
+  for (int c = 0; c < 3; ++c) nb[c] /= lb;
+  spread = 0;
+  for (int k = 0; k < 4; ++k) {
+    surface_first_derivatives(ms, mspn, k % 2 ? mhi[0] : mlo[0], k / 2 ? mhi[1] : mlo[1], d);
+    double n[3];
+    cross3(d[1], d[2], n);
+    const double l = kmath::sqrt(dot3(n, n));
+    if (!(l > 0)) return false;
+    double dn = 0;
+    for (int c = 0; c < 3; ++c) dn += (n[c] / l - nb[c]) * (n[c] / l - nb[c]);
+    spread = kmath::sqrt(dn) > spread ? kmath::sqrt(dn) : spread;
+  }
+  return true;
+}
+
+/// centre_normal of every element of master face f, into m.frame[f] (once per update: the
+/// segmentation and MortarFar3 read it for each of their candidates).
+struct MasterFrames3 {
+  SurfaceData ms;
+  Kokkos::View<double* [4], MemSpace> frame;
+  KOKKOS_INLINE_FUNCTION void operator()(const int E) const {
+    int mspn[2];
+    surface_element_spans(ms, E, mspn);
+    const double mlo[2] = {ms.U[0](mspn[0]), ms.U[1](mspn[1])}, mhi[2] = {ms.U[0](mspn[0] + 1), ms.U[1](mspn[1] + 1)};
+    double nb[3], spread;
+    const bool ok = centre_normal(ms, mspn, mlo, mhi, nb, spread);
+    for (int c = 0; c < 3; ++c) frame(E, c) = ok ? nb[c] : 0.0;
+    frame(E, 3) = ok ? spread : -1.0;
+  }
+};
+
+/// The centre normal and spread of master element E of face f (MasterFrames3); false where it
+/// has no normal.
+KOKKOS_INLINE_FUNCTION bool master_frame(const ContactFaces& m, int f, int E, double nb[3], double& spread) {
+  const auto& fr = m.frame[f];
+  for (int c = 0; c < 3; ++c) nb[c] = fr(E, c);
+  spread = fr(E, 3);
+  return spread >= 0;
+}
+
+/// [lo, hi]: the extent along t of element sp's control points (the element lies in their hull).
+KOKKOS_INLINE_FUNCTION void hull_extent(const SurfaceData& sd, const int sp[2], const double* t, double& lo, double& hi) {
+  lo = 1e300;
+  hi = -1e300;
+  for (int j = sp[1] - sd.p[1]; j <= sp[1]; ++j)
+    for (int i = sp[0] - sd.p[0]; i <= sp[0]; ++i) {
+      const int a = i + sd.n[0] * j;
+      const double x = sd.cp(a, 0) * t[0] + sd.cp(a, 1) * t[1] + sd.cp(a, 2) * t[2];
+      lo = x < lo ? x : lo;
+      hi = x > hi ? x : hi;
+    }
+}
+
+/// The tangential half of MortarSegments3::facing, for a master element's centre normal nb
+/// and spread (centre_normal): false where the two elements' hulls along a tangent of nb are
+/// farther apart than margin (2 spread + 0.1), so that no point of the master element sees the
+/// slave element along its normal within a distance margin.
+KOKKOS_INLINE_FUNCTION bool facing_along(const SurfaceData& ss, const int es[2], const SurfaceData& ms, const int mspn[2],
+                                         const double nb[3], double spread, double margin) {
+  // tangents of nbar: t1 along the axis least aligned with it, t2 = nbar x t1
+  int ax = 0;
+  for (int c = 1; c < 3; ++c) ax = kmath::fabs(nb[c]) < kmath::fabs(nb[ax]) ? c : ax;
+  double t1[3] = {-nb[ax] * nb[0], -nb[ax] * nb[1], -nb[ax] * nb[2]};
+  t1[ax] += 1.0;
+  const double l1 = kmath::sqrt(dot3(t1, t1));
+  for (int c = 0; c < 3; ++c) t1[c] /= l1;
+  double t2[3];
+  cross3(nb, t1, t2);
+  const double delta = margin * (2 * spread + 0.1);
+  const double* tangents[2] = {t1, t2};   // a plain array: no std::initializer_list in a kernel
+  for (int k = 0; k < 2; ++k) {
+    double slo, shi, mlo_, mhi_;
+    hull_extent(ss, es, tangents[k], slo, shi);
+    hull_extent(ms, mspn, tangents[k], mlo_, mhi_);
+    if (mhi_ < slo - delta || mlo_ > shi + delta) return false;
+  }
+  return true;
+}
+
+/// Slave elements certainly out of contact (far(eg) = 1): every candidate master element (its
+/// box meets the slave element's grown box, grown_box, by the margin of the element's size)
+/// that faces the slave element (facing_along: it could carry a foot within the margin) lies
+/// below it along its own outward centre normal nb (the slave hull's lowest point above the
+/// master hull's highest by more than the touching tolerance), and its normals turn little (2 spread < 1, spread as in
+/// centre_normal, doubled for the interior: n . nb > 1/2 over the element). At a slot's foot
+/// rho on such an element x - rho = g n(rho), so g n(rho) . nb = (x - rho) . nb > 0: the gap
+/// g is positive. A foot anywhere else is farther than the margin (a slave point that deep in
+/// the master is no contact the segmentation would see either: it takes its segments from
+/// the same candidates). The test reads control points (a few dot products per control point
+/// and candidate) and the normal at 5 points of each candidate; it runs over every slave
+/// element before the segmentation.
+struct MortarFar3 {
+  ContactFaces s, m;
+  Kokkos::View<int*, MemSpace> far;
+  double touch = 0;   // gaps below this count as touching (SlavePoints3::touch): far means farther
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int eg) const {
+    int e;
+    const int fs = slave_face_of(s, eg, e);
+    const SurfaceData& ss = s.f[fs].sd;
+    int es[2];
+    surface_element_spans(ss, e, es);
+    double box[6];
+    const double margin = grown_box(ss, es, box);
+    bool out = true;
+    for_each_candidate(m, box, [&](const int E, const int f) {
+      if (!out) return;
+      const SurfaceData& ms = m.f[f].sd;
+      int mspn[2];
+      surface_element_spans(ms, E, mspn);
+      double nb[3], spread;
+      if (!master_frame(m, f, E, nb, spread)) {
+        out = false;
+        return;
+      }
+      if (!facing_along(ss, es, ms, mspn, nb, spread, margin)) return;
+      for (int c = 0; c < 3; ++c) nb[c] *= m.f[f].sign;
+      double slo, shi, mlo_, mhi_;
+      hull_extent(ss, es, nb, slo, shi);
+      hull_extent(ms, mspn, nb, mlo_, mhi_);
+      out = slo - mhi_ > touch && 2 * spread < 1;
+    });
+    far(eg) = out ? 1 : 0;
+  }
+};
+
+/// Slave control points certainly out of contact: every slave element of A's support far
+/// (MortarFar3) and no multiplier carried from the last augmentation (lbar_A = 0). Their
+/// weighted gaps are positive; the segmentation skips the elements all of whose control
+/// points are out, and MortarGaps3 keeps these inactive.
+struct MortarOut3 {
+  ContactFaces s;
+  MortarState ms;
+  Kokkos::View<const int*, MemSpace> far;
+  Kokkos::View<int*, MemSpace> out;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int A) const;
+};
+
 struct MortarSegments3 {
   ContactFaces s, m;
   SlavePoints3 sp;
@@ -105,6 +290,15 @@ struct MortarSegments3 {
   int sub = 1;   // cells per direction of a master element (its edges' images: straight per cell)
   Kokkos::View<int*, MemSpace> flags;
   Kokkos::View<int**, Kokkos::LayoutRight, MemSpace> cand;   // per slave element: candidate master elements
+  Kokkos::View<const int*, MemSpace> skip;   // per slave control point A: certainly out of contact (MortarFar3); empty: none
+
+  /// Whether every control point of slave element es (face sf) is certainly out of contact.
+  KOKKOS_INLINE_FUNCTION bool all_out(const ContactFace& sf, const SurfaceData& ss, const int es[2]) const {
+    for (int j = es[1] - ss.p[1]; j <= es[1]; ++j)
+      for (int i = es[0] - ss.p[0]; i <= es[0]; ++i)
+        if (!skip(sf.aid(i + ss.n[0] * j))) return false;
+    return true;
+  }
 
   KOKKOS_INLINE_FUNCTION void operator()(const int eg) const {
     int e;   // slave element eg of the list: element e of face fs
@@ -120,23 +314,11 @@ struct MortarSegments3 {
     }
     for (int k = 0; k < ed.per; ++k) ed.elem(eg * ed.per + k) = -1;
     int eused = 0;
-    // the slave element's box (current control points)
-    double box[6] = {1e300, 1e300, 1e300, -1e300, -1e300, -1e300};
-    for (int j = es[1] - ss.p[1]; j <= es[1]; ++j)
-      for (int i = es[0] - ss.p[0]; i <= es[0]; ++i)
-        for (int c = 0; c < 3; ++c) {
-          const double x = ss.cp(i + ss.n[0] * j, c);
-          box[c] = x < box[c] ? x : box[c];
-          box[3 + c] = x > box[3 + c] ? x : box[3 + c];
-        }
-    // grown by its own size: a master element farther than that from the slave element is not
-    // in contact with it (a global radius would take in many elements of a graded master)
-    double margin = 0;
-    for (int c = 0; c < 3; ++c) margin = box[3 + c] - box[c] > margin ? box[3 + c] - box[c] : margin;
-    for (int c = 0; c < 3; ++c) {
-      box[c] -= margin;
-      box[3 + c] += margin;
-    }
+    // a slave element whose every control point is certainly out of contact (MortarFar3) is
+    // not segmented: its slots would only add positive gaps to inactive control points
+    if (skip.extent(0) > 0 && all_out(sf, ss, es)) return;
+    double box[6];
+    const double margin = grown_box(ss, es, box);
     const SurfaceData ref = reference_surface(sf);
     const ClipPolygon rect = parameter_rectangle(lo[0], hi[0], lo[1], hi[1]);
     const double uc = 0.5 * (lo[0] + hi[0]), vc = 0.5 * (lo[1] + hi[1]);
@@ -146,20 +328,14 @@ struct MortarSegments3 {
     // row of the scratch (its capacity grows to what is needed), from every master face's bins
     int nc = 0;
     const int cap = static_cast<int>(cand.extent(1));
-    for (int f = 0; f < m.n; ++f) {
-      const SurfaceSearch& g = m.search[f];
-      g.for_each_in_box(box, box + 3, [&](const int E) {
-        bool overlap = true;
-        for (int d = 0; d < 3; ++d) overlap = overlap && g.box(E, d) <= box[3 + d] && g.box(E, 3 + d) >= box[d];
-        if (!overlap) return;
+    for_each_candidate(m, box, [&](const int E, const int f) {
         const int code = E * kMaxFacesPerSurface + f;
         bool seen = false;
         for (int q = 0; q < nc && q < cap && !seen; ++q) seen = cand(eg, q) == code;
         if (seen) return;
         if (nc < cap) cand(eg, nc) = code;
         ++nc;
-      });
-    }
+    });
     if (nc > cap) {   // the host grows the rows and segments again
       Kokkos::atomic_fetch_max(&flags(1), nc);
       return;
@@ -170,7 +346,7 @@ struct MortarSegments3 {
       int mspn[2];
       surface_element_spans(ms, E, mspn);
       const double mlo[2] = {ms.U[0](mspn[0]), ms.U[1](mspn[1])}, mhi[2] = {ms.U[0](mspn[0] + 1), ms.U[1](mspn[1] + 1)};
-      if (!facing(ss, es, ms, mspn, mlo, mhi, margin)) continue;
+      if (!facing(ss, es, fm, E, mspn, margin)) continue;
       // the element cut into sub x sub cells; each cell's corners, counter-clockwise, shot onto
       // the slave surface. Neighbouring cells (and elements) share their corners, so their
       // straight-edged images tile the slave plane exactly (samples along an edge would make a
@@ -249,54 +425,11 @@ struct MortarSegments3 {
   /// cells), no cell of the element can overlap the slave element: its shots are not made.
   /// The box test that chose the candidates grows the slave element by margin in every
   /// direction; on the Hertz ball ~2 % of its candidates' cells overlapped.
-  KOKKOS_INLINE_FUNCTION static bool facing(const SurfaceData& ss, const int es[2], const SurfaceData& ms,
-                                            const int mspn[2], const double mlo[2], const double mhi[2], double margin) {
-    double d[3][3], nb[3];
-    surface_first_derivatives(ms, mspn, 0.5 * (mlo[0] + mhi[0]), 0.5 * (mlo[1] + mhi[1]), d);
-    cross3(d[1], d[2], nb);
-    const double lb = kmath::sqrt(dot3(nb, nb));
-    if (!(lb > 0)) return true;
-    for (int c = 0; c < 3; ++c) nb[c] /= lb;
-    double spread = 0;
-    for (int k = 0; k < 4; ++k) {
-      surface_first_derivatives(ms, mspn, k % 2 ? mhi[0] : mlo[0], k / 2 ? mhi[1] : mlo[1], d);
-      double n[3];
-      cross3(d[1], d[2], n);
-      const double l = kmath::sqrt(dot3(n, n));
-      if (!(l > 0)) return true;
-      double dn = 0;
-      for (int c = 0; c < 3; ++c) dn += (n[c] / l - nb[c]) * (n[c] / l - nb[c]);
-      spread = kmath::sqrt(dn) > spread ? kmath::sqrt(dn) : spread;
-    }
-    // tangents of nbar: t1 along the axis least aligned with it, t2 = nbar x t1
-    int ax = 0;
-    for (int c = 1; c < 3; ++c) ax = kmath::fabs(nb[c]) < kmath::fabs(nb[ax]) ? c : ax;
-    double t1[3] = {-nb[ax] * nb[0], -nb[ax] * nb[1], -nb[ax] * nb[2]};
-    t1[ax] += 1.0;
-    const double l1 = kmath::sqrt(dot3(t1, t1));
-    for (int c = 0; c < 3; ++c) t1[c] /= l1;
-    double t2[3];
-    cross3(nb, t1, t2);
-    auto extent = [](const SurfaceData& sd, const int sp[2], const double* t, double& lo, double& hi) {
-      lo = 1e300;
-      hi = -1e300;
-      for (int j = sp[1] - sd.p[1]; j <= sp[1]; ++j)
-        for (int i = sp[0] - sd.p[0]; i <= sp[0]; ++i) {
-          const int a = i + sd.n[0] * j;
-          const double x = sd.cp(a, 0) * t[0] + sd.cp(a, 1) * t[1] + sd.cp(a, 2) * t[2];
-          lo = x < lo ? x : lo;
-          hi = x > hi ? x : hi;
-        }
-    };
-    const double delta = margin * (2 * spread + 0.1);
-    const double* tangents[2] = {t1, t2};   // a plain array: no std::initializer_list in a kernel
-    for (int k = 0; k < 2; ++k) {
-      double slo, shi, mlo_, mhi_;
-      extent(ss, es, tangents[k], slo, shi);
-      extent(ms, mspn, tangents[k], mlo_, mhi_);
-      if (mhi_ < slo - delta || mlo_ > shi + delta) return false;
-    }
-    return true;
+  KOKKOS_INLINE_FUNCTION bool facing(const SurfaceData& ss, const int es[2], int fm, int E, const int mspn[2],
+                                     double margin) const {
+    double nb[3], spread;
+    if (!master_frame(m, fm, E, nb, spread)) return true;
+    return facing_along(ss, es, m.f[fm].sd, mspn, nb, spread, margin);
   }
 
   /// One point of a master element's cell grid, shot along the master normal onto the slave
@@ -806,6 +939,7 @@ struct MortarGaps3 {
   MortarState ms;
   double eps = 0, touch = 0;
   int slots = 1;
+  Kokkos::View<const int*, MemSpace> out;   // MortarOut3's; empty: none
 
   KOKKOS_INLINE_FUNCTION void operator()(const int A) const {
     double g = 0;
@@ -816,8 +950,18 @@ struct MortarGaps3 {
       cov = 1;
     });
     mortar_multiplier(ms, A, g, cov, eps, touch);
+    if (out.extent(0) > 0 && out(A)) {   // certainly out of contact (MortarOut3): its support partly unsegmented
+      ms.active(A) = 0;
+      ms.lambda(A) = 0;
+    }
   }
 };
+
+KOKKOS_INLINE_FUNCTION void MortarOut3::operator()(const int A) const {
+  bool all = ms.lbar(A) == 0;
+  for_each_support_element3(s, A, [&](int eg, int, int, const int*) { all = all && far(eg); });
+  out(A) = all ? 1 : 0;
+}
 
 /// The slave basis R (and the control points cp of its face) at slot i of a mortar pair.
 KOKKOS_INLINE_FUNCTION int slot_basis(const ContactFaces& s, const SlavePoints3& sp, int i, double* R, int* cp) {

@@ -19,6 +19,7 @@
 
 #include <Intrepid2_CubatureDirectTriDefault.hpp>
 #include <Teuchos_CommHelpers.hpp>
+#include <Teuchos_TimeMonitor.hpp>
 
 namespace iga {
 
@@ -758,7 +759,30 @@ void ContactSurfaces3::refresh() {
     // this rank's slots: a share of the last update's active slots (several ranks)
     balance_slots();
     // segments; where an element needs more slots than it has, grow them and segment again
+    Teuchos::TimeMonitor ts(*Teuchos::TimeMonitor::getNewTimer("3.1.1) Contact: segmentation"));
     const int ne = slave.eoff[slave.n];
+    // the slave elements certainly out of contact, then the control points all of whose
+    // support is (every element on every rank: the decisions agree across ranks)
+    if (static_cast<int>(far_.extent(0)) != ne) far_ = Kokkos::View<int*, MemSpace>("mortar_far", ne);
+    if (static_cast<int>(out_.extent(0)) != num_control_points_) out_ = Kokkos::View<int*, MemSpace>("mortar_out", num_control_points_);
+    for (int k = 0; k < master.n; ++k) {   // the master elements' centre normals, for every candidate test
+      const int nm = master.f[k].sd.ne[0] * master.f[k].sd.ne[1];
+      if (static_cast<int>(master.frame[k].extent(0)) != nm) master.frame[k] = Kokkos::View<double* [4], MemSpace>("master_frames", nm);
+      MasterFrames3 kfr;
+      kfr.ms = master.f[k].sd;
+      kfr.frame = master.frame[k];
+      Kokkos::parallel_for("iga::MasterFrames3", Kokkos::RangePolicy<ExecSpace>(0, nm), kfr);
+    }
+    if (!skip_out) {
+      Kokkos::deep_copy(out_, 0);
+    } else {
+      MortarFar3 kf;
+      kf.s = slave; kf.m = master; kf.far = far_; kf.touch = sp.touch;
+      Kokkos::parallel_for("iga::MortarFar3", Kokkos::RangePolicy<ExecSpace>(0, ne), kf);
+      MortarOut3 ko;
+      ko.s = slave; ko.ms = ms; ko.far = far_; ko.out = out_;
+      Kokkos::parallel_for("iga::MortarOut3", Kokkos::RangePolicy<ExecSpace>(0, num_control_points_), ko);
+    }
     for (;;) {
       MortarSegments3 ks;
       ks.s = slave; ks.m = master; ks.sp = sp; ks.ed = edges; ks.gauss = gauss; ks.tri = tri; ks.slots = slots; ks.flags = seg_flags_;
@@ -776,6 +800,7 @@ void ContactSurfaces3::refresh() {
       ks.smooth = friction ? 2 : 1;
       if (static_cast<int>(cand_.extent(0)) != ne) cand_ = decltype(cand_)("mortar_candidates", ne, kMortar3Candidates);
       ks.cand = cand_;
+      ks.skip = out_;
       Kokkos::deep_copy(seg_flags_, 0);
       Kokkos::parallel_for("iga::MortarSegments3", Kokkos::RangePolicy<ExecSpace>(c_begin, c_end), ks);
       auto fl = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), seg_flags_);
@@ -794,6 +819,7 @@ void ContactSurfaces3::refresh() {
       }
     }
   }
+  Kokkos::fence();
   if (mortar) {   // the slave basis at the segmented slots, once for the sums per control point
     SlotBasis3 kb;
     kb.s = slave;
@@ -813,7 +839,7 @@ void ContactSurfaces3::refresh() {
   if (mortar) {
     // the weighted gaps of this rank's control points, then every rank holds all of them
     MortarGaps3 kg;
-    kg.s = slave; kg.sp = sp; kg.ms = ms; kg.eps = pair.penalty; kg.touch = sp.touch; kg.slots = slots;
+    kg.s = slave; kg.sp = sp; kg.ms = ms; kg.eps = pair.penalty; kg.touch = sp.touch; kg.slots = slots; kg.out = out_;
     Kokkos::parallel_for("iga::MortarGaps3", Kokkos::RangePolicy<ExecSpace>(a_begin, a_end), kg);
     if (nranks_ > 1) {
       sum_device_over_ranks(*comm_, ms.gA, a_begin, a_end);
@@ -828,6 +854,11 @@ void ContactSurfaces3::refresh() {
     if (friction) update_friction();   // the law per control point needs lambda_A
   }
   Kokkos::fence();
+}
+
+std::vector<int> ContactSurfaces3::out_of_contact() const {
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), out_);
+  return std::vector<int>(h.data(), h.data() + h.extent(0));
 }
 
 void ContactSurfaces3::groups(std::vector<std::vector<GO>>& out, int& active) const {

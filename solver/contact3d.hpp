@@ -60,6 +60,11 @@ class ContactSurfaces3 {
   // points' elements and the support of its control points
   int c_begin = 0, c_end = 0;
   int cells = 0;   // cells per direction of a master element in the segmentation (0: 2 if curved, else 1; at most kMaxCells)
+  // mortar: skip the slave elements whose control points are all certainly out of contact
+  // (MortarFar3, MortarOut3; tests compare against false); out_of_contact(): per control point
+  // A, whether it was out at the last update
+  bool skip_out = true;
+  std::vector<int> out_of_contact() const;
   // with friction: the edge points as slave points (their feet, references and slip vectors)
   SlavePoints3 esp;
   Friction3 efr;
@@ -106,6 +111,9 @@ class ContactSurfaces3 {
   Kokkos::View<int*, MemSpace> stateA_prev_;
   Kokkos::View<int*, MemSpace> seg_flags_;
   Kokkos::View<int**, Kokkos::LayoutRight, MemSpace> cand_;   // mortar: candidate master elements per slave element
+  // mortar: per slave element, certainly out of contact (MortarFar3); per control point A, its
+  // whole support out and no multiplier (MortarOut3): the segmentation skips elements of such A only
+  Kokkos::View<int*, MemSpace> far_, out_;
   // mortar: the slave control points A (number_slave_control_points): how many, and A's
   // occurrences (face, face control point) in [a_ptr_h_[A], a_ptr_h_[A + 1]) of a_occ_h_ (pairs)
   void number_slave_control_points();

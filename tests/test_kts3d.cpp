@@ -430,6 +430,72 @@ TEST(Mortar3Segments, CoveredAreaDoesNotDependOnTheCells) {
   for (size_t k = 1; k < area.size(); ++k) EXPECT_NEAR(area[k], area.back(), 1e-3 * area.back());
 }
 
+// The segmentation skips the slave elements all of whose control points are certainly out of
+// contact (kernels/contact_mortar3.hpp, MortarFar3: every master element that could carry
+// their feet lies below them along its own normal). The bump of bump_and_box as the slave
+// (12 x 12 elements), the box's flat bottom as the master, raised so that only the bump's top
+// (z 1.116 in the middle) reaches into it: the skipped elements must change neither the
+// contact force nor the tangent, and every control point said to be out must have a positive
+// weighted gap in the full segmentation.
+TEST(Mortar3Segments, SkipsOnlyControlPointsOutOfContact) {
+  std::string t = bump_and_box(2, 16, "mortar_penalty");
+  replace_once(t, "{master: {body: bump, side: back}, slave: {body: box, side: front}",
+               "{master: {body: box, side: front}, slave: {body: bump, side: back}");
+  const Problem P = parse_problem(t, "skip.yaml");
+  System sys(P, Tpetra::getDefaultComm());
+  Vector u(sys.owned_map()), v(sys.owned_map());
+  {
+    auto h = u.getLocalViewHost(Tpetra::Access::OverwriteAll);
+    auto hv = v.getLocalViewHost(Tpetra::Access::OverwriteAll);
+    for (size_t l = 0; l < u.getLocalLength(); ++l) {
+      const GO dof = sys.owned_map()->getGlobalElement(l);
+      std::mt19937 rng(static_cast<unsigned>(dof) + 7u);
+      std::uniform_real_distribution<double> d(-1e-3, 1e-3);
+      h(l, 0) = d(rng) + (sys.body_of(dof / 3) == 1 && dof % 3 == 2 ? 0.008 : 0.0);
+      hv(l, 0) = d(rng);
+    }
+  }
+  std::vector<ContactContribution> c;
+  std::vector<std::vector<double>> gaps;
+  std::vector<int> out, covered;
+  for (bool skip : {true, false}) {
+    std::vector<ContactPairData> pairs{ContactPairData(sys, 0)};
+    pairs[0].s3_->skip_out = skip;
+    pairs[0].update(u);
+    c.push_back(assemble_contact(sys, pairs));
+    auto g = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pairs[0].s3_->ms.gA);
+    auto cov = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pairs[0].s3_->ms.covered);
+    gaps.emplace_back(g.data(), g.data() + g.extent(0));
+    covered.assign(cov.data(), cov.data() + cov.extent(0));   // the full segmentation's, last
+    if (skip) out = pairs[0].s3_->out_of_contact();
+  }
+  // out: no slot of A's support sees the master (g_A = 0, not covered) or g_A > 0
+  int n_out = 0, n_seen = 0;
+  for (size_t A = 0; A < out.size(); ++A) {
+    if (!out[A]) continue;
+    ++n_out;
+    if (covered[A]) {
+      ++n_seen;
+      EXPECT_GT(gaps[1][A], 0.0) << "control point " << A << " said to be out of contact";
+    } else {
+      EXPECT_EQ(gaps[1][A], 0.0);
+    }
+  }
+  std::printf("  %d of %zu slave control points out of contact (%d of them facing the master), %d active\n", n_out,
+              out.size(), n_seen, c[1].active);
+  EXPECT_GE(n_seen, 10);   // the test must skip some that the master faces (17 of 324 here; the rest of the
+                           // 324 lie outside the box's footprint or within a support of the bump's top)
+  EXPECT_GT(c[1].active, 4);
+  EXPECT_EQ(c[0].active, c[1].active);
+  Vector df(*c[0].f, Teuchos::Copy), Kv0(sys.owned_map()), Kv1(sys.owned_map());
+  df.update(-1.0, *c[1].f, 1.0);
+  EXPECT_LE(df.normInf(), 1e-12 * c[1].f->normInf());
+  c[0].K->apply(v, Kv0);
+  c[1].K->apply(v, Kv1);
+  Kv0.update(-1.0, Kv1, 1.0);
+  EXPECT_LE(Kv0.normInf(), 1e-12 * Kv1.normInf());
+}
+
 // The box overhangs the master's edge x = 2 by 0.3: its last column of elements is partly
 // covered, and the covered part moves with u (the boundary terms of contact_mortar3.hpp; without
 // them the difference is 0.12 of the largest column). The boundary's image is straight per cell
