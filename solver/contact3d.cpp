@@ -773,7 +773,10 @@ void ContactSurfaces3::refresh() {
       kfr.frame = master.frame[k];
       Kokkos::parallel_for("iga::MasterFrames3", Kokkos::RangePolicy<ExecSpace>(0, nm), kfr);
     }
-    if (!skip_out) {
+    // (one rank only: on two the skip lengthened Newton on the Hertz ball, [10, 10] against
+    // [8, 8], and made the coarse ball's slots search the master ~7x as often; not understood
+    // yet, docs/performance.md)
+    if (!skip_out || nranks_ > 1) {
       Kokkos::deep_copy(out_, 0);
     } else {
       MortarFar3 kf;
