@@ -27,7 +27,8 @@
 //   side's edge points evaluate their own element, and the two sums give the jump term. The residual stays -\int p N: it is then not
 //   the gradient of the potential there (the boundary term of delta g_A is not in it), and the
 //   tangent is not symmetric.
-// Segments (MortarSegments3, one slave element per thread): the master elements whose boxes
+// Segments (MortarSegments3, one slave element per thread; on one rank not for the elements
+//   all of whose control points are certainly out of contact, MortarFar3 / MortarOut3): the master elements whose boxes
 //   meet the slave element's box (grown by its own size) are candidates; each candidate's
 //   corners (shared with its neighbours) are shot along the master normal onto the slave
 //   element's surface, x_s(u, v) = rho + t n (Newton on (u, v, t), the slave element's
@@ -223,8 +224,9 @@ KOKKOS_INLINE_FUNCTION bool facing_along(const SurfaceData& ss, const int es[2],
 /// box meets the slave element's grown box, grown_box, by the margin of the element's size)
 /// that faces the slave element (facing_along: it could carry a foot within the margin) lies
 /// below it along its own outward centre normal nb (the slave hull's lowest point above the
-/// master hull's highest by more than the touching tolerance), and its normals turn little (2 spread < 1, spread as in
-/// centre_normal, doubled for the interior: n . nb > 1/2 over the element). At a slot's foot
+/// master hull's highest by more than the touching tolerance), and its normals turn little
+/// (2 spread < 1, spread as in centre_normal, doubled for the interior: n . nb > 1/2 over the
+/// element). At a slot's foot
 /// rho on such an element x - rho = g n(rho), so g n(rho) . nb = (x - rho) . nb > 0: the gap
 /// g is positive. A foot anywhere else is farther than the margin (a slave point that deep in
 /// the master is no contact the segmentation would see either: it takes its segments from
