@@ -762,7 +762,8 @@ void ContactSurfaces3::refresh() {
     Teuchos::TimeMonitor ts(*Teuchos::TimeMonitor::getNewTimer("3.1.1) Contact: segmentation"));
     const int ne = slave.eoff[slave.n];
     // the slave elements certainly out of contact, then the control points all of whose
-    // support is (every element on every rank: the decisions agree across ranks)
+    // support is (every element, not only this rank's: a control point's support may reach
+    // beyond [c_begin, c_end))
     if (static_cast<int>(far_.extent(0)) != ne) far_ = Kokkos::View<int*, MemSpace>("mortar_far", ne);
     if (static_cast<int>(out_.extent(0)) != num_control_points_) out_ = Kokkos::View<int*, MemSpace>("mortar_out", num_control_points_);
     for (int k = 0; k < master.n; ++k) {   // the master elements' centre normals, for every candidate test
@@ -822,7 +823,6 @@ void ContactSurfaces3::refresh() {
       }
     }
   }
-  Kokkos::fence();
   if (mortar) {   // the slave basis at the segmented slots, once for the sums per control point
     SlotBasis3 kb;
     kb.s = slave;
