@@ -64,8 +64,8 @@ class ContactPairData {
   int num_points() const { return s3_ ? s3_->num_points() : static_cast<int>(sp_.xi.extent(0)); }
   /// Current displacements of the two curves from the owned solution, then search + projection.
   void update(const Vector& u);
-  /// ALM: lambda <- pressure; returns the largest gap magnitude of the active points
-  /// relative to the smallest slave element size.
+  /// ALM: the multipliers' update (mortar and 3-D: lambda <- pressure; 2-D KTS: Uzawa on the
+  /// slave control points' weighted gaps); returns max_active_gap_ratio().
   double augment();
   /// ALM, frictionless: the penalty of the next Newton solves x factor (the method of
   /// multipliers' update when the gaps fall slowly; the converged answer does not depend on
@@ -79,8 +79,9 @@ class ContactPairData {
   /// restore() when one fails and is cut.
   void commit();
   void restore();
-  /// ALM convergence: the largest gap of the active points and, with friction, the largest
-  /// slip increment of the stick points, relative to the smallest slave element size.
+  /// ALM convergence: the largest gap of the active points (mortar and 2-D KTS: the weighted
+  /// gaps of the active slave control points) and, with friction, the largest slip increment
+  /// of the stick points, relative to the smallest slave element size.
   double max_active_gap_ratio() const;
   bool friction() const { return s3_ ? s3_->friction : fr_.mu > 0; }
   FrictionCounts friction_counts() const {
@@ -130,8 +131,14 @@ class ContactPairData {
   double penalty0_ = 1;   // the problem file's penalty
   bool mortar_ = false;
   GaussRule gauss_;
+  // kts_alm: the multiplier Lambda_A per slave control point (the points' lambda is its
+  // interpolation) and the weighted gaps' sums (KtsWeightedGaps, kernels/contact_kts.hpp)
+  Kokkos::View<double*, MemSpace> lamA_, gnum_, gden_;
+  Kokkos::View<double**, Kokkos::LayoutRight, MemSpace> gmass_;
+  void kts_weighted_gaps(bool mass = false) const;   // gnum_, gden_ (and gmass_) now
+  void kts_update_multipliers();
   struct Committed {
-    Kokkos::View<double*, MemSpace> lambda, mxi, lbar, lamT, lamTA;
+    Kokkos::View<double*, MemSpace> lambda, mxi, lbar, lamT, lamTA, lamA;
     Kokkos::View<int*, MemSpace> melem, mspan, valid;
   } committed_;
   // mortar friction: the committed curves (their displacements at the last converged step)
