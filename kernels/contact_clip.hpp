@@ -41,12 +41,17 @@
 //   has the sign of the determinant. Exact for finite inputs without overflow or underflow of the products
 //   (parameter coordinates are O(1)); FMA contraction does not change the result (every
 //   partial product of the split is exact).
-// Quadrature: P is cut into a fan of triangles (c, v_t, v_t+1), c the vertex average (strictly
-// inside P); on each a rule r of the reference triangle (TriangleRule: points (r0, r1), weights
-// summing to 1/2): x = c + r0 (v_t - c) + r1 (v_t+1 - c), weight w 2|T|, 2|T| =
-// orient2d(v_t, v_t+1, c) (exactly signed: every weight > 0 however short the edge, where the
-// rule's weights are). With the collapsed (Duffy) tensor rule of an n-point Gauss rule
-// (triangle_rule_collapsed) a polynomial of total degree d becomes degree d + 1 in xi and d in
+// Quadrature: a fan of triangles (c, A, B) over P's corners A, B (consecutive), c the average
+// of the corners (strictly inside P; near-duplicates once). A vertex within kRuleRunTol of the
+// chord of its neighbours (a run of nearly collinear vertices: a sampled master edge along a slave edge of
+// aligned meshes, where round-off decides which samples are vertices) is no corner: the strip
+// between its run and the chord A B is added to (c, A, B)'s weights, so they sum to |P|, and
+// round-off vertices move no point (a flat punch on aligned meshes stalled with mortar when
+// they did; the rule's degree holds where there are no runs). On each triangle a rule r of the
+// reference triangle (TriangleRule: points (r0, r1), weights summing to 1/2): x = c + r0 (A -
+// c) + r1 (B - c), weight w 2|T| (1 + strip / |T|), 2|T| = orient2d(A, B, c) (exactly signed:
+// every weight > 0 however short the edge, where the rule's weights are). With the collapsed
+// (Duffy) tensor rule of an n-point Gauss rule (triangle_rule_collapsed) a polynomial of total degree d becomes degree d + 1 in xi and d in
 // eta, so the rule is exact for degree 2 n - 2 (polygon_rule_degree), with n_v n^2 points; the
 // 3-D mortar uses a symmetric rule of Intrepid2 of the same degree (6, 12, 16 points for degree
 // 4, 6, 8 instead of 9, 16, 25; solver/contact3d.cpp, triangle_rule).
@@ -364,61 +369,168 @@ KOKKOS_INLINE_FUNCTION int clip_polygons(const ClipPolygon& slave, const ClipPol
 /// The polynomial degree the collapsed rule of an n-point Gauss rule integrates exactly.
 KOKKOS_INLINE_FUNCTION constexpr int polygon_rule_degree(int n) { return 2 * n - 2; }
 
-/// Number of points of the polygon rule: a fan of p.n triangles, t.n points each.
+/// Vertex k lies within kRuleRunTol |b - a| of the chord a b of its neighbours a, b (the
+/// nearest vertices either way farther than kRuleDupTol of P's size from it, so that a
+/// near-duplicate neighbour does not hide a corner): inside a run of nearly collinear vertices
+/// (a sampled master edge along a slave edge of aligned meshes, crossings of one straight
+/// edge). The rule's fan skips such vertices (below).
+constexpr double kRuleRunTol = 1e-10;
+constexpr double kRuleDupTol = 1e-8;
+
+namespace clip_detail {
+KOKKOS_INLINE_FUNCTION int prev_vertex(int k, int n) { return k > 0 ? k - 1 : n - 1; }
+KOKKOS_INLINE_FUNCTION int next_vertex(int k, int n) { return k + 1 < n ? k + 1 : 0; }
+
+/// corner[k]: vertex k is a corner of the rule's fan (not inside a run); every vertex when
+/// fewer than 3 would be corners. Returns the number of corners.
+KOKKOS_INLINE_FUNCTION double rule_dup_distance(const ClipPolygon& p) {
+  double lo[2] = {p.v[0][0], p.v[0][1]}, hi[2] = {p.v[0][0], p.v[0][1]};
+  for (int k = 1; k < p.n; ++k)
+    for (int d = 0; d < 2; ++d) {
+      lo[d] = p.v[k][d] < lo[d] ? p.v[k][d] : lo[d];
+      hi[d] = p.v[k][d] > hi[d] ? p.v[k][d] : hi[d];
+    }
+  return kRuleDupTol * (hi[0] - lo[0] > hi[1] - lo[1] ? hi[0] - lo[0] : hi[1] - lo[1]);
+}
+KOKKOS_INLINE_FUNCTION bool near2(const double* a, const double* b, double tol) {
+  return absd(a[0] - b[0]) <= tol && absd(a[1] - b[1]) <= tol;
+}
+KOKKOS_INLINE_FUNCTION int rule_corners(const ClipPolygon& p, bool corner[kClipMaxVertices]) {
+  const double dup = rule_dup_distance(p);
+  int m = 0;
+  for (int k = 0; k < p.n; ++k) {
+    int ia = prev_vertex(k, p.n), ib = next_vertex(k, p.n);
+    for (int s = 0; s < p.n && ia != k && near2(p.v[ia], p.v[k], dup); ++s) ia = prev_vertex(ia, p.n);
+    for (int s = 0; s < p.n && ib != k && near2(p.v[ib], p.v[k], dup); ++s) ib = next_vertex(ib, p.n);
+    corner[k] = true;
+    if (ia != k && ib != k && ia != ib) {
+      const double* a = p.v[ia];
+      const double* b = p.v[ib];
+      const double dx = b[0] - a[0], dy = b[1] - a[1];
+      const double t = (p.v[k][0] - a[0]) * dy - (p.v[k][1] - a[1]) * dx;   // -(twice the area of a, b, v_k)
+      corner[k] = !(absd(t) <= kRuleRunTol * (dx * dx + dy * dy));
+    }
+    m += corner[k];
+  }
+  if (m < 3) {
+    for (int k = 0; k < p.n; ++k) corner[k] = true;
+    m = p.n;
+  }
+  return m;
+}
+}  // namespace clip_detail
+
+/// Number of points of the polygon rule: a fan over the corners, t.n points each.
 KOKKOS_INLINE_FUNCTION int polygon_rule_size(const ClipPolygon& p, const TriangleRule& t) {
-  return p.n >= 3 ? p.n * t.n : 0;
+  if (p.n < 3) return 0;
+  bool corner[kClipMaxVertices];
+  return clip_detail::rule_corners(p, corner) * t.n;
 }
 
-/// The fan's apex: the vertex average (inside a convex polygon).
-KOKKOS_INLINE_FUNCTION void polygon_centre(const ClipPolygon& p, double c[2]) {
+/// The apex of the rule's fan: the average of the corners (strictly inside a convex polygon),
+/// a corner within kRuleDupTol of P's size from the last (or first) one counted not counted
+/// again. Not the average of every vertex: a run vertex, or a corner splitting into two
+/// near-duplicates (a master corner crossing a slave edge), that appears or goes with round-off
+/// would move it by O(h / n) and with it every point of the rule, a jump of the rule's error in
+/// the residual (a flat punch on aligned meshes stalled at relative residual 1e-9 with mortar).
+/// (The area centroid would not move either, but on a sliver segment its cross products
+/// cancel: an apex 1e-6 h off along the sliver, different on 1 and 2 ranks.)
+KOKKOS_INLINE_FUNCTION void polygon_centre(const ClipPolygon& p, const bool corner[kClipMaxVertices], double c[2]) {
+  const double tol = clip_detail::rule_dup_distance(p);
+  int m = 0, first = -1, last = -1;
   c[0] = c[1] = 0;
   for (int k = 0; k < p.n; ++k) {
+    if (!corner[k]) continue;
+    if (last >= 0 && (clip_detail::near2(p.v[k], p.v[last], tol) || clip_detail::near2(p.v[k], p.v[first], tol))) continue;
+    if (first < 0) first = k;
+    last = k;
     c[0] += p.v[k][0];
     c[1] += p.v[k][1];
+    ++m;
   }
-  c[0] /= p.n;
-  c[1] /= p.n;
+  if (m < 3) {   // a sliver: every corner (their average is inside, the distinct ones' on an edge)
+    m = 0;
+    c[0] = c[1] = 0;
+    for (int k = 0; k < p.n; ++k)
+      if (corner[k]) {
+        c[0] += p.v[k][0];
+        c[1] += p.v[k][1];
+        ++m;
+      }
+  }
+  c[0] /= m;
+  c[1] /= m;
 }
 
 namespace clip_detail {
-/// Twice the area of fan triangle t, (v_t - c) x (v_t+1 - c) by orient2d: positive however
-/// short the edge, since c is strictly inside.
-KOKKOS_INLINE_FUNCTION double fan_area2(const ClipPolygon& p, const double c[2], int t) {
-  return orient2d(p.v[t], p.v[t + 1 < p.n ? t + 1 : 0], c);
+/// The fan triangle (c, A, B) from corner A = v_t to the next corner B, and the weight factor
+/// that puts the strip between B's run of skipped vertices and the chord A B on it: (|c A B| +
+/// |strip|) / |c A B|, the strip's area from the fan (A, v_k, v_k+1) over the run. So the
+/// weights still sum to the area of P, and a run's vertices coming and going with round-off
+/// change a strip of area ~ their distance from the chord, not the fan's points (which stay
+/// inside P). The rule's degree holds where there are no runs; a run moves a polynomial's
+/// integral by at most its strip's area times the polynomial's variation over the triangle
+/// (round-off for runs of round-off). Returns B; area2 = 2 |c A B|, scale the factor.
+KOKKOS_INLINE_FUNCTION int fan_triangle(const ClipPolygon& p, const bool corner[kClipMaxVertices], const double c[2], int t,
+                                        double& area2, double& scale) {
+  int B = next_vertex(t, p.n);
+  double strip2 = 0;
+  while (!corner[B]) {
+    const int nb = next_vertex(B, p.n);
+    strip2 += orient2d(p.v[B], p.v[nb], p.v[t]);   // 2 |A v_k v_k+1|
+    B = nb;
+  }
+  area2 = orient2d(p.v[t], p.v[B], c);
+  scale = (area2 + strip2) / area2;
+  return B;
 }
-/// Point k of the triangle rule on fan triangle t: x = c + r0 (v_t - c) + r1 (v_t+1 - c),
-/// weight w_k 2|T|.
-KOKKOS_INLINE_FUNCTION void fan_point(const ClipPolygon& p, const TriangleRule& r, const double c[2], double area2, int t,
+/// Point k of the triangle rule on (c, a, b): x = c + r0 (a - c) + r1 (b - c), weight w_k 2|T|.
+KOKKOS_INLINE_FUNCTION void fan_point(const double* a, const double* b, const TriangleRule& r, const double c[2], double weight2,
                                       int k, double x[2], double& w) {
-  const double* a = p.v[t];
-  const double* b = p.v[t + 1 < p.n ? t + 1 : 0];
   x[0] = c[0] + r.x[k][0] * (a[0] - c[0]) + r.x[k][1] * (b[0] - c[0]);
   x[1] = c[1] + r.x[k][0] * (a[1] - c[1]) + r.x[k][1] * (b[1] - c[1]);
-  w = r.w[k] * area2;
+  w = r.w[k] * weight2;
 }
 }  // namespace clip_detail
 
 /// Point k (0 <= k < polygon_rule_size) of the polygon rule: x in the slave parameter plane and
-/// its weight (parameter area). Recomputes the fan's apex (O(p.n)); for_each_polygon_point
+/// its weight (parameter area). Recomputes the corners and the apex (O(p.n)); for_each_polygon_point
 /// does that once.
 KOKKOS_INLINE_FUNCTION void polygon_rule_point(const ClipPolygon& p, const TriangleRule& r, int k, double x[2], double& w) {
+  bool corner[kClipMaxVertices];
+  clip_detail::rule_corners(p, corner);
   double c[2];
-  polygon_centre(p, c);
-  const int t = k / r.n;
-  clip_detail::fan_point(p, r, c, clip_detail::fan_area2(p, c, t), t, k - t * r.n, x, w);
+  polygon_centre(p, corner, c);
+  int j = k / r.n, t = 0;
+  while (!corner[t]) ++t;
+  for (; j > 0; --j) {
+    t = clip_detail::next_vertex(t, p.n);
+    while (!corner[t]) t = clip_detail::next_vertex(t, p.n);
+  }
+  double area2, scale;
+  const int B = clip_detail::fan_triangle(p, corner, c, t, area2, scale);
+  clip_detail::fan_point(p.v[t], p.v[B], r, c, area2 * scale, k % r.n, x, w);
 }
 
-/// f(x, w) for every point of the polygon rule (x: double[2] in the slave parameter plane).
+/// f(x, w) for every point of the polygon rule (x: double[2] in the slave parameter plane), in
+/// the order of polygon_rule_point.
 template <class F>
 KOKKOS_INLINE_FUNCTION void for_each_polygon_point(const ClipPolygon& p, const TriangleRule& r, F&& f) {
   if (p.n < 3) return;
+  bool corner[kClipMaxVertices];
+  clip_detail::rule_corners(p, corner);
   double c[2];
-  polygon_centre(p, c);
-  for (int t = 0; t < p.n; ++t) {
-    const double area2 = clip_detail::fan_area2(p, c, t);
+  polygon_centre(p, corner, c);
+  int first = 0;
+  while (!corner[first]) ++first;
+  for (int j = 0; j < p.n; ++j) {
+    const int t = (first + j) % p.n;
+    if (!corner[t]) continue;
+    double area2, scale;
+    const int B = clip_detail::fan_triangle(p, corner, c, t, area2, scale);
     for (int k = 0; k < r.n; ++k) {
       double x[2], w;
-      clip_detail::fan_point(p, r, c, area2, t, k, x, w);
+      clip_detail::fan_point(p.v[t], p.v[B], r, c, area2 * scale, k, x, w);
       f(x, w);
     }
   }

@@ -965,15 +965,6 @@ KOKKOS_INLINE_FUNCTION void MortarOut3::operator()(const int A) const {
   out(A) = all ? 1 : 0;
 }
 
-/// The slave basis R (and the control points cp of its face) at slot i of a mortar pair.
-KOKKOS_INLINE_FUNCTION int slot_basis(const ContactFaces& s, const SlavePoints3& sp, int i, double* R, int* cp) {
-  const SurfaceData& sd = s.f[sp.face(i)].sd;
-  int es[2];
-  surface_element_spans(sd, sp.elem(i), es);
-  double Ru[kMaxSurfaceBasis], Rv[kMaxSurfaceBasis];
-  return surface_basis(sd, es, sp.uv(i, 0), sp.uv(i, 1), R, Ru, Rv, cp);
-}
-
 /// The pressure field at the slots, p = sum_A lambda_A R_A (the slot's `pressure`).
 struct MortarPointPressure3 {
   ContactFaces s;
@@ -987,7 +978,7 @@ struct MortarPointPressure3 {
     }
     double R[kMaxSurfaceBasis];
     int cp[kMaxSurfaceBasis];
-    const int n = slot_basis(s, sp, i, R, cp);
+    const int n = slave_point_basis(s, sp, i, R, cp);
     const ContactFace& sf = s.f[sp.face(i)];
     double pr = 0;
     for (int a = 0; a < n; ++a) pr += ms.lambda(sf.aid(cp[a])) * R[a];

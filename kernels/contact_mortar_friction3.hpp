@@ -105,7 +105,7 @@ struct MortarFrictionPoints3 {
     if (sp.face(i) < 0 || !sp.valid(i)) return;
     double R[kMaxSurfaceBasis];
     int cp[kMaxSurfaceBasis];
-    const int n = slot_basis(s, sp, i, R, cp);
+    const int n = slave_point_basis(s, sp, i, R, cp);
     const ContactFace& sf = s.f[sp.face(i)];
     double slip = 0, best = -1;
     int st = 0;
@@ -173,7 +173,7 @@ struct MortarFrictionVectors3 {
     const SurfaceData& md = m.f[mf].sd;
     double Rs[kMaxSurfaceBasis], Ru[kMaxSurfaceBasis], Rv[kMaxSurfaceBasis], Rm[kMaxSurfaceBasis];
     int cps[kMaxSurfaceBasis], cpm[kMaxSurfaceBasis], mspn[2];
-    const int ns = slot_basis(s, sp, i, Rs, cps);
+    const int ns = slave_point_basis(s, sp, i, Rs, cps);
     bool any = false, slip = false;
     for (int a = 0; a < ns; ++a) {
       const int A = sf.aid(cps[a]), k = A - a_begin;
@@ -267,7 +267,7 @@ struct MortarFrictionEdgeVectors3 {
     const SurfaceData& md = m.f[mf].sd;
     double Rs[kMaxSurfaceBasis];
     int cps[kMaxSurfaceBasis], es[2], mspn[2];
-    const int ns = slot_basis(s, esp, i, Rs, cps);
+    const int ns = slave_point_basis(s, esp, i, Rs, cps);
     surface_element_spans(sd, ed.elem(i), es);
     surface_element_spans(md, ed.melem(i), mspn);
     const double gT[3] = {efr.gv(i, 0), efr.gv(i, 1), efr.gv(i, 2)}, g = esp.gap(i);
@@ -308,7 +308,7 @@ struct AssembleMortarFrictionEdge3 {
     const SurfaceData& sd = sf.sd;
     double Rs[kMaxSurfaceBasis];
     int cps[kMaxSurfaceBasis];
-    const int ns = slot_basis(s, esp, i, Rs, cps);
+    const int ns = slave_point_basis(s, esp, i, Rs, cps);
     double t[3] = {0, 0, 0};
     for (int a = 0; a < ns; ++a)
       for (int c = 0; c < 3; ++c) t[c] += fr.tauA(sf.aid(cps[a]), c) * Rs[a];

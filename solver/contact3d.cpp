@@ -237,6 +237,21 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
       for (int i = 0; i < n; ++i) { h(i, 0) = uv[2 * i]; h(i, 1) = uv[2 * i + 1]; }
       Kokkos::deep_copy(sp.uv, h);
     }
+    // kts_alm: a multiplier per control point of each slave face
+    kts_aoff_h_.assign(1, 0);
+    for (const HostFace& h : hs_) {
+      kts_aoff_h_.push_back(kts_aoff_h_.back() + h.n[0] * h.n[1]);
+      kts_q_[0] = std::max(kts_q_[0], h.p[0]);
+      kts_q_[1] = std::max(kts_q_[1], h.p[1]);
+    }
+    const int nA = kts_aoff_h_.back();
+    kts_aoff_ = Kokkos::View<int*, MemSpace>("kts_aoff", kts_aoff_h_.size());
+    Kokkos::deep_copy(kts_aoff_, Kokkos::View<int*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
+                                     kts_aoff_h_.data(), kts_aoff_h_.size()));
+    kts_lamA_ = Kokkos::View<double*, MemSpace>("kts_lambdaA", nA);
+    kts_num_ = Kokkos::View<double*, MemSpace>("kts_num", nA);
+    kts_den_ = Kokkos::View<double*, MemSpace>("kts_den", nA);
+    kts_mass_ = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>("kts_mass", nA, (2 * kts_q_[0] + 1) * (2 * kts_q_[1] + 1));
     // reference points and measures: w = Gauss x |X_u x X_v|
     const ContactFaces s = slave;
     const SlavePoints3 p = sp;
@@ -557,13 +572,122 @@ double ContactSurfaces3::max_active_gap() const {
     }
     return r;
   }
-  ContactPointState st;
-  state(st, false);
-  for (size_t i = 0; i < st.gap.size(); ++i) {
-    if (st.active[i]) r = std::max(r, std::abs(st.gap[i]));
-    if (st.state[i] == 1) r = std::max(r, st.slip_increment[i]);   // friction: the stick points' |g_T|
+  // KTS: the weighted gaps of the slave control points in contact (Lambda_A - eps g_A > 0)
+  std::vector<double> c, D, M;
+  kts_weighted_gaps(c, D, M);
+  auto lam = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), kts_lamA_);
+  for (size_t A = 0; A < c.size(); ++A)
+    if (D[A] > 0 && lam(A) - pair.penalty * c[A] / D[A] > 0) r = std::max(r, std::abs(c[A] / D[A]));
+  if (friction) {
+    ContactPointState st;
+    state(st, false);
+    for (size_t i = 0; i < st.gap.size(); ++i)
+      if (st.state[i] == 1) r = std::max(r, st.slip_increment[i]);   // the stick points' |g_T|
   }
   return r;
+}
+
+void ContactSurfaces3::kts_weighted_gaps(std::vector<double>& c, std::vector<double>& D, std::vector<double>& M) const {
+  Kokkos::deep_copy(kts_num_, 0.0);
+  Kokkos::deep_copy(kts_den_, 0.0);
+  Kokkos::deep_copy(kts_mass_, 0.0);
+  KtsWeightedGaps3 k{slave, sp, kts_aoff_, kts_num_, kts_den_, kts_mass_, kts_q_[0], kts_q_[1]};
+  Kokkos::parallel_for("iga::KtsWeightedGaps3", Kokkos::RangePolicy<ExecSpace>(p_begin, p_end), k);
+  const size_t nA = kts_num_.extent(0), S = kts_mass_.extent(1);
+  std::vector<double> mine(2 * nA + nA * S), all(mine.size());
+  auto hn = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), kts_num_);
+  auto hd = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), kts_den_);
+  auto hm = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), kts_mass_);
+  for (size_t A = 0; A < nA; ++A) {
+    mine[A] = hn(A);
+    mine[nA + A] = hd(A);
+    for (size_t t = 0; t < S; ++t) mine[2 * nA + A * S + t] = hm(A, t);
+  }
+  Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, static_cast<int>(mine.size()), mine.data(), all.data());
+  c.assign(all.begin(), all.begin() + nA);
+  D.assign(all.begin() + nA, all.begin() + 2 * nA);
+  M.assign(all.begin() + 2 * nA, all.end());
+}
+
+// kts_alm's update, as the 2-D one (solver/contact.cpp, kts_update_multipliers): on the control
+// points in contact Lambda <- Lambda - eps M^-1 c, the others 0, clipped at 0. M (each face's
+// Gram matrix of its basis over the points, restricted to the control points in contact) is
+// solved by CG with its diagonal as preconditioner (its condition number is that of a B-spline
+// mass matrix, ~1 / 0.133^2 at degree 2); where CG fails the diagonal D stands in. Every rank
+// holds the sums of all ranks and computes the same.
+void ContactSurfaces3::kts_update_multipliers() {
+  std::vector<double> c, D, M;
+  kts_weighted_gaps(c, D, M);
+  const int nA = static_cast<int>(c.size()), w0 = 2 * kts_q_[0] + 1, S = static_cast<int>(kts_mass_.extent(1));
+  const double eps = pair.penalty;
+  auto lam = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), kts_lamA_);
+  std::vector<char> in(nA);
+  for (int A = 0; A < nA; ++A) in[A] = D[A] > 0 && lam(A) - eps * c[A] / D[A] > 0;
+  // the stencil's neighbours: B of A for stencil entry t, or -1
+  std::vector<int> nbr(static_cast<size_t>(nA) * S, -1);
+  for (size_t k = 0; k < hs_.size(); ++k) {
+    const int n0 = hs_[k].n[0], n1 = hs_[k].n[1], off = kts_aoff_h_[k];
+    for (int a = 0; a < n0 * n1; ++a)
+      for (int t = 0; t < S; ++t) {
+        const int bi = a % n0 + t % w0 - kts_q_[0], bj = a / n0 + t / w0 - kts_q_[1];
+        if (bi >= 0 && bi < n0 && bj >= 0 && bj < n1) nbr[static_cast<size_t>(off + a) * S + t] = off + bi + n0 * bj;
+      }
+  }
+  auto apply = [&](const std::vector<double>& x, std::vector<double>& y) {
+    for (int A = 0; A < nA; ++A) {
+      double s = 0;
+      if (in[A])
+        for (int t = 0; t < S; ++t) {
+          const int B = nbr[static_cast<size_t>(A) * S + t];
+          if (B >= 0 && in[B]) s += M[static_cast<size_t>(A) * S + t] * x[B];
+        }
+      y[A] = s;
+    }
+  };
+  std::vector<double> diag(nA, 1.0);
+  for (int A = 0; A < nA; ++A)
+    if (in[A])
+      for (int t = 0; t < S; ++t)
+        if (nbr[static_cast<size_t>(A) * S + t] == A) diag[A] = M[static_cast<size_t>(A) * S + t];
+  // preconditioned CG on M y = c over the control points in contact
+  std::vector<double> y(nA, 0.0), r(nA), z(nA), p(nA), q(nA);
+  double rz = 0, r0 = 0;
+  for (int A = 0; A < nA; ++A) {
+    r[A] = in[A] ? c[A] : 0.0;
+    z[A] = diag[A] > 0 ? r[A] / diag[A] : 0.0;
+    p[A] = z[A];
+    rz += r[A] * z[A];
+    r0 += r[A] * r[A];
+  }
+  bool ok = std::isfinite(rz);
+  for (int it = 0; it < 1000 && ok && rz > 0; ++it) {
+    apply(p, q);
+    double pq = 0;
+    for (int A = 0; A < nA; ++A) pq += p[A] * q[A];
+    if (!(pq > 0)) { ok = false; break; }
+    const double al = rz / pq;
+    double rr = 0, rz1 = 0;
+    for (int A = 0; A < nA; ++A) {
+      y[A] += al * p[A];
+      r[A] -= al * q[A];
+      z[A] = diag[A] > 0 ? r[A] / diag[A] : 0.0;
+      rr += r[A] * r[A];
+      rz1 += r[A] * z[A];
+    }
+    if (rr <= 1e-28 * r0) break;
+    for (int A = 0; A < nA; ++A) p[A] = z[A] + rz1 / rz * p[A];
+    rz = rz1;
+    if (it == 999) ok = false;
+  }
+  for (int A = 0; A < nA && ok; ++A) ok = std::isfinite(y[A]);
+  for (int A = 0; A < nA; ++A) {
+    const double step = ok ? y[A] : (D[A] > 0 ? c[A] / D[A] : 0.0);
+    const double l = in[A] ? lam(A) - eps * step : 0.0;
+    lam(A) = l > 0 ? l : 0.0;
+  }
+  Kokkos::deep_copy(kts_lamA_, lam);
+  KtsPointMultipliers3 k{slave, sp, kts_aoff_, kts_lamA_};
+  Kokkos::parallel_for("iga::KtsPointMultipliers3", Kokkos::RangePolicy<ExecSpace>(0, num_points()), k);
 }
 
 void ContactSurfaces3::update_friction() {
@@ -656,6 +780,7 @@ void ContactSurfaces3::update_mortar_friction() {
 // zeros or stale values that its kernels never read (each rank updates only its own points).
 void ContactSurfaces3::commit() {
   contact_detail::keep_copy(committed_.lambda, mortar ? ms.lbar : sp.lambda);
+  if (!mortar) contact_detail::keep_copy(committed_.lamA, kts_lamA_);
   if (!friction) return;
   if (mortar) {
     Kokkos::deep_copy(fr.lamTA, fr.tauA);
@@ -696,19 +821,21 @@ void ContactSurfaces3::commit() {
 void ContactSurfaces3::restore() {
   if (!committed_.lambda.data()) return;   // nothing committed yet: the initial state stands
   Kokkos::deep_copy(mortar ? ms.lbar : sp.lambda, committed_.lambda);
+  if (!mortar) Kokkos::deep_copy(kts_lamA_, committed_.lamA);
   if (friction && mortar) Kokkos::deep_copy(fr.lamTA, committed_.lamTA);
   else if (friction) Kokkos::deep_copy(fr.lamT, committed_.lamT);
 }
 
 void ContactSurfaces3::augment() {
   if (mortar) Kokkos::deep_copy(ms.lbar, ms.lambda);
-  else Kokkos::deep_copy(sp.lambda, sp.pressure);
+  else kts_update_multipliers();
   if (friction && mortar) Kokkos::deep_copy(fr.lamTA, fr.tauA);
   else if (friction) Kokkos::deep_copy(fr.lamT, fr.tau);
 }
 
 void ContactSurfaces3::reset_multipliers() {
   Kokkos::deep_copy(mortar ? ms.lbar : sp.lambda, 0.0);
+  if (!mortar) Kokkos::deep_copy(kts_lamA_, 0.0);
   if (friction && mortar) Kokkos::deep_copy(fr.lamTA, 0.0);
   else if (friction) Kokkos::deep_copy(fr.lamT, 0.0);
 }

@@ -71,8 +71,9 @@ class ContactSurfaces3 {
   void mortar_scratch(int cap);
   /// sum_A w_A lambda_A^2 / (2 eps) (mortar), the penalty potential of the slots (KTS)
   double potential() const;
-  /// The largest |g_A / w_A| (mortar) or |g| (KTS) of the active points, and with friction the
-  /// largest slip increment |g_T| of the stick points (KTS).
+  /// The largest |g_A / w_A| of the slave control points in contact (mortar; KTS: c_A / D_A,
+  /// KtsWeightedGaps3), and with friction the largest slip increment |g_T| of the stick points
+  /// (KTS). Collective.
   double max_active_gap() const;
 
   // friction (KTS: kernels/contact_friction3.hpp, the law at this rank's points after each
@@ -100,10 +101,21 @@ class ContactSurfaces3 {
   void update_mortar_friction();
   Kokkos::View<int*, MemSpace> state_prev_;
   struct Committed {
-    Kokkos::View<double*, MemSpace> lambda;
+    Kokkos::View<double*, MemSpace> lambda, lamA;
     Kokkos::View<double* [2], MemSpace> lamT;
     Kokkos::View<double* [3], MemSpace> lamTA;
   } committed_;
+  // kts_alm: a multiplier per control point of each slave face (kernels/contact_kts3.hpp,
+  // KtsWeightedGaps3): face k's first A, the multipliers, the sums' views and the stencil of
+  // the Gram matrix (the largest face degrees q)
+  Kokkos::View<int*, MemSpace> kts_aoff_;
+  Kokkos::View<double*, MemSpace> kts_lamA_, kts_num_, kts_den_;
+  Kokkos::View<double**, Kokkos::LayoutRight, MemSpace> kts_mass_;
+  int kts_q_[2] = {0, 0};
+  std::vector<int> kts_aoff_h_;
+  /// c_A, D_A and the Gram matrix's stencil rows, summed over every rank's points (collective)
+  void kts_weighted_gaps(std::vector<double>& c, std::vector<double>& D, std::vector<double>& M) const;
+  void kts_update_multipliers();
   // mortar friction: the faces in the last converged configuration (the slots' reference feet
   // are projected onto it at every update) and the per-A states of the previous update
   ContactFaces slave_c_, master_c_;

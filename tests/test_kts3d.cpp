@@ -306,12 +306,16 @@ std::string stacked_split(int p, int nb, int nt, const std::string& method, doub
 struct UniformError {
   double p = 0, x = 0;
   size_t points = 0;
+  size_t weighty = 0;   // points of weight above 1e-12 of the largest (not the slivers' of
+                        // round-off runs along aligned edges, contact_clip.hpp)
 };
 UniformError stacked_uniform_error(const ContactPairData& c, bool alm) {
   const auto st = c.state(true);
   const double gap = alm ? 0.0 : -1e-5;
   UniformError u;
   u.points = st.x.size();
+  const double wmax = st.weight.empty() ? 0.0 : *std::max_element(st.weight.begin(), st.weight.end());
+  for (double w : st.weight) u.weighty += w > 1e-12 * wmax;
   for (size_t i = 0; i < st.x.size(); ++i) {
     EXPECT_EQ(st.active[i], 1);
     u.p = std::max(u.p, std::abs(st.pressure[i] - 1.0));
@@ -640,8 +644,8 @@ TEST(StackedBoxes, MortarPassesThePatchTestToRoundOff) {
 }
 
 // contact.segment_cells: the master elements' images whole (1) or cut into 2 x 2 (the default
-// for degree 2) or 3 x 3 cells: the patch test exact with each, and the slots fewer with fewer
-// cells (the key reaches the segmentation).
+// for degree 2) or 3 x 3 cells: the patch test exact with each, and the slots of weight fewer
+// with 1 cell than with 2 (the key reaches the segmentation).
 TEST(StackedBoxes, MortarPassesThePatchTestWithAnySegmentCells) {
   for (int p : {2, 3})
     for (const char* method : {"mortar_penalty", "mortar_alm"}) {
@@ -651,16 +655,19 @@ TEST(StackedBoxes, MortarPassesThePatchTestWithAnySegmentCells) {
         ASSERT_TRUE(s.res.converged);
         const ContactSummary sm = s.res.contact[0].summary();
         const UniformError u = stacked_uniform_error(s.res.contact[0], std::string(method) == "mortar_alm");
-        std::printf("  p = %d %s, segment_cells %d: %zu slots, max |p - 1| = %.2e, max |x - exact| = %.2e, force %.15g\n", p,
-                    method, cells, u.points, u.p, u.x, sm.normal_force);
+        std::printf("  p = %d %s, segment_cells %d: %zu slots (%zu of weight), max |p - 1| = %.2e, max |x - exact| = %.2e, force %.15g\n", p,
+                    method, cells, u.points, u.weighty, u.p, u.x, sm.normal_force);
         EXPECT_LT(u.p, 1e-9);
         EXPECT_LT(u.x, 1e-12);
         EXPECT_NEAR(sm.normal_force, 4.0, 1e-10);
         EXPECT_NEAR(sm.contact_length, 4.0, 1e-12);
-        slots[cells - 1] = u.points;
+        slots[cells - 1] = u.weighty;
       }
+      // (3 x 3 cells of a master element are half slave elements here: their edges fall on the
+      // slave elements' edges, and they cut no more segments of weight than 2 x 2; only
+      // slivers along those edges, which count no more since 2026-11-28)
       EXPECT_LT(slots[0], slots[1]);
-      EXPECT_LT(slots[1], slots[2]);
+      EXPECT_LE(slots[1], slots[2]);
     }
 }
 
@@ -734,6 +741,45 @@ TEST(FlatPunch, MortarConvergesQuadraticallyWithFacesOrLists) {
     if (k == 0) f0 = sm.fz;
     EXPECT_NEAR(sm.fz, f0, 2e-4 * f0);   // measured 7e-5
   }
+}
+
+// A square punch on aligned meshes (base [0, 4]^2 x 1 in 8 x 8 x 2 elements, punch [1.5, 2.5]^2
+// x 1 in 4 x 4 x 2: every punch element edge lies on a base element edge or halves a base
+// element; degree 2, E = 1000, pressed 0.02 in one step), as users write their first 3-D
+// contact: round-off decides whether the master's sampled edges leave vertices along the slave
+// edges they lie on. The segments' rule did not move with such vertices only since the fan's
+// apex is the centroid of the corners and the runs of nearly collinear vertices get slivers
+// (contact_clip.hpp): before, mortar_penalty stalled at relative residual 5e-10 (30 Newton
+// iterations, then every cut the same) and mortar_alm failed. Now Newton converges as on
+// shifted meshes (4 iterations), ALM too, and both stay within 1 % of KTS's force; kts_alm
+// (multipliers per slave control point) gives mortar_alm's force.
+TEST(FlatPunch, MortarConvergesOnAlignedMeshes) {
+  const std::string text =
+      "analysis: {type: solid, load_steps: 1}\nbodies:\n"
+      "  - name: base\n    material: {youngs_modulus: 1000.0, poisson_ratio: 0.3}\n"
+      "    geometry: {box: {origin: [0, 0, 0], size: [4, 4, 1]}}\n    refine: {degree_elevate: 1, subdivide: [8, 8, 2]}\n"
+      "    boundary: {front: {displacement: {x: 0, y: 0, z: 0}}}\n"
+      "  - name: punch\n    material: {youngs_modulus: 1000.0, poisson_ratio: 0.3}\n"
+      "    geometry: {box: {origin: [1.5, 1.5, 1], size: [1, 1, 1]}}\n    refine: {degree_elevate: 1, subdivide: [4, 4, 2]}\n"
+      "    boundary: {back: {displacement: {x: 0, y: 0, z: -0.02}}}\n"
+      "contact:\n  - {master: {body: base, side: back}, slave: {body: punch, side: front}, method: kts_penalty, penalty: 1.0e5}\n";
+  const Solved kts = solve_text(text);
+  ASSERT_TRUE(kts.res.converged);
+  const double fk = kts.res.contact[0].summary().normal_force;
+  double f_alm[2] = {0, 0};
+  for (const char* method : {"mortar_penalty", "mortar_alm", "kts_alm"}) {
+    const Solved s = solve_text(text, Tpetra::getDefaultComm(), {}, {std::string("contact.0.method=") + method, "solver.newton.max_cuts=0"});
+    ASSERT_TRUE(s.res.converged) << method << ": " << s.res.message;
+    const double f = s.res.contact[0].summary().normal_force;
+    std::printf("  %s: Newton %d, normal force %.9f (kts_penalty %.9f)\n", method, newton_total(s), f, fk);
+    if (std::string(method) == "mortar_penalty") EXPECT_LE(newton_total(s), 5);
+    EXPECT_NEAR(f, fk, 0.01 * fk) << method;
+    if (std::string(method) == "mortar_alm") f_alm[0] = f;
+    if (std::string(method) == "kts_alm") f_alm[1] = f;
+  }
+  // kts_alm's multipliers per slave control point close the same weighted gaps as mortar_alm's
+  // (2026-11-28; with a multiplier per quadrature point it stalled here)
+  EXPECT_NEAR(f_alm[1], f_alm[0], 1e-4 * f_alm[0]);
 }
 
 // Bodies that touch within round-off at the start (the top block 1e-13 above the base: a gap
