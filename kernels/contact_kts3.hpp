@@ -140,12 +140,12 @@ inline void update_face_points(const ContactFace& f) {
 
 /// kts_alm in 3-D: one multiplier per control point of each slave face (2-D:
 /// contact_kts.hpp, KtsWeightedGaps, which states the update). Per point i of this rank with
-/// a projection, on its face k: c_A += w R_A g, D_A += w R_A, and the Gram matrix M_AB += w R_A
-/// R_B in mass(A, (bi - ai + q0) + w0 (bj - aj + q1)), A = aoff(k) + the face's control point
-/// index ai + n0 aj (a face's control points are numbered on their own: where faces of a list
-/// share a control point each face has its multiplier). q0, q1: the largest face degrees,
-/// w0 = 2 q0 + 1. Atomics; the caller sums over the ranks. KtsPointMultipliers3 interpolates
-/// Lambda to the points, lambda_i = sum_A R_A(xi_i) Lambda_A.
+/// a projection, on its face k: c_A += w R_A g, D_A += w R_A, and (where `mass` is given) the
+/// Gram matrix M_AB += w R_A R_B in mass(A, (bi - ai + q0) + w0 (bj - aj + q1)), A = aoff(k) +
+/// the face's control point index ai + n0 aj (a face's control points are numbered on their
+/// own: where faces of a list share a control point each face has its multiplier). q0, q1: the
+/// largest face degrees, w0 = 2 q0 + 1. Atomics; the caller sums over the ranks.
+/// KtsPointMultipliers3 interpolates Lambda to the points, lambda_i = sum_A R_A(xi_i) Lambda_A.
 
 /// The slave basis R at slave point (or mortar slot) i on its face, and the face's control
 /// point indices cp.
@@ -172,11 +172,13 @@ struct KtsWeightedGaps3 {
     int cp[kMaxSurfaceBasis];
     const int n = slave_point_basis(s, sp, i, R, cp);
     const int w0 = 2 * q0 + 1;
+    const bool band = mass.extent(0) > 0;
     for (int a = 0; a < n; ++a) {
       const int A = aoff(k) + cp[a];
       const double wr = sp.weight(i) * R[a];
       Kokkos::atomic_add(&num(A), wr * sp.gap(i));
       Kokkos::atomic_add(&den(A), wr);
+      if (!band) continue;
       const int ai = cp[a] % sd.n[0], aj = cp[a] / sd.n[0];
       for (int b = 0; b < n; ++b) {
         const int bi = cp[b] % sd.n[0], bj = cp[b] / sd.n[0];

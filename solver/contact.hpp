@@ -64,8 +64,8 @@ class ContactPairData {
   int num_points() const { return s3_ ? s3_->num_points() : static_cast<int>(sp_.xi.extent(0)); }
   /// Current displacements of the two curves from the owned solution, then search + projection.
   void update(const Vector& u);
-  /// ALM: the multipliers' update (mortar and 3-D: lambda <- pressure; 2-D KTS: Uzawa on the
-  /// slave control points' weighted gaps); returns max_active_gap_ratio().
+  /// ALM: the multipliers' update (mortar: lambda <- pressure; KTS: Uzawa on the slave control
+  /// points' weighted gaps; friction: lamT <- tau); returns max_active_gap_ratio().
   double augment();
   /// ALM, frictionless: the penalty of the next Newton solves x factor (the method of
   /// multipliers' update when the gaps fall slowly; the converged answer does not depend on
@@ -79,9 +79,9 @@ class ContactPairData {
   /// restore() when one fails and is cut.
   void commit();
   void restore();
-  /// ALM convergence: the largest gap of the active points (mortar and 2-D KTS: the weighted
-  /// gaps of the active slave control points) and, with friction, the largest slip increment
-  /// of the stick points, relative to the smallest slave element size.
+  /// ALM convergence: the largest weighted gap of the slave control points in contact (mortar
+  /// and KTS) and, with friction, the largest slip increment of the stick points, relative to
+  /// the smallest slave element size.
   double max_active_gap_ratio() const;
   bool friction() const { return s3_ ? s3_->friction : fr_.mu > 0; }
   FrictionCounts friction_counts() const {

@@ -573,8 +573,8 @@ double ContactSurfaces3::max_active_gap() const {
     return r;
   }
   // KTS: the weighted gaps of the slave control points in contact (Lambda_A - eps g_A > 0)
-  std::vector<double> c, D, M;
-  kts_weighted_gaps(c, D, M);
+  std::vector<double> c, D;
+  kts_weighted_gaps(c, D, nullptr);
   auto lam = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), kts_lamA_);
   for (size_t A = 0; A < c.size(); ++A)
     if (D[A] > 0 && lam(A) - pair.penalty * c[A] / D[A] > 0) r = std::max(r, std::abs(c[A] / D[A]));
@@ -587,26 +587,29 @@ double ContactSurfaces3::max_active_gap() const {
   return r;
 }
 
-void ContactSurfaces3::kts_weighted_gaps(std::vector<double>& c, std::vector<double>& D, std::vector<double>& M) const {
+void ContactSurfaces3::kts_weighted_gaps(std::vector<double>& c, std::vector<double>& D, std::vector<double>* M) const {
   Kokkos::deep_copy(kts_num_, 0.0);
   Kokkos::deep_copy(kts_den_, 0.0);
-  Kokkos::deep_copy(kts_mass_, 0.0);
-  KtsWeightedGaps3 k{slave, sp, kts_aoff_, kts_num_, kts_den_, kts_mass_, kts_q_[0], kts_q_[1]};
+  if (M) Kokkos::deep_copy(kts_mass_, 0.0);
+  KtsWeightedGaps3 k{slave, sp, kts_aoff_, kts_num_, kts_den_, M ? kts_mass_ : decltype(kts_mass_)(), kts_q_[0], kts_q_[1]};
   Kokkos::parallel_for("iga::KtsWeightedGaps3", Kokkos::RangePolicy<ExecSpace>(p_begin, p_end), k);
-  const size_t nA = kts_num_.extent(0), S = kts_mass_.extent(1);
+  const size_t nA = kts_num_.extent(0), S = M ? kts_mass_.extent(1) : 0;
   std::vector<double> mine(2 * nA + nA * S), all(mine.size());
   auto hn = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), kts_num_);
   auto hd = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), kts_den_);
-  auto hm = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), kts_mass_);
   for (size_t A = 0; A < nA; ++A) {
     mine[A] = hn(A);
     mine[nA + A] = hd(A);
-    for (size_t t = 0; t < S; ++t) mine[2 * nA + A * S + t] = hm(A, t);
+  }
+  if (M) {
+    auto hm = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), kts_mass_);
+    for (size_t A = 0; A < nA; ++A)
+      for (size_t t = 0; t < S; ++t) mine[2 * nA + A * S + t] = hm(A, t);
   }
   Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, static_cast<int>(mine.size()), mine.data(), all.data());
   c.assign(all.begin(), all.begin() + nA);
   D.assign(all.begin() + nA, all.begin() + 2 * nA);
-  M.assign(all.begin() + 2 * nA, all.end());
+  if (M) M->assign(all.begin() + 2 * nA, all.end());
 }
 
 // kts_alm's update, as the 2-D one (solver/contact.cpp, kts_update_multipliers): on the control
@@ -617,7 +620,7 @@ void ContactSurfaces3::kts_weighted_gaps(std::vector<double>& c, std::vector<dou
 // holds the sums of all ranks and computes the same.
 void ContactSurfaces3::kts_update_multipliers() {
   std::vector<double> c, D, M;
-  kts_weighted_gaps(c, D, M);
+  kts_weighted_gaps(c, D, &M);
   const int nA = static_cast<int>(c.size()), w0 = 2 * kts_q_[0] + 1, S = static_cast<int>(kts_mass_.extent(1));
   const double eps = pair.penalty;
   auto lam = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), kts_lamA_);

@@ -113,8 +113,9 @@ class ContactSurfaces3 {
   Kokkos::View<double**, Kokkos::LayoutRight, MemSpace> kts_mass_;
   int kts_q_[2] = {0, 0};
   std::vector<int> kts_aoff_h_;
-  /// c_A, D_A and the Gram matrix's stencil rows, summed over every rank's points (collective)
-  void kts_weighted_gaps(std::vector<double>& c, std::vector<double>& D, std::vector<double>& M) const;
+  /// c_A, D_A and (with M non-null) the Gram matrix's stencil rows, summed over every rank's
+  /// points (collective)
+  void kts_weighted_gaps(std::vector<double>& c, std::vector<double>& D, std::vector<double>* M) const;
   void kts_update_multipliers();
   // mortar friction: the faces in the last converged configuration (the slots' reference feet
   // are projected onto it at every update) and the per-A states of the previous update
