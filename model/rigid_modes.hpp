@@ -2,7 +2,7 @@
 // Rigid-body modes of linear elasticity in dim = 2 or 3: the dim translations e_c, then the
 // rotations about each pair of axes (i, j), i < j, in the order (0, 1), (0, 2), (1, 2):
 // r_ij(x) = x_i e_j - x_j e_i (in 2-D the one rotation (-y, x)). Used by the rigid-body check
-// of a problem (model/problem_checks.cpp) and the null space handed to the AMG
+// of a problem (model/problem_checks.cpp), the Newton core (bodies held only by contact) and the null space handed to the AMG
 // (solver/nullspace.cpp), so that both count the same modes in either dimension.
 namespace iga {
 
@@ -20,5 +20,13 @@ inline double rigid_mode(int m, int c, const double* x, int dim) {
       if (k == 0) return c == i ? -x[j] : c == j ? x[i] : 0.0;
   return 0.0;
 }
+
+struct Body;
+namespace detail {
+/// Rank of the rigid-body modes restricted to a body's constrained dofs (its Dirichlet
+/// supports): num_rigid_modes(dim) when no rigid motion is left free; less where only contact
+/// holds the body (model/problem_checks.cpp; the Newton core's close_gaps).
+int rigid_rank(const Body& b);
+}  // namespace detail
 
 }  // namespace iga

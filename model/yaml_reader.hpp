@@ -209,8 +209,8 @@ Teuchos::RCP<const Teuchos::ParameterList> muelu_xml(const Reader& R, const YAML
 void read_solver(const Reader& R, const YAML::Node& root, Problem& P);
 void choose_linear_method(const Reader& R, const YAML::Node& root, Problem& P);
 
-// model/problem_checks.cpp: rigid-body freedom, scales, the size of the problem
-int rigid_rank(const Body& b);
+// model/problem_checks.cpp: rigid-body freedom (rigid_rank: model/rigid_modes.hpp), scales,
+// the size of the problem
 void check_problem(const Reader& R, const YAML::Node& root, Problem& P);
 
 }  // namespace iga::detail

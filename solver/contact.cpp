@@ -10,6 +10,7 @@ static_assert(iga::kMaxContactQuadrature <= iga::kMaxGauss, "contact quadrature 
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace iga {
@@ -243,7 +244,7 @@ void ContactPairData::refresh() {
   Kokkos::parallel_for("iga::ProjectSlavePoints", Kokkos::RangePolicy<ExecSpace>(0, num_points()), k);
   if (mortar_) {
     MortarGaps kg;
-    kg.s = slave; kg.sp = sp_; kg.ms = ms_; kg.eps = pair_.penalty; kg.slots = slots; kg.touch = 1e-12 * h_min_;
+    kg.s = slave; kg.sp = sp_; kg.ms = ms_; kg.eps = pair_.penalty; kg.slots = slots; kg.touch = sp_.touch;
     Kokkos::parallel_for("iga::MortarGaps", Kokkos::RangePolicy<ExecSpace>(0, slave.nb), kg);
     MortarPointPressure kp;
     kp.s = slave; kp.sp = sp_; kp.ms = ms_;
@@ -290,6 +291,26 @@ void ContactPairData::update_friction() {
                           c.stick, c.slip, c.switches);
   Kokkos::deep_copy(state_prev_, fr_.state);
   counts_ = c;
+}
+
+void ContactPairData::set_touch(double band) {
+  const double t = std::max(band, 0.0) > 0 ? band : 1e-12 * (s3_ ? s3_->h_min() : h_min_);
+  if (s3_)
+    s3_->sp.touch = t;
+  else
+    sp_.touch = t;
+}
+
+double ContactPairData::local_min_gap() const {
+  const auto& gap_d = s3_ ? s3_->sp.gap : sp_.gap;
+  const auto& valid_d = s3_ ? s3_->sp.valid : sp_.valid;
+  const int b = s3_ ? s3_->p_begin : 0, e = s3_ ? s3_->p_end : num_points();   // (2-D: every rank projects every point)
+  auto gap = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), gap_d);
+  auto valid = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), valid_d);
+  double g = std::numeric_limits<double>::infinity();
+  for (int i = b; i < e; ++i)
+    if (valid(i) && std::isfinite(gap(i))) g = std::min(g, gap(i));
+  return g;
 }
 
 double ContactPairData::max_active_gap_ratio() const {

@@ -96,6 +96,14 @@ class ContactPairData {
   /// mortar sum_A w_A lambda_A^2 / (2 eps) (the penalty potential when the multipliers are 0).
   double potential() const;
   bool mortar() const { return mortar_; }
+  /// Gaps up to `band` count as touching: such a point is active with zero pressure (the
+  /// tangent gets its penalty stiffness, the residual no force); band <= 0: round-off, 1e-12
+  /// of the smallest slave element (the default). The Newton core widens it for one tangent
+  /// where a body held only by contact has no active point (NewtonCore::close_gaps). Takes
+  /// effect at the next update().
+  void set_touch(double band);
+  /// The smallest gap of this rank's slave points with a projection (+inf if none).
+  double local_min_gap() const;
   /// Mortar: weighted gaps g_A, weights w_A and multipliers lambda_A per slave control point.
   std::vector<double> weighted_gaps() const;
   std::vector<double> mortar_weights() const;

@@ -2,6 +2,7 @@
 #include "solver/tangent.hpp"
 #include "solver/checks.hpp"
 #include "model/configuration_check.hpp"
+#include "model/rigid_modes.hpp"
 
 #include <Teuchos_TimeMonitor.hpp>
 #include <Teuchos_CommHelpers.hpp>
@@ -29,7 +30,9 @@ Teuchos::Time& timer(const char* name) { return *Teuchos::TimeMonitor::getNewTim
 //   cut          a failed increment (no convergence, divergence, a linear solver failure or
 //                exception, a contact state the discretisation cannot represent): u and the
 //                contact history restored to the committed state, dt halved; after
-//                solver.newton.max_cuts cuts of one load step the run stops (exit 3)
+//                solver.newton.max_cuts cuts in a row (no converged increment between them),
+//                or below the smallest increment dt_nominal / 2^max_cuts, the run stops (exit 3)
+//   grow         after a converged increment dt doubles, up to the load step's dt_nominal
 //
 // Residual r(u, t) = f(t) - f_int(u) - f_c(u), tangent K_T = K(u) + K_c(u): f_int and K come
 // from one element kernel for every material (System::assemble_internal); a small-strain
@@ -65,6 +68,7 @@ class NewtonCore {
   bool predictor(const LoadPoint& lp, double& ref, Outcome& out);
   double forcing(int it, double norm, double ref, double norm_prev, double& eta_prev) const;
   bool line_search(double norm, ContactContribution& cc, Outcome& out, double& alpha);
+  void close_gaps(const Vector& uu, ContactContribution& cc);
   bool newton(const LoadPoint& lp, int step, int cuts, int aug, double& ref, Outcome& out);
   bool augment(int aug, std::vector<double>& gap_history, Outcome& out);
   Outcome increment(const LoadPoint& lp, int step, int cuts, double dt);
@@ -104,6 +108,9 @@ class NewtonCore {
   PreconditionerCache prec_;
   ContactGraphCache contact_graph_;   // the contact graph while the couplings stay the same
   int prec_pattern_ = -1;   // tangent pattern the kept preconditioner was built for
+  // the contact pairs of a body held only by contact (its supports leave a rigid-body mode:
+  // force control); close_gaps holds it where none of its points is active
+  std::vector<int> held_;
 
   double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count(); }
   static bool finite(double x) { return std::isfinite(x); }
@@ -130,6 +137,10 @@ NewtonCore::NewtonCore(const System& sys, const std::function<void(const Iterati
   {
     Teuchos::TimeMonitor t(timer("3) Contact: search and assembly"));
     for (size_t k = 0; k < P_.contact.size(); ++k) res_.contact.emplace_back(sys_, static_cast<int>(k));
+  }
+  for (size_t k = 0; k < P_.contact.size(); ++k) {
+    const auto free = [&](int b) { return detail::rigid_rank(P_.bodies[b]) < num_rigid_modes(P_.dim()); };
+    if (free(P_.contact[k].slave.body) || free(P_.contact[k].master.body)) held_.push_back(static_cast<int>(k));
   }
   for (const auto& c : P_.contact)
     if (is_alm(c)) {
@@ -237,6 +248,7 @@ bool NewtonCore::predictor(const LoadPoint& lp, double& ref, Outcome& out) {
   if (!(d.normInf() > 0)) return true;
   ContactContribution cc;
   if (!evaluate(*u_, cc, out)) return false;
+  if (cc.active == 0 && !held_.empty()) close_gaps(*u_, cc);
   RCP<Matrix> KT = tangent_at(cc);
   Vector Kd(sys_.owned_map());
   KT->apply(d, Kd);
@@ -324,6 +336,41 @@ bool NewtonCore::line_search(double norm, ContactContribution& cc, Outcome& out,
   return true;
 }
 
+// A body held only by contact whose pairs have no active point makes the tangent singular:
+// force control, a wheel pressed by a load onto a block it touches at one point (no slave
+// quadrature point there), or bodies that start a little apart. For this tangent only, gaps
+// up to a band count as touching: those points are active with zero pressure, so the
+// tangent gets their penalty stiffness and the residual no force (the answer is unchanged);
+// the solve then moves the body in by the load over that stiffness, and the next iterate's
+// contact is the real one. The band is 4x the pairs' smallest gap, widened x4 until a point
+// is active (at most 8 times); where none is (no projection at all), the tangent stays as it
+// was and the linear solver says it is singular.
+void NewtonCore::close_gaps(const Vector& uu, ContactContribution& cc) {
+  const int n = static_cast<int>(held_.size());
+  std::vector<double> mine(n), g(n);
+  for (int k = 0; k < n; ++k) mine[k] = res_.contact[held_[k]].local_min_gap();
+  Teuchos::reduceAll<int, double>(*sys_.comm(), Teuchos::REDUCE_MIN, n, mine.data(), g.data());
+  Teuchos::TimeMonitor t(timer("3) Contact: search and assembly"));
+  ContactContribution wide;
+  for (double f = 4; f <= std::pow(4.0, 8); f *= 4) {
+    bool any = false;
+    for (int k = 0; k < n; ++k)
+      if (finite(g[k])) {
+        res_.contact[held_[k]].set_touch(f * std::max(g[k], 0.0));
+        res_.contact[held_[k]].update(uu);
+        any = true;
+      }
+    if (!any) break;
+    wide = assemble_contact(sys_, res_.contact, &contact_graph_);
+    if (wide.active > 0) break;
+  }
+  for (int k = 0; k < n; ++k) res_.contact[held_[k]].set_touch(0);   // (the next update uses it)
+  if (wide.active > 0) {
+    wide.active = 0;   // (the real contact has none)
+    cc = wide;
+  }
+}
+
 // One Newton solve at the load point lp (inside ALM update aug) from u_: true when it
 // converged, false with out.why set when it failed. ref: the increment's first residual norm.
 bool NewtonCore::newton(const LoadPoint& lp, int step, int cuts, int aug, double& ref, Outcome& out) {
@@ -370,6 +417,7 @@ bool NewtonCore::newton(const LoadPoint& lp, int step, int cuts, int aug, double
     }
     const double tol = forcing(it, norm, ref, norm_prev, eta_prev);
     norm_prev = norm;
+    if (cc.active == 0 && !held_.empty()) close_gaps(*u_, cc);
     LinearSolveResult lr;
     if (!linear_step(tangent_at(cc), lr, out, tol)) return false;
     log.linear_iterations = lr.iterations;
@@ -557,7 +605,7 @@ std::string NewtonCore::cut_message(const Outcome& o, int j, int n, int k, int c
   else if (o.final)
     os << " failed at its first iteration, which no smaller increment changes: " << o.why;
   else
-    os << " did not converge after " << P_.newton.max_cuts << " cuts of its increment (last at t = " << t_try
+    os << " did not converge after " << cuts << " cuts of its increment in a row (last at t = " << t_try
        << ", increment " << dt << "): " << o.why;
   if (!o.final && o.why.find("try ") == std::string::npos)
     os << (o.why.find("inverted elements") != std::string::npos
@@ -589,12 +637,34 @@ SolveResult NewtonCore::run() {
     for (int j = 1; j <= n && !failed && !stopped; ++j) {
       const double t_target = k + static_cast<double>(j) / n;
       double dt = std::min(dt_nominal, t_target - t_conv);
-      int cuts = 0, stalls = 0;
+      // cuts: in this load step (the progress table's column, StepState::cuts); row: since the
+      // last converged increment, the limit's count (a stage given as one load step may need
+      // many increments, each cut once where the doubled increment fails: each converged
+      // increment restarts the count, the smallest increment bounds the run)
+      int cuts = 0, row = 0, stalls = 0;
+      const double dt_min = std::ldexp(dt_nominal, -P_.newton.max_cuts) * (1.0 - 1e-12);
+      // a folded state Newton converged to from t_conv (its t), and whether it is now taken
+      double fold_to = -1;
+      bool take_fold = false;
       while (t_conv < t_target - 1e-12 * dt_nominal) {
-        const double t_try = std::min(t_conv + dt, t_target);
+        const double t_try = take_fold ? fold_to : std::min(t_conv + dt, t_target);
         const LoadPoint lp = LoadPoint::at(t_try, K_stages_);
         if (extrapolate_) u_keep = u_conv_;   // (commit replaces u_conv_, never writes into it)
         Outcome o = increment(lp, res_.steps_converged + 1, cuts, t_try - t_conv);
+        // at finite strain Newton can converge to a folded state (det F <= 0 somewhere: no
+        // hyperelastic law admits it; an ironing stage slid in one increment does this): that
+        // is a failed increment, cut like one, so a smaller increment can follow the physical
+        // branch (the check after the step would otherwise stop the run there). Where the cuts
+        // do not avoid it (a body that passes into itself without a self-contact pair folds
+        // whatever the increment), the folded state is taken after all, and the checks after
+        // the step name the fold and its cause (exit 5)
+        if (o.why.empty() && P_.kinematics == Kinematics::Finite && !take_fold) {
+          const std::string inverted = find_inverted_elements(sys_, *u_);
+          if (!inverted.empty()) {
+            o.why = "Newton converged to a state with inverted elements: " + inverted;
+            fold_to = t_try;
+          }
+        }
         // an ALM stall that one cut did not cure is not cured by more
         if (o.stall && ++stalls >= 2) o.final = true;
         if (o.why.empty()) {
@@ -603,6 +673,9 @@ SolveResult NewtonCore::run() {
             dt_prev_ = t_try - t_conv;
           }
           t_conv = t_try;
+          row = 0;
+          fold_to = -1;
+          take_fold = false;
           if (!commit(k, lp, t_try, cuts, o.newton_its)) {
             stopped = true;
             break;
@@ -613,14 +686,19 @@ SolveResult NewtonCore::run() {
         // cut: back to the committed state, half the increment
         u_ = rcp(new Vector(*u_conv_, Teuchos::Copy));
         for (auto& c : res_.contact) c.restore();
-        if (o.final || cuts + 1 > P_.newton.max_cuts) {
-          res_.message = cut_message(o, j, n, k, cuts, t_try, dt);
+        if (o.final || row + 1 > P_.newton.max_cuts || 0.5 * dt < dt_min) {
+          if (fold_to > 0 && !take_fold) {   // back to the folded state, for the checks to name
+            take_fold = true;
+            continue;
+          }
+          res_.message = cut_message(o, j, n, k, row, t_try, dt);
           failed = true;
           break;
         }
         if (on_cut_) on_cut_(res_.steps_converged + 1, o.why);
         ++res_.cuts;
         ++cuts;
+        ++row;
         dt *= 0.5;
       }
     }
