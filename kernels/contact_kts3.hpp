@@ -50,6 +50,11 @@ struct ContactFace {
   Kokkos::View<int*, MemSpace> lid;              // overlap cp LID of the contact matrix, -1 absent
   Kokkos::View<int*, MemSpace> aid;              // mortar slave: the control point's index A
   double sign = 1;                               // outward normal = sign (S_u x S_v) / |S_u x S_v|
+  // master: bit 2 d + end set where the face's edge at the start (end 0) or end (1) of its
+  // parameter direction d lies in a symmetry plane of its body (a planar side held by
+  // u . n = 0): the model is cut there and the body goes on as its mirror image, so feet
+  // and mortar segments continue past that edge on its elements' polynomials
+  int open = 0;
 };
 
 struct ContactFaces {
@@ -245,11 +250,14 @@ struct ProjectSlavePoints3 {
       const SurfaceData& sd = m.f[prev_face].sd;
       double uv[2] = {sp.muv(i, 0), sp.muv(i, 1)}, foot[3];
       bool inside = false;
-      const double d2 = project_on_surface_element(sd, prev_elem, x, uv, foot, inside, true, bt);
+      const int open = m.f[prev_face].open;
+      const double d2 = project_on_surface_element(sd, prev_elem, x, uv, foot, inside, true, bt, open);
       int ps[2];
       surface_element_spans(sd, prev_elem, ps);
       bool interior = inside;
-      for (int k = 0; k < 2; ++k) interior = interior && uv[k] > sd.U[k](ps[k]) && uv[k] < sd.U[k](ps[k] + 1);
+      for (int k = 0; k < 2; ++k)   // (past an open edge of the face counts as interior)
+        interior = interior && (uv[k] > sd.U[k](ps[k]) || open_past(sd, ps, k, 0, open)) &&
+                   (uv[k] < sd.U[k](ps[k] + 1) || open_past(sd, ps, k, 1, open));
       if (interior && d2 <= m.radius * m.radius) {
         keep(prev_face, prev_elem, d2, uv, foot);
         have_tangents = true;
@@ -259,7 +267,7 @@ struct ProjectSlavePoints3 {
     for (int f = 0; f < nsearch; ++f) {
       double uv[2], foot[3], d2;
       bool inside = false;
-      const int e = closest_on_surface(m.f[f].sd, m.search[f], x, m.radius, uv, foot, d2, inside);
+      const int e = closest_on_surface(m.f[f].sd, m.search[f], x, m.radius, uv, foot, d2, inside, m.f[f].open);
       if (e >= 0 && inside && d2 < best) keep(f, e, d2, uv, foot);
     }
     sp.melem(i) = belem;

@@ -347,8 +347,19 @@ struct MortarSegments3 {
       const SurfaceData& ms = m.f[fm].sd;
       int mspn[2];
       surface_element_spans(ms, E, mspn);
-      const double mlo[2] = {ms.U[0](mspn[0]), ms.U[1](mspn[1])}, mhi[2] = {ms.U[0](mspn[0] + 1), ms.U[1](mspn[1] + 1)};
+      double mlo[2] = {ms.U[0](mspn[0]), ms.U[1](mspn[1])}, mhi[2] = {ms.U[0](mspn[0] + 1), ms.U[1](mspn[1] + 1)};
       if (!facing(ss, es, fm, E, mspn, margin)) continue;
+      // past an open edge of the master face (a symmetry plane, ContactFace::open) the element
+      // goes on by an eighth of its width: its image covers the slave up to the slave's own
+      // edge there (the slave element's rectangle clips it) while the master's normal at the
+      // edge tilts by less than about h / (8 |g|), and that edge is no boundary of the master.
+      // (A whole width would make the cells twice as wide there: another discretisation.)
+      const int open = m.f[fm].open;
+      for (int k = 0; k < 2; ++k) {
+        const double w = 0.125 * (mhi[k] - mlo[k]);
+        if (open_past(ms, mspn, k, 0, open)) mlo[k] -= w;
+        if (open_past(ms, mspn, k, 1, open)) mhi[k] += w;
+      }
       // the element cut into sub x sub cells; each cell's corners, counter-clockwise, shot onto
       // the slave surface. Neighbouring cells (and elements) share their corners, so their
       // straight-edged images tile the slave plane exactly (samples along an edge would make a
@@ -556,10 +567,12 @@ struct MortarSegments3 {
       for (int k = span + 1; k < ms.n[d] + ms.p[d] + 1 && ms.U[d](k) == x; ++k) ++mult;
       return ms.p[d] - mult < smooth;
     };
-    const bool boundary[4] = {cj == 0 && (mspn[1] == ms.p[1] || rough(1, mspn[1])),
-                              ci == sub - 1 && (mspn[0] == ms.n[0] - 1 || rough(0, mspn[0] + 1)),
-                              cj == sub - 1 && (mspn[1] == ms.n[1] - 1 || rough(1, mspn[1] + 1)),
-                              ci == 0 && (mspn[0] == ms.p[0] || rough(0, mspn[0]))};
+    // (an open edge, ContactFace::open, is none: the master goes on past it)
+    const int open = m.f[fm].open;
+    const bool boundary[4] = {cj == 0 && ((mspn[1] == ms.p[1] && !open_past(ms, mspn, 1, 0, open)) || rough(1, mspn[1])),
+                              ci == sub - 1 && ((mspn[0] == ms.n[0] - 1 && !open_past(ms, mspn, 0, 1, open)) || rough(0, mspn[0] + 1)),
+                              cj == sub - 1 && ((mspn[1] == ms.n[1] - 1 && !open_past(ms, mspn, 1, 1, open)) || rough(1, mspn[1] + 1)),
+                              ci == 0 && ((mspn[0] == ms.p[0] && !open_past(ms, mspn, 0, 0, open)) || rough(0, mspn[0]))};
     double area = 0;   // the orientation of the cell's image
     for (int k = 0; k < poly.n; ++k) {
       const int k1 = (k + 1) % poly.n;

@@ -125,9 +125,19 @@ KOKKOS_INLINE_FUNCTION double dot3(const double* a, const double* b) { return a[
 /// convergence: the error after it is ~ 1e-24) or after 30 steps.
 /// `warm`: Newton starts from uv as given (the previous projection) instead of the sample.
 /// `tangents` (when given): S_u and S_v at the foot.
+/// Whether element spans s lie at the face's edge `end` (0: start, 1: end) of direction k and
+/// that edge is open (ContactFace::open: a symmetry plane; the face goes on past it).
+KOKKOS_INLINE_FUNCTION bool open_past(const SurfaceData& sd, const int s[2], int k, int end, int open) {
+  if (!(open & (1 << (2 * k + end)))) return false;
+  return end == 0 ? s[k] == sd.p[k] : s[k] + 1 == sd.n[k];
+}
+
+/// `open` (ContactFace::open): past an open edge of the surface the element's polynomial goes
+/// on (by an eighth of the element's width, as the mortar segments do), so a foot there is not
+/// clamped and is inside.
 KOKKOS_INLINE_FUNCTION double project_on_surface_element(const SurfaceData& sd, int e, const double x[3], double uv[2],
                                                          double foot[3], bool& inside, bool warm = false,
-                                                         double (*tangents)[3] = nullptr) {
+                                                         double (*tangents)[3] = nullptr, int open = 0) {
   const int ei[2] = {e % sd.ne[0], e / sd.ne[0]};
   int s[2];
   double lo[2], hi[2];
@@ -136,9 +146,14 @@ KOKKOS_INLINE_FUNCTION double project_on_surface_element(const SurfaceData& sd, 
     lo[k] = sd.U[k](s[k]);
     hi[k] = sd.U[k](s[k] + 1);
   }
+  double clo[2] = {lo[0], lo[1]}, chi[2] = {hi[0], hi[1]};   // where Newton's iterates are clamped
+  for (int k = 0; k < 2; ++k) {
+    if (open_past(sd, s, k, 0, open)) clo[k] = lo[k] - 0.125 * (hi[k] - lo[k]);
+    if (open_past(sd, s, k, 1, open)) chi[k] = hi[k] + 0.125 * (hi[k] - lo[k]);
+  }
   double d[6][3];
   double best = 1e300;
-  if (warm && !(uv[0] >= lo[0] && uv[0] <= hi[0] && uv[1] >= lo[1] && uv[1] <= hi[1])) warm = false;
+  if (warm && !(uv[0] >= clo[0] && uv[0] <= chi[0] && uv[1] >= clo[1] && uv[1] <= chi[1])) warm = false;
   for (int b = 0; b <= 2 && !warm; ++b)
     for (int a = 0; a <= 2; ++a) {
       const double t[2] = {lo[0] + 0.5 * a * (hi[0] - lo[0]), lo[1] + 0.5 * b * (hi[1] - lo[1])};
@@ -176,10 +191,10 @@ KOKKOS_INLINE_FUNCTION double project_on_surface_element(const SurfaceData& sd, 
     for (int k = 0; k < 2; ++k) {
       const double old = uv[k];
       uv[k] = uv[k] + du[k];
-      at_lo[k] = uv[k] <= lo[k];
-      at_hi[k] = uv[k] >= hi[k];
-      if (at_lo[k]) uv[k] = lo[k];
-      if (at_hi[k]) uv[k] = hi[k];
+      at_lo[k] = uv[k] <= clo[k];
+      at_hi[k] = uv[k] >= chi[k];
+      if (at_lo[k]) uv[k] = clo[k];
+      if (at_hi[k]) uv[k] = chi[k];
       const double rel = kmath::fabs(uv[k] - old) / (hi[k] - lo[k]);
       step = rel > step ? rel : step;
     }
@@ -201,7 +216,7 @@ KOKKOS_INLINE_FUNCTION double project_on_surface_element(const SurfaceData& sd, 
   for (int k = 0; k < 2; ++k) {
     const double scale = kmath::sqrt(dot3(d[1 + k], d[1 + k]) * dot3(r, r)) + 1e-300;
     const double first = sd.U[k](sd.p[k]), last = sd.U[k](sd.n[k]);   // the surface's parameter range
-    if ((uv[k] <= lo[k] && lo[k] <= first && F[k] < -1e-10 * scale) || (uv[k] >= hi[k] && hi[k] >= last && F[k] > 1e-10 * scale))
+    if ((uv[k] <= clo[k] && lo[k] <= first && F[k] < -1e-10 * scale) || (uv[k] >= chi[k] && hi[k] >= last && F[k] > 1e-10 * scale))
       inside = false;
   }
   return dot3(r, r);
@@ -346,7 +361,7 @@ struct SurfaceSearch {
 /// few element sizes of a smooth surface.
 constexpr int kMaxSurfaceCandidates = 64;
 KOKKOS_INLINE_FUNCTION int closest_on_surface(const SurfaceData& sd, const SurfaceSearch& g, const double x[3], double radius,
-                                              double uv[2], double foot[3], double& dist2, bool& inside) {
+                                              double uv[2], double foot[3], double& dist2, bool& inside, int open = 0) {
   int cand[kMaxSurfaceCandidates];
   double cd[kMaxSurfaceCandidates];
   int nc = 0;
@@ -375,7 +390,7 @@ KOKKOS_INLINE_FUNCTION int closest_on_surface(const SurfaceData& sd, const Surfa
     if (cd[m] > dist2) break;   // boxes farther than the best foot cannot hold a nearer one
     double t[2], f[3];
     bool in = false;
-    const double d2 = project_on_surface_element(sd, cand[m], x, t, f, in);
+    const double d2 = project_on_surface_element(sd, cand[m], x, t, f, in, false, nullptr, open);
     // the nearest foot; of two equally near (a foot on an edge two elements share), the one
     // inside its element
     const bool tie = kmath::fabs(d2 - dist2) <= 1e-14 * (d2 + dist2) + 1e-300;

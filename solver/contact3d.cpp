@@ -90,6 +90,50 @@ ContactFace make_face(const System& sys, int body, const PatchSide& ps, HostFace
   return f;
 }
 
+// ContactFace::open of a master face: its edges that lie in a symmetry plane of the model. The
+// face's parameter directions are the patch's other two in order (Patch::face); its edge at
+// end e of direction d is on the patch side side_of(pd, e). That side is a symmetry plane when
+// it is planar with the normal along an axis c (every control point's x_c the same),
+// prescribes u_c = 0 in every stage, and the slave surface reaches the same plane (two of its
+// faces' control points on it): a quarter or half model cut there through the contact, the
+// bodies going on as their mirror images. (A roller support at the end of a master that a
+// slave overhangs is not one: the slave does not end on its plane. An interface to another
+// patch is no edge of the body.) slave_x: the slave faces' reference control points.
+int open_edges(const Body& body, const PatchSide& ps, const std::vector<std::array<double, 3>>& slave_x) {
+  const Patch& P = body.patches[ps.patch];
+  double size = 0;
+  for (int c = 0; c < 3; ++c) {
+    double lo = 1e300, hi = -1e300;
+    for (const ControlPoint& cp : P.cp) {
+      lo = std::min(lo, cp.x[c]);
+      hi = std::max(hi, cp.x[c]);
+    }
+    size = std::max(size, hi - lo);
+  }
+  int open = 0;
+  for (int d = 0, pd = 0; d < 2; ++d, ++pd) {
+    if (pd == side_direction(ps.side)) ++pd;
+    for (int e = 0; e < 2; ++e) {
+      const Side side = side_of(pd, e);
+      if (body.is_interface(PatchSide{ps.patch, side})) continue;
+      const SideCondition& sc = body.sides[ps.patch][static_cast<int>(side)];
+      const std::vector<int> idx = P.side_indices(side);
+      for (int c = 0; c < 3; ++c) {
+        if (!sc.fixed[c]) continue;
+        bool zero = !sc.value.empty();
+        for (const auto& v : sc.value) zero = zero && v[c] == 0.0;
+        bool planar = !idx.empty();
+        for (int a : idx) planar = planar && std::abs(P.cp[a].x[c] - P.cp[idx[0]].x[c]) <= 1e-12 * size;
+        if (!zero || !planar) continue;
+        int on = 0;
+        for (const auto& x : slave_x) on += std::abs(x[c] - P.cp[idx[0]].x[c]) <= 1e-12 * size;
+        if (on >= 2) open |= 1 << (2 * d + e);
+      }
+    }
+  }
+  return open;
+}
+
 }  // namespace
 
 ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : pair(pr) {
@@ -105,7 +149,15 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
       throw std::invalid_argument("a 3-D contact surface holds at most " + std::to_string(kMaxContactFaces) + " faces");
     hf.resize(cs.sides.size());
     faces.n = static_cast<int>(cs.sides.size());
-    for (size_t k = 0; k < cs.sides.size(); ++k) faces.f[k] = make_face(sys, cs.body, cs.sides[k], hf[k]);
+    for (size_t k = 0; k < cs.sides.size(); ++k) {
+      faces.f[k] = make_face(sys, cs.body, cs.sides[k], hf[k]);
+      if (which == 0) continue;
+      std::vector<std::array<double, 3>> slave_x;
+      for (const PatchSide& q : pair.slave.sides)
+        for (const ControlPoint& cp : P.bodies[pair.slave.body].patches[q.patch].face(q.side).cp)
+          slave_x.push_back({cp.x[0], cp.x[1], cp.x[2]});
+      faces.f[k].open = open_edges(P.bodies[cs.body], cs.sides[k], slave_x);
+    }
   }
   mortar = pair.method == ContactMethod::MortarPenalty || pair.method == ContactMethod::MortarAlm;
   fr.mu = pair.friction;
