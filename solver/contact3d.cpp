@@ -956,10 +956,11 @@ void ContactSurfaces3::refresh() {
       kfr.frame = master.frame[k];
       Kokkos::parallel_for("iga::MasterFrames3", Kokkos::RangePolicy<ExecSpace>(0, nm), kfr);
     }
-    // (one rank only: on two the skip lengthened Newton on the Hertz ball, [10, 10] against
-    // [8, 8], and made the coarse ball's slots search the master ~7x as often; not understood
-    // yet, docs/performance.md)
-    if (!skip_out || nranks_ > 1) {
+    // (every rank marks every element and control point: a control point's support may reach
+    // beyond the rank's range. Until 2026-11-28 one rank only: on two the skip changed the
+    // Newton path, since round-off decided the tangent's boundary terms where the master's
+    // edge lay on the slave's own edge at a symmetry plane; ContactFace::open, docs/performance.md)
+    if (!skip_out) {
       Kokkos::deep_copy(out_, 0);
     } else {
       MortarFar3 kf;

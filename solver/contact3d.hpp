@@ -61,7 +61,7 @@ class ContactSurfaces3 {
   int c_begin = 0, c_end = 0;
   int cells = 0;   // cells per direction of a master element in the segmentation (0: 2 if curved, else 1; at most kMaxCells)
   // mortar: skip the slave elements whose control points are all certainly out of contact
-  // (MortarFar3, MortarOut3; tests compare against false; on one rank only); out_of_contact():
+  // (MortarFar3, MortarOut3; tests compare against false; any number of ranks); out_of_contact():
   // per control point A, whether it was out at the last update
   bool skip_out = true;
   std::vector<int> out_of_contact() const;
