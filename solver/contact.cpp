@@ -294,7 +294,7 @@ void ContactPairData::update_friction() {
 }
 
 void ContactPairData::set_touch(double band) {
-  const double t = std::max(band, 0.0) > 0 ? band : 1e-12 * (s3_ ? s3_->h_min() : h_min_);
+  const double t = band > 0 ? band : 1e-12 * (s3_ ? s3_->h_min() : h_min_);
   if (s3_)
     s3_->sp.touch = t;
   else

@@ -149,15 +149,14 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
       throw std::invalid_argument("a 3-D contact surface holds at most " + std::to_string(kMaxContactFaces) + " faces");
     hf.resize(cs.sides.size());
     faces.n = static_cast<int>(cs.sides.size());
-    for (size_t k = 0; k < cs.sides.size(); ++k) {
-      faces.f[k] = make_face(sys, cs.body, cs.sides[k], hf[k]);
-      if (which == 0) continue;
-      std::vector<std::array<double, 3>> slave_x;
-      for (const PatchSide& q : pair.slave.sides)
-        for (const ControlPoint& cp : P.bodies[pair.slave.body].patches[q.patch].face(q.side).cp)
-          slave_x.push_back({cp.x[0], cp.x[1], cp.x[2]});
-      faces.f[k].open = open_edges(P.bodies[cs.body], cs.sides[k], slave_x);
-    }
+    for (size_t k = 0; k < cs.sides.size(); ++k) faces.f[k] = make_face(sys, cs.body, cs.sides[k], hf[k]);
+  }
+  {   // the master faces' edges on symmetry planes that the slave reaches too
+    std::vector<std::array<double, 3>> slave_x;
+    for (const PatchSide& q : pair.slave.sides)
+      for (const ControlPoint& cp : P.bodies[pair.slave.body].patches[q.patch].face(q.side).cp)
+        slave_x.push_back({cp.x[0], cp.x[1], cp.x[2]});
+    for (int k = 0; k < master.n; ++k) master.f[k].open = open_edges(P.bodies[pair.master.body], pair.master.sides[k], slave_x);
   }
   mortar = pair.method == ContactMethod::MortarPenalty || pair.method == ContactMethod::MortarAlm;
   fr.mu = pair.friction;
