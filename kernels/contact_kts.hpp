@@ -337,6 +337,7 @@ struct AssembleKts {
   LocalMatrix K;
   FView f;
   ForceSum force;   // the slave rows' sum of -f_c (add_slave_force)
+  double geometric = 1;   // the -p G part of the tangent on (1) or off (0): ContactPairData::geometric
 
   KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
     constexpr int MaxDof = 4 * (P + 1);
@@ -386,7 +387,7 @@ struct AssembleKts {
       Kokkos::atomic_add(&f(lid[r]), fr[r]);
       for (int c = 0; c < nd; ++c) {
         const double G = cTT * T[r] * T[c] + cNN * Nb[r] * Nb[c] + cTN * (T[r] * Nb[c] + Nb[r] * T[c]);
-        row[c] = w * (epsN * N[r] * N[c] - pr * G);
+        row[c] = w * (epsN * N[r] * N[c] - geometric * pr * G);
       }
       K.sumIntoValues(lid[r], lid, nd, row, false, true);
     }

@@ -392,6 +392,7 @@ struct AssembleKts3 {
   LocalMatrix K;
   FView f;
   ForceSum force;   // [Fx, Fy, Fz, Fn]: the force the assembly puts on the slave body
+  double geometric = 1;   // the -p G part of the tangent on (1) or off (0): ContactPairData::geometric
 
   /// Slot i's residual (into f, atomically) and its force share (into fs); its tangent block
   /// by addK(r, lr, cb, cols, vals): row r (dof lr) of the slot's 3 (ns + nm) dofs, the three
@@ -489,9 +490,10 @@ struct AssembleKts3 {
       }
       // the entry w (EN[cc] s R_cb - p G) = s R_cb al[cc] + Yn be[cc]
       double al[3], be[3];
+      const double pg = geometric * pr;
       for (int cc = 0; cc < 3; ++cc) {
-        al[cc] = w * (EN[cc] + pr * X[cc]);
-        be[cc] = w * pr * n[cc];
+        al[cc] = w * (EN[cc] + pg * X[cc]);
+        be[cc] = w * pg * n[cc];
       }
       if constexpr (rows) {   // the block's row, in place
         double* b = addK.row(r, lr);

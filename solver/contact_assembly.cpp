@@ -197,6 +197,7 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
         if (c3.p_end > c3.p_begin) {
           AssembleKts3<decltype(lcl), decltype(fv)> k;
           k.s = c3.slave; k.m = c3.master; k.sp = c3.sp; k.eps = c3.pair.penalty; k.mortar = c3.mortar;
+          k.geometric = pd.geometric;
           k.p_begin = c3.p_begin; k.K = lcl; k.f = fv; k.force = pd.force_;
           if (c3.mortar) {
             k.p_end = c3.p_end; k.slots = c3.slots; k.e_first = e_first; k.nd_max = nd_max;
@@ -280,6 +281,7 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
           AssembleKts<decltype(P)::value, decltype(lcl), decltype(fv)> k;
           k.s = pd.slave; k.m = pd.master; k.sp = pd.sp_; k.eps = pd.pair().penalty;
           k.p_begin = pd.p_begin; k.mortar = pd.mortar(); k.K = lcl; k.f = fv; k.force = pd.force_;
+          k.geometric = pd.geometric;
           Kokkos::parallel_for(pd.mortar() ? "iga::AssembleMortarPressure" : "iga::AssembleKts",
                                Kokkos::RangePolicy<ExecSpace>(0, pd.p_end - pd.p_begin), k);
         });

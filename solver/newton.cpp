@@ -67,7 +67,8 @@ class NewtonCore {
   bool linear_step(const RCP<Matrix>& KT, LinearSolveResult& lr, Outcome& out, double tolerance);
   bool predictor(const LoadPoint& lp, double& ref, Outcome& out);
   double forcing(int it, double norm, double ref, double norm_prev, double& eta_prev) const;
-  bool line_search(double norm, ContactContribution& cc, Outcome& out, double& alpha);
+  bool line_search(double norm, ContactContribution& cc, Outcome& out, double& alpha, bool& decrease);
+  void set_geometric(double on);
   void close_gaps(const Vector& uu, ContactContribution& cc);
   bool newton(const LoadPoint& lp, int step, int cuts, int aug, double& ref, Outcome& out);
   bool augment(int aug, std::vector<double>& gap_history, Outcome& out);
@@ -98,6 +99,10 @@ class NewtonCore {
   double ref_prev_ = 0;   // the last converged increment's reference residual norm
   const bool extrapolate_ = extrapolated_start(P_);
   bool constant_K_;
+  double geometric_ = 1;   // the contact tangents' geometric part (ContactPairData::geometric)
+  // a step the line search shortens below simple_alpha_ (or cannot make lower |r| enough) turns
+  // it off; it returns below simple_back_ of the increment's first residual
+  static constexpr double simple_alpha_ = 0.25, simple_back_ = 1e-3;
   // inexact Newton (solver.linear.forcing; model/problem.cpp says when auto takes it)
   bool eisenstat_walker_;
   // r = f - f_int(u) - f_c(u), with the contact state updated at u; its constrained rows (the
@@ -247,6 +252,7 @@ bool NewtonCore::predictor(const LoadPoint& lp, double& ref, Outcome& out) {
   d.update(-1.0, *u_, 1.0);   // du_D: zero on the free dofs
   if (!(d.normInf() > 0)) return true;
   ContactContribution cc;
+  set_geometric(1.0);
   if (!evaluate(*u_, cc, out)) return false;
   if (cc.active == 0 && !held_.empty()) close_gaps(*u_, cc);
   RCP<Matrix> KT = tangent_at(cc);
@@ -299,8 +305,9 @@ double NewtonCore::forcing(int it, double norm, double ref, double norm_prev, do
 // strain it let penalty-contact steps overshoot (the wheel took [11, 7] Newton iterations per
 // step against [6, 7] with the |r| test alone). On success u_trial_ holds the accepted point,
 // r_ and cc its residual and contact state, alpha the step length.
-bool NewtonCore::line_search(double norm, ContactContribution& cc, Outcome& out, double& alpha_taken) {
+bool NewtonCore::line_search(double norm, ContactContribution& cc, Outcome& out, double& alpha_taken, bool& decrease) {
   const double G0 = du_->dot(*r_);
+  decrease = false;
   double alpha = 1.0, best_alpha = 1.0, best_norm = -1.0, last_alpha = -1.0;
   const int max_ls = P_.newton.line_search ? 6 : 0;
   for (int ls = 0; ls <= max_ls; ++ls, alpha *= 0.5) {
@@ -317,7 +324,7 @@ bool NewtonCore::line_search(double norm, ContactContribution& cc, Outcome& out,
     if (!finite(tn)) continue;
     if (tn <= (1.0 - 1e-4 * alpha) * norm ||                           // sufficient decrease of |r|
         (!constant_K_ && G0 > 0 && du_->dot(*r_) >= -(1.0 - 2e-4) * G0)) {                 // or of the energy
-      best_alpha = alpha; best_norm = tn; break;
+      best_alpha = alpha; best_norm = tn; decrease = true; break;
     }
     if (best_norm < 0 || tn < best_norm) { best_norm = tn; best_alpha = alpha; }
   }
@@ -334,6 +341,11 @@ bool NewtonCore::line_search(double norm, ContactContribution& cc, Outcome& out,
   }
   alpha_taken = best_alpha;
   return true;
+}
+
+void NewtonCore::set_geometric(double on) {
+  geometric_ = on;
+  for (auto& c : res_.contact) c.geometric = on;
 }
 
 // A body held only by contact whose pairs have no active point makes the tangent singular:
@@ -376,6 +388,7 @@ void NewtonCore::close_gaps(const Vector& uu, ContactContribution& cc) {
 bool NewtonCore::newton(const LoadPoint& lp, int step, int cuts, int aug, double& ref, Outcome& out) {
   double inc = 1.0;  // last ||alpha du|| / ||u|| (max norms)
   ContactContribution cc;
+  set_geometric(1.0);
   if (!evaluate(*u_, cc, out)) return false;
   double norm_prev = 0, eta_prev = 0;   // the Eisenstat-Walker forcing's history
   for (int it = 0; it <= P_.newton.max_iterations; ++it) {
@@ -415,9 +428,17 @@ bool NewtonCore::newton(const LoadPoint& lp, int step, int cuts, int aug, double
       if (progress_) progress_(log);
       return false;
     }
+    if (geometric_ == 0 && rel < simple_back_) {
+      set_geometric(1.0);
+      if (!evaluate(*u_, cc, out)) return false;
+      sys_.zero_dirichlet(*r_);
+    }
     const double tol = forcing(it, norm, ref, norm_prev, eta_prev);
     norm_prev = norm;
     if (cc.active == 0 && !held_.empty()) close_gaps(*u_, cc);
+    // pressed: the contact tangent at u_ has a geometric part (some pair carries a force)
+    bool pressed = false;
+    for (const auto& c : res_.contact) pressed = pressed || c.assembled_normal_force() > 0;
     LinearSolveResult lr;
     if (!linear_step(tangent_at(cc), lr, out, tol)) return false;
     log.linear_iterations = lr.iterations;
@@ -429,7 +450,29 @@ bool NewtonCore::newton(const LoadPoint& lp, int step, int cuts, int aug, double
       return false;
     }
     double alpha = 1.0;
-    if (!line_search(norm, cc, out, alpha)) return false;
+    bool decrease = false;
+    if (!line_search(norm, cc, out, alpha, decrease)) return false;
+    if (geometric_ > 0 && !res_.contact.empty() && (!decrease || alpha < simple_alpha_)) {
+      // The direction was poor: far from the solution the contact tangent's geometric part
+      // (-p G, with pressures many times their converged values) can make K_T indefinite.
+      // The increment goes on with eps N N^T alone until |r| < 1e-3 of its first residual;
+      // where this iterate's tangent had that part (a pair carried a force), its direction is
+      // solved again from u_ without it.
+      set_geometric(0.0);
+      if (pressed) {
+        if (!evaluate(*u_, cc, out)) return false;
+        sys_.zero_dirichlet(*r_);
+        if (!linear_step(tangent_at(cc), lr, out, tol)) return false;
+        log.linear_iterations += lr.iterations;
+        if (!lr.converged || !finite(du_->normInf())) {
+          out.why = !lr.converged ? lr.message : "the linear solver returned NaN or Inf";
+          return false;
+        }
+        if (!line_search(norm, cc, out, alpha, decrease)) return false;
+      } else if (!evaluate(*u_trial_, cc, out)) {   // the accepted point's tangent without it
+        return false;
+      }
+    }
     log.line_search = alpha;
     log.seconds = seconds();
     if (progress_) progress_(log);

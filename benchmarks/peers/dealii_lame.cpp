@@ -14,7 +14,8 @@
 // VectorTools::integrate_difference with QGauss(p + 3) against the closed form.
 //
 // Build: cmake -S benchmarks/peers -B build-peers -DCMAKE_BUILD_TYPE=Release && cmake --build build-peers
-// Run:   build-peers/dealii_lame P DOFS      (one JSON line: dofs, error, stage seconds)
+// Run:   build-peers/dealii_lame P DOFS|NTxNR   (one JSON line: dofs, error, stage seconds; NTxNR:
+//        NT cells around, NR through the wall, instead of the NT ~ 2 NR nearest DOFS)
 
 #include <deal.II/base/function.h>
 #include <deal.II/base/multithread_info.h>
@@ -77,12 +78,19 @@ int main(int argc, char** argv) {
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   MultithreadInfo::set_thread_limit(1);
   if (argc < 3) {
-    std::fprintf(stderr, "usage: dealii_lame P DOFS\n");
+    std::fprintf(stderr, "usage: dealii_lame P DOFS|NTxNR\n");
     return 2;
   }
   const unsigned p = std::stoul(argv[1]);
   unsigned nt = 0, nr = 0;
-  choose_subdivision(p, std::stod(argv[2]), nt, nr);
+  const std::string size = argv[2];   // a dof count (NT ~ 2 NR), or NTxNR cells
+  const auto x = size.find('x');
+  if (x != std::string::npos) {
+    nt = std::stoul(size.substr(0, x));
+    nr = std::stoul(size.substr(x + 1));
+  } else {
+    choose_subdivision(p, std::stod(size), nt, nr);
+  }
   const double lambda = youngs_modulus * poisson_ratio / ((1 + poisson_ratio) * (1 - 2 * poisson_ratio));
   const double mu = youngs_modulus / (2 * (1 + poisson_ratio));
 
