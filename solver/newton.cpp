@@ -69,6 +69,7 @@ class NewtonCore {
   double forcing(int it, double norm, double ref, double norm_prev, double& eta_prev) const;
   bool line_search(double norm, ContactContribution& cc, Outcome& out, double& alpha, bool& decrease);
   void set_geometric(double on);
+  bool solve_without_geometric(ContactContribution& cc, LinearSolveResult& lr, Outcome& out, double tol);
   void close_gaps(const Vector& uu, ContactContribution& cc);
   bool newton(const LoadPoint& lp, int step, int cuts, int aug, double& ref, Outcome& out);
   bool augment(int aug, std::vector<double>& gap_history, Outcome& out);
@@ -348,6 +349,16 @@ void NewtonCore::set_geometric(double on) {
   for (auto& c : res_.contact) c.geometric = on;
 }
 
+// The Newton step from u_ again with the contact tangents' geometric part off (it stays off
+// for the increment until |r| < simple_back_ of its first residual): false (out.why set)
+// when the contact state or the linear solver threw; lr says whether the solve converged.
+bool NewtonCore::solve_without_geometric(ContactContribution& cc, LinearSolveResult& lr, Outcome& out, double tol) {
+  set_geometric(0.0);
+  if (!evaluate(*u_, cc, out)) return false;
+  sys_.zero_dirichlet(*r_);
+  return linear_step(tangent_at(cc), lr, out, tol);
+}
+
 // A body held only by contact whose pairs have no active point makes the tangent singular:
 // force control, a wheel pressed by a load onto a block it touches at one point (no slave
 // quadrature point there), or bodies that start a little apart. For this tangent only, gaps
@@ -458,19 +469,17 @@ bool NewtonCore::newton(const LoadPoint& lp, int step, int cuts, int aug, double
       // The increment goes on with eps N N^T alone until |r| < 1e-3 of its first residual;
       // where this iterate's tangent had that part (a pair carried a force), its direction is
       // solved again from u_ without it.
-      set_geometric(0.0);
       if (pressed) {
-        if (!evaluate(*u_, cc, out)) return false;
-        sys_.zero_dirichlet(*r_);
-        if (!linear_step(tangent_at(cc), lr, out, tol)) return false;
+        if (!solve_without_geometric(cc, lr, out, tol)) return false;
         log.linear_iterations += lr.iterations;
         if (!lr.converged || !finite(du_->normInf())) {
           out.why = !lr.converged ? lr.message : "the linear solver returned NaN or Inf";
           return false;
         }
         if (!line_search(norm, cc, out, alpha, decrease)) return false;
-      } else if (!evaluate(*u_trial_, cc, out)) {   // the accepted point's tangent without it
-        return false;
+      } else {   // the accepted point's tangent without it
+        set_geometric(0.0);
+        if (!evaluate(*u_trial_, cc, out)) return false;
       }
     }
     log.line_search = alpha;
