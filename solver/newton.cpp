@@ -100,9 +100,11 @@ class NewtonCore {
   double ref_prev_ = 0;   // the last converged increment's reference residual norm
   const bool extrapolate_ = extrapolated_start(P_);
   bool constant_K_;
-  double geometric_ = 1;   // the contact tangents' geometric part (ContactPairData::geometric)
-  // a step the line search shortens below simple_alpha_ (or cannot make lower |r| enough) turns
-  // it off; it returns below simple_back_ of the increment's first residual
+  // the contact tangents' geometric part (ContactPairData::geometric): off at the start of
+  // each Newton solve and after a consistent step the line search shortens below
+  // simple_alpha_ (or cannot make lower |r| enough); on below simple_back_ of the increment's
+  // first residual
+  double geometric_ = 1;
   static constexpr double simple_alpha_ = 0.25, simple_back_ = 1e-3;
   // inexact Newton (solver.linear.forcing; model/problem.cpp says when auto takes it)
   bool eisenstat_walker_;
@@ -399,7 +401,7 @@ void NewtonCore::close_gaps(const Vector& uu, ContactContribution& cc) {
 bool NewtonCore::newton(const LoadPoint& lp, int step, int cuts, int aug, double& ref, Outcome& out) {
   double inc = 1.0;  // last ||alpha du|| / ||u|| (max norms)
   ContactContribution cc;
-  set_geometric(1.0);
+  set_geometric(0.0);   // eps N N^T until |r| < simple_back_ of the increment's first residual
   if (!evaluate(*u_, cc, out)) return false;
   double norm_prev = 0, eta_prev = 0;   // the Eisenstat-Walker forcing's history
   for (int it = 0; it <= P_.newton.max_iterations; ++it) {
@@ -464,11 +466,11 @@ bool NewtonCore::newton(const LoadPoint& lp, int step, int cuts, int aug, double
     bool decrease = false;
     if (!line_search(norm, cc, out, alpha, decrease)) return false;
     if (geometric_ > 0 && !res_.contact.empty() && (!decrease || alpha < simple_alpha_)) {
-      // The direction was poor: far from the solution the contact tangent's geometric part
-      // (-p G, with pressures many times their converged values) can make K_T indefinite.
-      // The increment goes on with eps N N^T alone until |r| < 1e-3 of its first residual;
-      // where this iterate's tangent had that part (a pair carried a force), its direction is
-      // solved again from u_ without it.
+      // The consistent direction was poor: far from the solution the contact tangent's
+      // geometric part (-p G, with pressures many times their converged values) can make K_T
+      // indefinite. The increment goes on with eps N N^T alone until |r| < 1e-3 of its first
+      // residual; where this iterate's tangent had that part (a pair carried a force), its
+      // direction is solved again from u_ without it.
       if (pressed) {
         if (!solve_without_geometric(cc, lr, out, tol)) return false;
         log.linear_iterations += lr.iterations;

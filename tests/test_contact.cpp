@@ -213,6 +213,12 @@ INSTANTIATE_TEST_SUITE_P(Methods, Equilibrium, ::testing::Values("kts_penalty", 
 // over eps at 1.1e4 dofs spans eps h / E = 0.003 ... 3 at the cost of a small mesh; the
 // issue's bound for the growth from 1e4 to 1e6 dofs, 30 %, applies. (Stiffer penalties,
 // eps h / E >> 1, make the system itself ill-conditioned: 27 and 65 at 30 and 300.)
+// Every solve to the fixed tolerance (forcing=fixed), so that the count is the
+// preconditioner's and not the Newton path's: with Eisenstat-Walker's tolerances the average
+// moved from 4.0 to 6.3 at eps = 1e3 when Newton began its increments without the contact
+// tangent's geometric part (2026-11-28), the same Newton steps within 1 and the same answer.
+// Measured so: 12.0, 12.3, 11.7, 12.2 GMRES iterations per Newton step for eps = 1e2 .. 1e5,
+// 25.5 with aggregates across the interface.
 namespace {
 double linear_per_newton(const Solved& s) { return static_cast<double>(s.res.linear_iterations) / newton_total(s); }
 }  // namespace
@@ -222,7 +228,7 @@ TEST(Preconditioner, MueLuIterationsDoNotDependOnTheContactStiffness) {
   for (const char* eps : {"1e2", "1e3", "1e4", "1e5"}) {
     const Solved s = solve_text(read(IGACONTACT_SOURCE_DIR "/examples/two_blocks_scaling.yaml"), Tpetra::getDefaultComm(), {},
                                 {"bodies.0.refine.subdivide=[128,32]", "bodies.1.refine.subdivide=[32,32]",
-                                 std::string("contact.0.penalty=") + eps});
+                                 std::string("contact.0.penalty=") + eps, "solver.linear.forcing=fixed"});
     ASSERT_TRUE(s.res.converged) << s.res.message;
     const double per_step = linear_per_newton(s);
     std::printf("  eps = %s: %d Newton, %.1f GMRES iterations per Newton step\n", eps, newton_total(s), per_step);
@@ -243,7 +249,7 @@ TEST(Preconditioner, MueLuIterationsDoNotDependOnTheContactStiffness) {
                      << "  <Parameter name=\"cycle type\" type=\"string\" value=\"V\"/>\n</ParameterList>\n";
   const Solved s = solve_text(read(IGACONTACT_SOURCE_DIR "/examples/two_blocks_scaling.yaml"), Tpetra::getDefaultComm(), {},
                               {"bodies.0.refine.subdivide=[128,32]", "bodies.1.refine.subdivide=[32,32]",
-                               "contact.0.penalty=1e2", "solver.linear.muelu_xml=" + xml});
+                               "contact.0.penalty=1e2", "solver.linear.muelu_xml=" + xml, "solver.linear.forcing=fixed"});
   ASSERT_TRUE(s.res.converged) << s.res.message;
   const double straddling = linear_per_newton(s);
   std::printf("  eps = 1e2, aggregates across the interface: %.1f GMRES iterations per Newton step\n", straddling);
