@@ -20,7 +20,8 @@
 // Contributions of an active point (lambda - eps g >= -eps touch: touching counts, and a gap
 // within round-off of 0 (touch = 1e-12 of the smallest slave element) is touching, as in
 // mortar: bodies that touch exactly at the start are held by the first solve)
-//   f_c += -p w N,     K_c += w (eps N N^T - p G)
+//   f_c += -p w N,     K_c += w (eps N N^T - p G)   (p G times `geometric`: 0 while Newton is
+//   far from the solution, where -p G can make K_T indefinite; NewtonCore::newton)
 // The contact force on the slave body is what these contributions put on the slave dofs,
 // -sum_a f_c[a] (add_slave_force below): the summary reports it, so it equals the reactions.
 // w = Gauss weight x |dX_s/dxi| x thickness (reference slave measure).
