@@ -68,7 +68,7 @@ class NewtonCore {
   bool predictor(const LoadPoint& lp, double& ref, Outcome& out);
   double forcing(int it, double norm, double ref, double norm_prev, double& eta_prev) const;
   bool line_search(double norm, ContactContribution& cc, Outcome& out, double& alpha, bool& decrease);
-  void set_geometric(double on);
+  void set_geometric(double on, ContactContribution* cc = nullptr);
   bool solve_without_geometric(ContactContribution& cc, LinearSolveResult& lr, Outcome& out, double tol);
   void close_gaps(const Vector& uu, ContactContribution& cc);
   bool newton(const LoadPoint& lp, int step, int cuts, int aug, double& ref, Outcome& out);
@@ -346,9 +346,16 @@ bool NewtonCore::line_search(double norm, ContactContribution& cc, Outcome& out,
   return true;
 }
 
-void NewtonCore::set_geometric(double on) {
+void NewtonCore::set_geometric(double on, ContactContribution* cc) {
   geometric_ = on;
   for (auto& c : res_.contact) c.geometric = on;
+  if (cc == nullptr || res_.contact.empty()) return;
+  // K_c anew at the contact state of the last evaluation (no search, no internal force: f_c
+  // and so r_ come out as they were)
+  Teuchos::TimeMonitor t(timer("3) Contact: search and assembly"));
+  Teuchos::TimeMonitor t2(timer("3.2) Contact: residual and tangent"));
+  *cc = assemble_contact(sys_, res_.contact, &contact_graph_);
+  Kokkos::fence();
 }
 
 // The Newton step from u_ again with the contact tangents' geometric part off (it stays off
@@ -441,11 +448,7 @@ bool NewtonCore::newton(const LoadPoint& lp, int step, int cuts, int aug, double
       if (progress_) progress_(log);
       return false;
     }
-    if (geometric_ == 0 && rel < simple_back_) {
-      set_geometric(1.0);
-      if (!evaluate(*u_, cc, out)) return false;
-      sys_.zero_dirichlet(*r_);
-    }
+    if (geometric_ == 0 && rel < simple_back_) set_geometric(1.0, &cc);
     const double tol = forcing(it, norm, ref, norm_prev, eta_prev);
     norm_prev = norm;
     if (cc.active == 0 && !held_.empty()) close_gaps(*u_, cc);
@@ -479,9 +482,8 @@ bool NewtonCore::newton(const LoadPoint& lp, int step, int cuts, int aug, double
           return false;
         }
         if (!line_search(norm, cc, out, alpha, decrease)) return false;
-      } else {   // the accepted point's tangent without it
-        set_geometric(0.0);
-        if (!evaluate(*u_trial_, cc, out)) return false;
+      } else {
+        set_geometric(0.0, &cc);   // the accepted point's tangent without it
       }
     }
     log.line_search = alpha;
