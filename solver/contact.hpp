@@ -112,8 +112,9 @@ class ContactPairData {
   /// The contact tangent's geometric part, -p G (the foot and the normal moving with u: the
   /// consistent linearisation), on (1, the default) or off (0: eps N N^T alone). Far from the
   /// solution, where the pressures are many times their converged values, that part can turn
-  /// the tangent indefinite; NewtonCore::newton turns it off for a step whose full tangent's
-  /// direction fails the line search. Takes effect at the next assembly.
+  /// the tangent indefinite; NewtonCore::newton turns it off at the start of each increment
+  /// and after a consistent direction that failed the line search, and on again below 1e-3 of
+  /// the increment's first residual. Takes effect at the next assembly.
   double geometric = 1;
   /// The normal force the last assembly put on the slave body (all ranks).
   double assembled_normal_force() const { return s3_ ? assembled_[3] : assembled_[2]; }
