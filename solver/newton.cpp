@@ -595,8 +595,14 @@ Outcome NewtonCore::increment(const LoadPoint& lp, int step, int cuts, double dt
   Outcome out;
   f_->update(1.0 - lp.s, *f_prev_, lp.s, *f_end_, 0.0);
   lp_now_ = lp;
-  prec_.clear();
-  prec_.tangent_amg = false;   // each increment tries the control nets' preconditioner first
+  // A preconditioner of the tangent itself (BoomerAMG, MueLu, ILUT, relaxation) is kept from the
+  // last converged increment: the tangent at this increment's first iterate is that increment's
+  // last (small strain: the same active set), and PreconditionerCache's budget rebuilds it where
+  // it no longer serves. Rebuilt after a cut, and for the control nets' preconditioner, whose
+  // fresh build at each increment was measured cheaper (docs/performance.md, "A preconditioner
+  // kept across load steps"); each increment tries the control nets' preconditioner first.
+  if (cuts > 0 || prec_.tangent_amg || P_.linear.preconditioner == Preconditioner::ControlNet) prec_.clear();
+  prec_.tangent_amg = false;
   double ref = 0;
   // the first iterate: the last increment continued (solver.newton.extrapolate; not on a
   // retry after a cut, nor at a stage's first increment), else the linearised predictor where

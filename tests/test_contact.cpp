@@ -256,13 +256,15 @@ TEST(Preconditioner, MueLuIterationsDoNotDependOnTheContactStiffness) {
   EXPECT_GT(straddling, 1.5 * lo);
 }
 
-// The preconditioner is built at a load step's first Newton iteration and kept: the Krylov
-// solver still works with the current tangent, so Newton converges to the same solution
-// (within its tolerance, 1e-10 relative residual here) as with one built per iteration. Every
-// solve to the fixed tolerance (forcing=fixed), so that both runs take the same Newton steps.
+// The preconditioner (MueLu of the tangent here) is built once and kept over the Newton
+// iterations and on into the next load steps (their first tangent is the last converged
+// one), rebuilt only where a solve with it runs past its budget: the Krylov solver still
+// works with the current tangent, so Newton converges to the same solution (within its
+// tolerance, 1e-10 relative residual here) as with one built per iteration. Every solve to
+// the fixed tolerance (forcing=fixed), so that both runs take the same Newton steps.
 TEST(Preconditioner, KeptOverNewtonIterationsGivesTheSameSolution) {
   const std::vector<std::string> sets = {"bodies.0.refine.subdivide=[64,16]", "bodies.1.refine.subdivide=[16,16]",
-                                         "analysis.load_steps=2", "solver.newton.tolerance=1e-10",
+                                         "analysis.load_steps=4", "solver.newton.tolerance=1e-10",
                                          "solver.linear.forcing=fixed"};
   auto with = [&](const char* reuse) {
     std::vector<std::string> s2 = sets;
@@ -276,7 +278,7 @@ TEST(Preconditioner, KeptOverNewtonIterationsGivesTheSameSolution) {
               kept.res.preconditioner_builds, fresh.res.preconditioner_builds, newton, kept.res.linear_iterations,
               fresh.res.linear_iterations);
   EXPECT_EQ(fresh.res.preconditioner_builds, newton);
-  EXPECT_EQ(kept.res.preconditioner_builds, 2);   // one per load step
+  EXPECT_LT(kept.res.preconditioner_builds, 4);   // fewer than one per load step: carried over
   EXPECT_EQ(kept.res.newton_iterations, fresh.res.newton_iterations);
   const double fk = kept.res.contact[0].summary().fy, ff = fresh.res.contact[0].summary().fy;
   EXPECT_NEAR(fk, ff, 1e-8 * std::abs(ff));
