@@ -148,6 +148,51 @@ double smallest_extent3(const Body& b) {
   return std::min({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
 }
 
+// The deepest initial overlap of a pair's sides (curve or face samples): for each slave sample,
+// the nearest master sample with an opposed normal (n_s . n_m < -1/2) that lies no farther
+// sideways than 1.5 x that master sample's distance to its nearest neighbour; where each lies
+// behind the other's side ((x_m - x_s) . n_s < 0 and (x_s - x_m) . n_m < 0), the smaller of
+// the two depths. 0 where nothing overlaps. O(slave x master) samples: read time only.
+template <class S>
+double overlap_depth(const std::vector<S>& slave, const std::vector<S>& master) {
+  auto dotn = [](const auto& a, const auto& b) {
+    double r = 0;
+    for (size_t c = 0; c < a.size(); ++c) r += a[c] * b[c];
+    return r;
+  };
+  auto distance = [](const auto& a, const auto& b) {
+    double r = 0;
+    for (size_t c = 0; c < a.size(); ++c) r += (a[c] - b[c]) * (a[c] - b[c]);
+    return std::sqrt(r);
+  };
+  const size_t nm = master.size();
+  std::vector<double> spacing(nm, std::numeric_limits<double>::infinity());
+  for (size_t i = 0; i < nm; ++i)
+    for (size_t j = i + 1; j < nm; ++j) {
+      const double d = distance(master[i].x, master[j].x);
+      if (d > 0) { spacing[i] = std::min(spacing[i], d); spacing[j] = std::min(spacing[j], d); }
+    }
+  double deepest = 0;
+  for (const S& s : slave) {
+    size_t k = nm;
+    double dk = std::numeric_limits<double>::infinity();
+    for (size_t j = 0; j < nm; ++j) {
+      if (dotn(s.n, master[j].n) >= -0.5) continue;
+      const double d = distance(s.x, master[j].x);
+      if (d < dk) { dk = d; k = j; }
+    }
+    if (k == nm) continue;
+    auto diff = master[k].x;
+    for (size_t c = 0; c < diff.size(); ++c) diff[c] -= s.x[c];
+    const double along = dotn(diff, s.n);
+    const double lateral = std::sqrt(std::max(0.0, dk * dk - along * along));
+    if (lateral > 1.5 * spacing[k]) continue;
+    const double depth = std::min(-along, dotn(diff, master[k].n));
+    deepest = std::max(deepest, depth);
+  }
+  return deepest;
+}
+
 }  // namespace
 
 std::string check_pair_facing(const Problem& P, const ContactPair& c) {
@@ -162,6 +207,12 @@ std::string check_pair_facing(const Problem& P, const ContactPair& c) {
         continue;
       if (faces(sample_faces(sb, {ps}, 1), master, d)) facing += (facing.empty() ? "" : ", ") + sb.side_label(ps.patch, ps.side);
     }
+    // (two sides of one body: its own material lies between them, no overlap to measure)
+    const double overlap = c.master.body == c.slave.body ? 0.0 : overlap_depth(slave, master);
+    if (overlap > 0)
+      return "the slave face starts up to " + check_number(overlap) + " inside the master " + P.bodies[c.master.body].name +
+             "." + c.master.label + ": the bodies overlap in the problem file by more than half the slave body's smallest extent (" +
+             check_number(d) + "), so no slave point has the master in front of it; check the bodies' positions";
     return "the slave face faces away from the master " + P.bodies[c.master.body].name + "." + c.master.label +
            ": no slave point has the master in front of it with opposite outward normals, so they can never touch" +
            (facing.empty() ? std::string("") : " (faces of " + sb.name + " that face it: " + facing + ")");
@@ -180,9 +231,32 @@ std::string check_pair_facing(const Problem& P, const ContactPair& c) {
     } catch (const std::exception&) {
     }
   }
+  const double overlap = c.master.body == c.slave.body ? 0.0 : overlap_depth(slave, master);
+  if (overlap > 0)
+    return "the slave side starts up to " + check_number(overlap) + " inside the master " + P.bodies[c.master.body].name +
+           "." + c.master.label + ": the bodies overlap in the problem file by more than half the slave body's smallest extent (" +
+           check_number(d) + "), so no slave point has the master in front of it; check the bodies' positions";
   return "the slave side faces away from the master " + P.bodies[c.master.body].name + "." + c.master.label +
          ": no slave point has the master in front of it with opposite outward normals, so they can never touch" +
          (facing.empty() ? std::string("") : " (sides of " + sb.name + " that face it: " + facing + ")");
+}
+
+std::string overlap_warning(const Problem& P, const ContactPair& c) {
+  const Body& sb = P.bodies[c.slave.body];
+  if (c.master.body == c.slave.body) return "";   // self-contact: the body lies between its sides
+  double overlap = 0, extent = 0;
+  if (P.dim() == 3) {
+    overlap = overlap_depth(sample_faces(sb, c.slave.sides, 1), sample_faces(P.bodies[c.master.body], c.master.sides, 1));
+    extent = smallest_extent3(sb);
+  } else {
+    overlap = overlap_depth(sample_chain(surface_chain(P, c.slave), 4), sample_chain(surface_chain(P, c.master), 4));
+    extent = smallest_extent(sb);
+  }
+  if (!(overlap > 1e-8 * extent)) return "";
+  return "the slave " + sb.name + "." + c.slave.label + " starts up to " + check_number(overlap) + " inside the master " +
+         P.bodies[c.master.body].name + "." + c.master.label +
+         " (an initial overlap: the first load step pushes the bodies apart, as in an interference fit; if that is not meant, "
+         "check the bodies' positions)";
 }
 
 double smallest_element_size(const Patch& F) {

@@ -45,6 +45,11 @@ namespace iga {
 /// body's smallest extent), else why not, naming the slave sides that do face the master.
 std::string check_pair_facing(const Problem& P, const ContactPair& c);
 
+/// One line where the pair's slave side starts inside its master (an initial overlap deeper
+/// than 1e-8 of the slave body's smallest extent, measured between sample points of the two
+/// sides with opposed normals): the run treats it as an interference fit. "" otherwise.
+std::string overlap_warning(const Problem& P, const ContactPair& c);
+
 /// penalty / (E / h): E the smaller Young's modulus of the pair's bodies, h the smallest slave
 /// element (reference arc length). Typical penalties are 1..100 E / h; far above, round-off in
 /// the gaps (times the penalty) and the conditioning of the tangent spoil the pressure.

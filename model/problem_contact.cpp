@@ -145,6 +145,8 @@ void read_contact_pairs(const Reader& R, const YAML::Node& root, Problem& P) {
       // with no contact and exit 0
       const std::string facing = check_pair_facing(P, cp);
       if (!facing.empty()) R.fail(path + ".slave", n["slave"], facing);
+      const std::string overlap = overlap_warning(P, cp);
+      if (!overlap.empty()) P.warnings.push_back(R.file + ": " + path + ": " + overlap);
       P.contact.push_back(cp);
       const std::string warn = penalty_warning(P, static_cast<int>(P.contact.size()) - 1);
       if (!warn.empty()) P.warnings.push_back(R.file + ": " + warn);

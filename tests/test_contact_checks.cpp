@@ -312,3 +312,62 @@ bodies:
   EXPECT_NE(m.find("is 0.1 inside"), std::string::npos) << m;
   EXPECT_NE(m.find("the contact pairs between them allow 0.035"), std::string::npos) << m;
 }
+
+// An initial overlap of a pair's sides (model/configuration_check.cpp, overlap_warning): bodies
+// that start d inside each other get one warning line naming the pair and the depth (the run
+// treats it as an interference fit); touching bodies (d = 0) and self-contact pairs get none.
+// Found by a slider placed 0.05 into its base that ran as a press fit without a word.
+TEST(InitialOverlap, WarnsWithTheDepthWhereTheBodiesStartInsideEachOther) {
+  const std::string yaml2 = R"(analysis: {type: plane_strain}
+bodies:
+  - name: base
+    material: {youngs_modulus: 2000.0, poisson_ratio: 0.25}
+    geometry: {rectangle: {origin: [0.0, 0.0], size: [3.0, 1.0]}}
+    refine: {degree_elevate: 1, subdivide: [12, 4]}
+    boundary: {south: {displacement: {x: 0.0, y: 0.0}}}
+  - name: slider
+    material: {youngs_modulus: 500.0, poisson_ratio: 0.35}
+    geometry: {rectangle: {origin: [1.0, Y0], size: [1.0, 0.5]}}
+    refine: {degree_elevate: 1, subdivide: [5, 3]}
+    boundary: {north: {displacement: {y: -0.01}}}
+contact:
+  - {master: {body: base, side: north}, slave: {body: slider, side: south}, penalty: 1.0e5}
+)";
+  const std::string yaml3 = R"(analysis: {type: solid}
+bodies:
+  - name: block
+    material: {youngs_modulus: 1000.0, poisson_ratio: 0.3}
+    geometry: {box: {origin: [0, 0, 0], size: [2, 2, 1]}}
+    refine: {subdivide: [3, 3, 1]}
+    boundary: {front: {displacement: {x: 0, y: 0, z: 0}}}
+  - name: lid
+    material: {youngs_modulus: 1000.0, poisson_ratio: 0.3}
+    geometry: {box: {origin: [0.5, 0.5, Z0], size: [1, 1, 1]}}
+    refine: {subdivide: [2, 2, 1]}
+    boundary: {back: {displacement: {x: 0, y: 0, z: -0.01}}}
+contact:
+  - {master: {body: block, side: back}, slave: {body: lid, side: front}, penalty: 1.0e5}
+)";
+  auto warnings = [](std::string y, const std::string& key, const std::string& value) {
+    y.replace(y.find(key), key.size(), value);
+    const Problem P = parse_problem(y, "pair.yaml");
+    std::string all;
+    for (const std::string& w : P.warnings) all += w + "\n";
+    return all;
+  };
+  EXPECT_EQ(warnings(yaml2, "Y0", "1.0").find("inside"), std::string::npos);   // touching
+  EXPECT_EQ(warnings(yaml3, "Z0", "1.0").find("inside"), std::string::npos);
+  const std::string w2 = warnings(yaml2, "Y0", "0.95"), w3 = warnings(yaml3, "Z0", "0.9");
+  EXPECT_NE(w2.find("pair.yaml: contact[0]: the slave slider.south starts up to 0.05 inside the master base.north"),
+            std::string::npos) << w2;
+  EXPECT_NE(w3.find("pair.yaml: contact[0]: the slave lid.front starts up to 0.1 inside the master block.back"),
+            std::string::npos) << w3;
+  // past half the slave's smallest extent the pair is refused, with the overlap named
+  try {
+    warnings(yaml2, "Y0", "0.6");
+    ADD_FAILURE() << "an overlap of 0.4 was accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("the slave side starts up to 0.4 inside the master base.north"), std::string::npos)
+        << e.what();
+  }
+}
