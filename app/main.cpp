@@ -110,12 +110,21 @@ std::string element_counts(const iga::Patch& pt) {
   return s;
 }
 
+// "E = .., nu = .." and, where it is not the linear law of small strain, the material model
+std::string material(const iga::Problem& P, const iga::Body& b) {
+  std::ostringstream os;
+  os << "E = " << b.E << ", nu = " << b.nu;
+  if (P.kinematics == iga::Kinematics::Finite)
+    os << ", " << (b.model == iga::MaterialModel::Linear ? "saint_venant_kirchhoff" : iga::material_model_name(b.model));
+  return os.str();
+}
+
 void describe(const iga::Problem& P, int ranks, std::ostream& os) {
   long long dofs = 0;
   const int dim = P.dim();
   os << "problem " << P.file << ": "
      << (P.analysis == iga::Analysis::Solid ? "solid (3-D)" : P.analysis == iga::Analysis::PlaneStrain ? "plane strain" : "plane stress")
-     << ", " << P.load_steps << " load step(s)";
+     << (P.kinematics == iga::Kinematics::Finite ? ", finite strain" : "") << ", " << P.load_steps << " load step(s)";
   if (P.num_stages() > 1) {
     os << " in " << P.num_stages() << " stages [";
     for (int k = 0; k < P.num_stages(); ++k) os << (k ? ", " : "") << P.stages[k];
@@ -127,11 +136,11 @@ void describe(const iga::Problem& P, int ranks, std::ostream& os) {
     if (!b.multipatch()) {
       const auto& pt = b.patches[0];
       os << "  body " << b.name << ": degree " << degrees(pt) << ", " << element_counts(pt) << " elements, "
-         << dim * pt.cp.size() << " dofs, E = " << b.E << ", nu = " << b.nu << "\n";
+         << dim * pt.cp.size() << " dofs, " << material(P, b) << "\n";
       continue;
     }
     os << "  body " << b.name << ": " << b.patches.size() << " patches, " << b.interfaces.size() << " interfaces, " << num_elements(b)
-       << " elements, " << dim * b.num_cps << " dofs, E = " << b.E << ", nu = " << b.nu << "\n";
+       << " elements, " << dim * b.num_cps << " dofs, " << material(P, b) << "\n";
     for (size_t k = 0; k < b.patches.size(); ++k) {
       const auto& pt = b.patches[k];
       os << "    patch " << k << ": degree " << degrees(pt) << ", " << element_counts(pt) << " elements\n";
