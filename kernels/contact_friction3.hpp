@@ -60,9 +60,10 @@ struct Friction3 {
   ForceSum force;                                 // [Tx, Ty, Tz, -]: the slave rows' sum of -f_c
   // mortar (contact_mortar_friction3.hpp): per point the slip vector g_T; per slave control
   // point A the weighted slip s_A, the trial, the traction (committed / augmented lamTA), the
-  // accumulated slip and the state
+  // accumulated slip and the state; nA = int R_A n dGamma_0 (the weighted master normal: the
+  // ALM check measures s_A's part across it)
   Kokkos::View<double* [3], MemSpace> gv;
-  Kokkos::View<double* [3], MemSpace> sA, trA, tauA, lamTA;
+  Kokkos::View<double* [3], MemSpace> sA, trA, tauA, lamTA, nA;
   Kokkos::View<double*, MemSpace> slipA, slipA_c;
   Kokkos::View<int*, MemSpace> stateA;
 };

@@ -55,13 +55,16 @@ struct MortarFrictionLaw3 {
   int slots = 1;
 
   KOKKOS_INLINE_FUNCTION void operator()(const int A) const {
-    double sum[3] = {0, 0, 0};
+    double sum[3] = {0, 0, 0}, nsum[3] = {0, 0, 0};
     const SlavePoints3& p = sp;
     const Friction3& f = fr;
     for_each_support_slot3(s, sp, slots, A, [&](int i, double RA, int, const int*) {
       for (int c = 0; c < 3; ++c) sum[c] += RA * p.weight(i) * f.gv(i, c);
+      if (p.valid(i))
+        for (int c = 0; c < 3; ++c) nsum[c] += RA * p.weight(i) * p.normal(i, c);
     });
     for (int c = 0; c < 3; ++c) {
+      fr.nA(A, c) = nsum[c];
       fr.sA(A, c) = sum[c] / ms.wA(A);
       fr.trA(A, c) = 0;
       fr.tauA(A, c) = 0;

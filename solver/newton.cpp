@@ -556,8 +556,9 @@ bool NewtonCore::augment(int aug, std::vector<double>& gap_history, Outcome& out
   const int n = static_cast<int>(gap_history.size());
   // mortar_alm with friction (one stick constraint per slave control point; no rate test, as
   // above): gaps and stick slips that moved less than 10 % over the last 10 updates have
-  // stalled (a box pressed on a block: the stick slip sat at 2.1e-7 of the slave element for
-  // 30 updates, the whole attempt 50 updates and 2.5 min, two attempts before the run ended)
+  // stalled, rather than spend the rest of contact.augmentations (a box pressed on a block
+  // spent two attempts of 50 updates, 5 min, on a stick slip that sat at 5 x alm_tolerance
+  // for 30 of them: its part along the normal, which the check no longer counts)
   constexpr int kFlat = 10;
   if (friction_alm && !kts_friction_alm && n > kFlat && aug + 1 < max_aug_ && q > 0.9 * gap_history[n - 1 - kFlat]) {
     std::ostringstream os;

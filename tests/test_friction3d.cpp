@@ -12,6 +12,9 @@
 //   FrictionSlab   the 2-D ring and block with friction (pressed, then dragged into partial
 //                  slip), extruded into a slab held at u_z = 0: the 3-D run equals the 2-D
 //                  plane-strain run (whose law test_friction verifies) to round-off
+//   MortarAlmFriction3  a box pressed onto an elastic block with mortar_alm: converges (the
+//                  stick check counts the weighted slip along the contact plane) to
+//                  mortar_penalty's answer extrapolated to an infinite penalty
 // Run on 1 and 2 ranks (ctest test_friction3d, test_friction3d_2ranks).
 #include <gtest/gtest.h>
 
@@ -195,4 +198,47 @@ TEST(FrictionSlab, EqualsThe2DPlaneStrainRun) {
   EXPECT_NEAR(c3.stick_length, c2.stick_length, 1e-12);
   EXPECT_NEAR(c3.slip_length, c2.slip_length, 1e-12);
   EXPECT_NEAR(c3.stick_length + c3.slip_length, 0.4, 1e-12);
+}
+
+// mortar_alm's stick check on a dented master (2026-11-28): a box (E = 500, nu = 0.35) pressed
+// 0.008 onto an elastic block (E = 2000, nu = 0.25) with mu = 0.4 and one load step: the block's
+// top is dented under the box's edges (a flat punch), so the slip vectors of the slots, each
+// tangent to the master at its foot, sum to a weighted slip s_A with a part along A's normal.
+// The tangential multipliers cannot close that part (it is no slip): the check measured it and
+// the press never converged (50 updates, exit 3; the stick slip's tangential part had gone to
+// 1e-10 while the normal part sat at 5 x alm_tolerance). Now the check takes s_A's part along
+// the contact plane: converged, with a stick zone, and the normal force the limit of
+// mortar_penalty's as the penalty grows (Richardson on eps = 1e6, 3e6).
+TEST(MortarAlmFriction3, PressOfABoxOnADentedBlockConverges) {
+  const std::string yaml = R"(analysis: {type: solid}
+bodies:
+  - name: base
+    material: {youngs_modulus: 2000.0, poisson_ratio: 0.25}
+    geometry: {box: {origin: [0.0, 0.0, 0.0], size: [3.0, 2.0, 1.0]}}
+    refine: {degree_elevate: 2, subdivide: [4, 3, 1]}
+    boundary: {front: {displacement: {x: 0.0, y: 0.0, z: 0.0}}}
+  - name: box
+    material: {youngs_modulus: 500.0, poisson_ratio: 0.35}
+    geometry: {box: {origin: [1.0, 0.5, 1.0], size: [1.0, 1.0, 0.4]}}
+    refine: {degree_elevate: 1, subdivide: [2, 2, 1]}
+    boundary: {back: {displacement: {x: 0.0, y: 0.0, z: -0.008}}}
+contact:
+  - {master: {body: base, side: back}, slave: {body: box, side: front}, method: mortar_alm, penalty: 1.0e5, friction: 0.4}
+)";
+  const Solved alm = solve_text(yaml);
+  ASSERT_TRUE(alm.res.converged) << alm.res.message;
+  const ContactSummary a = alm.res.contact[0].summary();
+  // mortar_penalty at eps and 3 eps (error O(1 / eps)) extrapolated to eps -> infinity
+  double fn[2];
+  for (int k = 0; k < 2; ++k) {
+    const Solved pen = solve_text(yaml, Tpetra::getDefaultComm(), {},
+                                  {"contact.0.method=mortar_penalty", k == 0 ? "contact.0.penalty=1e6" : "contact.0.penalty=3e6"});
+    ASSERT_TRUE(pen.res.converged) << pen.res.message;
+    fn[k] = pen.res.contact[0].summary().normal_force;
+  }
+  const double limit = (3 * fn[1] - fn[0]) / 2;
+  std::printf("  mortar_alm: F_n = %.10g, stick area %.4f; mortar_penalty 1e6, 3e6: %.10g, %.10g, extrapolated %.10g\n",
+              a.normal_force, a.stick_length, fn[0], fn[1], limit);
+  EXPECT_GT(a.stick_length, 0.1);
+  EXPECT_NEAR(a.normal_force, limit, 1e-4 * limit);   // (1e-6 measured; the penalty runs' own errors 1.3e-3, 4.3e-4)
 }
