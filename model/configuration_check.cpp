@@ -193,70 +193,73 @@ double overlap_depth(const std::vector<S>& slave, const std::vector<S>& master) 
   return deepest;
 }
 
-}  // namespace
-
-std::string check_pair_facing(const Problem& P, const ContactPair& c) {
+// The facing test of a pair from its sides' samples (curves or faces, `word` "side" or "face"):
+// "" when some slave point has the master in front of it (d half the slave body's smallest
+// extent), else the refusal: the overlap where the slave side lies inside the master deeper
+// than d, or the sides face away (naming the slave body's sides that do face it,
+// facing_sides()). Where they face, *warning gets the initial overlap's line (deeper than 1e-8
+// of that extent). Two sides of one body have its own material between them: no overlap.
+template <class S, class FacingSides>
+std::string facing_and_overlap(const Problem& P, const ContactPair& c, const std::vector<S>& slave,
+                               const std::vector<S>& master, double extent, const char* word,
+                               const FacingSides& facing_sides, std::string* warning) {
   const Body& sb = P.bodies[c.slave.body];
-  if (P.dim() == 3) {
-    const auto slave = sample_faces(sb, c.slave.sides, 1), master = sample_faces(P.bodies[c.master.body], c.master.sides, 1);
-    const double d = 0.5 * smallest_extent3(sb);
-    if (slave.empty() || master.empty() || faces(slave, master, d)) return "";
-    std::string facing;
-    for (const PatchSide& ps : outer_sides(sb)) {
-      if (c.master.body == c.slave.body && std::find(c.master.sides.begin(), c.master.sides.end(), ps) != c.master.sides.end())
-        continue;
-      if (faces(sample_faces(sb, {ps}, 1), master, d)) facing += (facing.empty() ? "" : ", ") + sb.side_label(ps.patch, ps.side);
-    }
-    // (two sides of one body: its own material lies between them, no overlap to measure)
-    const double overlap = c.master.body == c.slave.body ? 0.0 : overlap_depth(slave, master);
-    if (overlap > 0)
-      return "the slave face starts up to " + check_number(overlap) + " inside the master " + P.bodies[c.master.body].name +
-             "." + c.master.label + ": the bodies overlap in the problem file by more than half the slave body's smallest extent (" +
-             check_number(d) + "), so no slave point has the master in front of it; check the bodies' positions";
-    return "the slave face faces away from the master " + P.bodies[c.master.body].name + "." + c.master.label +
-           ": no slave point has the master in front of it with opposite outward normals, so they can never touch" +
-           (facing.empty() ? std::string("") : " (faces of " + sb.name + " that face it: " + facing + ")");
+  const std::string master_side = P.bodies[c.master.body].name + "." + c.master.label;
+  const bool self = c.master.body == c.slave.body;
+  const double d = 0.5 * extent;
+  if (slave.empty() || master.empty() || faces(slave, master, d)) {
+    const double overlap = self || slave.empty() || master.empty() || !warning ? 0.0 : overlap_depth(slave, master);
+    if (overlap > 1e-8 * extent)
+      *warning = "the slave " + sb.name + "." + c.slave.label + " starts up to " + check_number(overlap) +
+                 " inside the master " + master_side +
+                 " (an initial overlap: the first load step pushes the bodies apart, as in an interference fit; if that is "
+                 "not meant, check the bodies' positions)";
+    return "";
   }
-  const auto slave = sample_chain(surface_chain(P, c.slave), 4);
-  const auto master = sample_chain(surface_chain(P, c.master), 4);
-  const double d = 0.5 * smallest_extent(sb);
-  if (slave.empty() || master.empty() || faces(slave, master, d)) return "";
-  std::string facing;
-  for (const PatchSide& ps : outer_sides(sb)) {
-    if (c.master.body == c.slave.body && std::find(c.master.sides.begin(), c.master.sides.end(), ps) != c.master.sides.end())
-      continue;
-    try {
-      if (faces(sample_chain(make_chain(sb.patches, {ps}, sb.tolerance), 4), master, d))
-        facing += (facing.empty() ? "" : ", ") + sb.side_label(ps.patch, ps.side);
-    } catch (const std::exception&) {
-    }
-  }
-  const double overlap = c.master.body == c.slave.body ? 0.0 : overlap_depth(slave, master);
+  const double overlap = self ? 0.0 : overlap_depth(slave, master);
   if (overlap > 0)
-    return "the slave side starts up to " + check_number(overlap) + " inside the master " + P.bodies[c.master.body].name +
-           "." + c.master.label + ": the bodies overlap in the problem file by more than half the slave body's smallest extent (" +
-           check_number(d) + "), so no slave point has the master in front of it; check the bodies' positions";
-  return "the slave side faces away from the master " + P.bodies[c.master.body].name + "." + c.master.label +
+    return std::string("the slave ") + word + " starts up to " + check_number(overlap) + " inside the master " + master_side +
+           ": the bodies overlap in the problem file by more than half the slave body's smallest extent (" + check_number(d) +
+           "), so no slave point has the master in front of it; check the bodies' positions";
+  const std::string facing = facing_sides();
+  return std::string("the slave ") + word + " faces away from the master " + master_side +
          ": no slave point has the master in front of it with opposite outward normals, so they can never touch" +
-         (facing.empty() ? std::string("") : " (sides of " + sb.name + " that face it: " + facing + ")");
+         (facing.empty() ? std::string("") : " (" + std::string(word) + "s of " + sb.name + " that face it: " + facing + ")");
 }
 
-std::string overlap_warning(const Problem& P, const ContactPair& c) {
+}  // namespace
+
+std::string check_pair_facing(const Problem& P, const ContactPair& c, std::string* overlap_warning) {
   const Body& sb = P.bodies[c.slave.body];
-  if (c.master.body == c.slave.body) return "";   // self-contact: the body lies between its sides
-  double overlap = 0, extent = 0;
+  // the slave body's other sides that face the master (for the refusal's line)
+  auto other_side = [&](const PatchSide& ps) {
+    return !(c.master.body == c.slave.body &&
+             std::find(c.master.sides.begin(), c.master.sides.end(), ps) != c.master.sides.end());
+  };
+  auto add = [&](std::string& list, const PatchSide& ps) { list += (list.empty() ? "" : ", ") + sb.side_label(ps.patch, ps.side); };
   if (P.dim() == 3) {
-    overlap = overlap_depth(sample_faces(sb, c.slave.sides, 1), sample_faces(P.bodies[c.master.body], c.master.sides, 1));
-    extent = smallest_extent3(sb);
-  } else {
-    overlap = overlap_depth(sample_chain(surface_chain(P, c.slave), 4), sample_chain(surface_chain(P, c.master), 4));
-    extent = smallest_extent(sb);
+    const auto master = sample_faces(P.bodies[c.master.body], c.master.sides, 1);
+    const double d = 0.5 * smallest_extent3(sb);
+    return facing_and_overlap(P, c, sample_faces(sb, c.slave.sides, 1), master, smallest_extent3(sb), "face", [&] {
+      std::string facing;
+      for (const PatchSide& ps : outer_sides(sb))
+        if (other_side(ps) && faces(sample_faces(sb, {ps}, 1), master, d)) add(facing, ps);
+      return facing;
+    }, overlap_warning);
   }
-  if (!(overlap > 1e-8 * extent)) return "";
-  return "the slave " + sb.name + "." + c.slave.label + " starts up to " + check_number(overlap) + " inside the master " +
-         P.bodies[c.master.body].name + "." + c.master.label +
-         " (an initial overlap: the first load step pushes the bodies apart, as in an interference fit; if that is not meant, "
-         "check the bodies' positions)";
+  const auto master = sample_chain(surface_chain(P, c.master), 4);
+  const double d = 0.5 * smallest_extent(sb);
+  return facing_and_overlap(P, c, sample_chain(surface_chain(P, c.slave), 4), master, smallest_extent(sb), "side", [&] {
+    std::string facing;
+    for (const PatchSide& ps : outer_sides(sb)) {
+      if (!other_side(ps)) continue;
+      try {
+        if (faces(sample_chain(make_chain(sb.patches, {ps}, sb.tolerance), 4), master, d)) add(facing, ps);
+      } catch (const std::exception&) {
+      }
+    }
+    return facing;
+  }, overlap_warning);
 }
 
 double smallest_element_size(const Patch& F) {

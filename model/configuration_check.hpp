@@ -42,13 +42,12 @@ namespace iga {
 
 /// "" when some slave point has the master in front of it with opposed outward normals
 /// (n_s . n_m < 0, (x_m - x_s) . n_s >= -d and (x_s - x_m) . n_m >= -d, d half the slave
-/// body's smallest extent), else why not, naming the slave sides that do face the master.
-std::string check_pair_facing(const Problem& P, const ContactPair& c);
-
-/// One line where the pair's slave side starts inside its master (an initial overlap deeper
-/// than 1e-8 of the slave body's smallest extent, measured between sample points of the two
-/// sides with opposed normals): the run treats it as an interference fit. "" otherwise.
-std::string overlap_warning(const Problem& P, const ContactPair& c);
+/// body's smallest extent), else why not: the slave side lies deeper than d inside the master
+/// (the bodies overlap), or the sides face away (naming the slave sides that do face it).
+/// Where they face, *overlap_warning (if given) gets one line when the slave side starts inside
+/// its master (an initial overlap deeper than 1e-8 of that extent, measured between sample
+/// points of the two sides with opposed normals): the run treats it as an interference fit.
+std::string check_pair_facing(const Problem& P, const ContactPair& c, std::string* overlap_warning = nullptr);
 
 /// penalty / (E / h): E the smaller Young's modulus of the pair's bodies, h the smallest slave
 /// element (reference arc length). Typical penalties are 1..100 E / h; far above, round-off in

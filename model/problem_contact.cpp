@@ -143,9 +143,9 @@ void read_contact_pairs(const Reader& R, const YAML::Node& root, Problem& P) {
                "tangential_penalty x thickness is not a normal floating-point number; rescale the units");
       // a slave side that faces away from its master never touches it: the run would end
       // with no contact and exit 0
-      const std::string facing = check_pair_facing(P, cp);
+      std::string overlap;
+      const std::string facing = check_pair_facing(P, cp, &overlap);
       if (!facing.empty()) R.fail(path + ".slave", n["slave"], facing);
-      const std::string overlap = overlap_warning(P, cp);
       if (!overlap.empty()) P.warnings.push_back(R.file + ": " + path + ": " + overlap);
       P.contact.push_back(cp);
       const std::string warn = penalty_warning(P, static_cast<int>(P.contact.size()) - 1);

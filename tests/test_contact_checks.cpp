@@ -313,7 +313,7 @@ bodies:
   EXPECT_NE(m.find("the contact pairs between them allow 0.035"), std::string::npos) << m;
 }
 
-// An initial overlap of a pair's sides (model/configuration_check.cpp, overlap_warning): bodies
+// An initial overlap of a pair's sides (model/configuration_check.cpp, check_pair_facing): bodies
 // that start d inside each other get one warning line naming the pair and the depth (the run
 // treats it as an interference fit); touching bodies (d = 0) and self-contact pairs get none.
 // Found by a slider placed 0.05 into its base that ran as a press fit without a word.
