@@ -380,6 +380,7 @@ int main(int argc, char** argv) {
   // A file-size limit (ulimit -f) makes write(2) fail with EFBIG, reported like a full disk,
   // instead of killing the process with SIGXFSZ.
   std::signal(SIGXFSZ, SIG_IGN);
+  iga::app::keep_freed_memory();
   // run, with its errors turned into exit codes: an OutputError is thrown on every rank
   // together (io/files.hpp); any other failure on one rank only would leave the others waiting
   // in a collective forever, so on several ranks it ends them all

@@ -1,7 +1,7 @@
 // Problem file: solver options (Newton, the linear method and preconditioner, MueLu's XML),
 // the automatic linear method and the symmetry of the tangent.
 #include "model/yaml_reader.hpp"
-#include <MueLu_MasterList.hpp>
+#include "solver/amg_loader.hpp"   // MueLu's parameter names, from the multigrid module
 #include <Teuchos_XMLParameterListHelpers.hpp>
 
 #include <algorithm>
@@ -14,6 +14,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 
 namespace iga {
 
@@ -100,7 +101,12 @@ Teuchos::RCP<const Teuchos::ParameterList> muelu_xml(const Reader& R, const YAML
     why = why.substr(why.find_last_of('\n') + 1);
     R.fail(key, n, "not a Teuchos XML parameter list: " + why);
   }
-  const Teuchos::RCP<const Teuchos::ParameterList> master = MueLu::MasterList::List();
+  Teuchos::RCP<const Teuchos::ParameterList> master;
+  try {
+    master = muelu_master_list();
+  } catch (const std::runtime_error& e) {
+    R.fail(key, n, e.what());
+  }
   for (auto it = list->begin(); it != list->end(); ++it) {
     const std::string& name = list->name(it);
     if (master->isParameter(name) || name.rfind("level ", 0) == 0) continue;
@@ -216,6 +222,23 @@ void choose_linear_method(const Reader& R, const YAML::Node& root, Problem& P) {
   const bool named = root["solver"] && root["solver"]["linear"] &&
                      (root["solver"]["linear"]["preconditioner"] || root["solver"]["linear"]["muelu_xml"]);
   if (!named && P.dim() == 3) P.linear.preconditioner = Preconditioner::ControlNet;
+  // a multigrid preconditioner comes from the module beside the program (solver/amg.hpp):
+  // one that cannot be loaded stops the run here, before anything is solved or written
+  const bool multigrid = P.linear.preconditioner == Preconditioner::BoomerAMG ||
+                         P.linear.preconditioner == Preconditioner::MueLu ||
+                         P.linear.preconditioner == Preconditioner::ControlNet;
+  if (P.linear.method != LinearMethod::Direct && multigrid) {
+    try {
+      amg_module_symbol("igacontact_amg_module_v1");
+    } catch (const std::runtime_error& e) {
+      const YAML::Node l = root["solver"] && root["solver"]["linear"] ? root["solver"]["linear"] : YAML::Node();
+      if (l && l["preconditioner"]) R.fail("solver.linear.preconditioner", l["preconditioner"], e.what());
+      if (l && l["method"]) R.fail("solver.linear.method", l["method"], e.what());
+      R.fail("solver.linear.method", YAML::Node(std::string("auto")),
+             std::string(e.what()) + " (auto chose an iterative method above " +
+                 std::to_string(P.auto_direct_max_dofs()) + " dofs)");
+    }
+  }
   // 3-D mortar: where the master face ends inside a slave element, the covered part's motion
   // gives the tangent non-symmetric terms (kernels/contact_mortar3.hpp)
   for (const ContactPair& c : P.contact)

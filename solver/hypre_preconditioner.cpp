@@ -144,7 +144,7 @@ class BoomerAMG : public Operator {
 
 }  // namespace
 
-RCP<Tpetra::Operator<SC, LO, GO, Node>> make_boomeramg(const RCP<Matrix>& A, int functions) {
+RCP<Tpetra::Operator<SC, LO, GO, Node>> hypre_boomeramg(const RCP<Matrix>& A, int functions) {
   return rcp(new BoomerAMG(A, functions));
 }
 

@@ -12,7 +12,8 @@
 namespace iga {
 
 /// BoomerAMG of A with `functions` interleaved dofs per node (the dimension). Throws where a
-/// rank's rows are not one contiguous range of global ids.
-RCP<Tpetra::Operator<SC, LO, GO, Node>> make_boomeramg(const RCP<Matrix>& A, int functions = 2);
+/// rank's rows are not one contiguous range of global ids. Part of the AMG module
+/// (solver/amg.hpp): the program calls make_boomeramg, which loads it.
+RCP<Tpetra::Operator<SC, LO, GO, Node>> hypre_boomeramg(const RCP<Matrix>& A, int functions);
 
 }  // namespace iga

@@ -1,10 +1,9 @@
 #include "solver/linear_solver.hpp"
-#include "solver/hypre_preconditioner.hpp"
+#include "solver/amg.hpp"
 
 #include <BelosSolverFactory.hpp>
 #include <BelosTpetraAdapter.hpp>
 #include <Ifpack2_Factory.hpp>
-#include <MueLu_CreateTpetraPreconditioner.hpp>
 #include <Teuchos_CommHelpers.hpp>
 #include <Teuchos_TimeMonitor.hpp>
 #include <TpetraExt_MatrixMatrix.hpp>
@@ -15,8 +14,6 @@ namespace iga {
 
 
 namespace {
-
-using Operator = Tpetra::Operator<SC, LO, GO, Node>;
 
 RCP<Operator> make_preconditioner(const LinearOptions& opt, const RCP<Matrix>& A,
                                   const RCP<MultiVector>& nullspace, const RCP<MultiVector>& coords,
@@ -109,8 +106,7 @@ RCP<Operator> make_preconditioner(const LinearOptions& opt, const RCP<Matrix>& A
       Teuchos::ParameterList& user = p.sublist("user data");
       user.set("Nullspace", nullspace);
       user.set("Coordinates", coords);
-      RCP<Operator> op = A;
-      return MueLu::CreateTpetraPreconditioner<SC, LO, GO, Node>(op, p);
+      return make_muelu(A, p);
     }
   }
   return Teuchos::null;
