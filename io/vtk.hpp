@@ -146,7 +146,12 @@ int output_samples(const OutputOptions& o, const Patch& pt);
 /// "3-D" above.
 BezierMesh bezier_mesh(const Problem& P, const std::vector<std::vector<double>>& cp_displacement);
 
-enum class VtkEncoding { Ascii, AppendedRaw };
+/// AppendedZlib: as AppendedRaw, each array compressed in blocks of 1 MiB with zlib (level 1)
+/// as VTK's vtkZLibDataCompressor reads them (ParaView, any VTK reader).
+enum class VtkEncoding { Ascii, AppendedRaw, AppendedZlib };
+
+/// Bytes of the arrays of mesh's .vtu uncompressed (AppendedRaw), headers apart.
+std::size_t vtu_raw_bytes(const BezierMesh& mesh);
 
 /// The VTK XML UnstructuredGrid text (.vtu) of a mesh; load_factor goes into the field data
 /// TimeValue, run_id into the string field data run_id. AppendedRaw: binary arrays after the

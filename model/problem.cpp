@@ -142,7 +142,14 @@ Problem build(Reader& R, const YAML::Node& root) {
 
   if (root["output"]) {
     const YAML::Node o = root["output"];
-    R.keys(o, "output", {"directory", "samples_per_element", "probes", "steps", "cells"});
+    R.keys(o, "output", {"directory", "samples_per_element", "probes", "steps", "cells", "compression"});
+    if (o["compression"]) {
+      const std::string c = R.string(o["compression"], "output.compression");
+      if (c == "auto") P.output.compression = -1;
+      else if (c == "none") P.output.compression = 0;
+      else if (c == "zlib") P.output.compression = 1;
+      else R.fail("output.compression", o["compression"], "expected auto, none or zlib");
+    }
     if (o["steps"]) {
       const std::string st = R.string(o["steps"], "output.steps");
       if (st == "all") P.output.all_steps = true;

@@ -159,6 +159,11 @@ struct OutputOptions {
   /// output.cells (3-D only): faces (false, the default: the boundary faces of the patches as
   /// Bezier quadrilaterals) | volume (true: every element as a Bezier hexahedron) in result_<n>.vtu
   bool volume_cells = false;
+  /// output.compression of result_<n>.vtu's binary arrays: auto (-1, the default: zlib where
+  /// the uncompressed cells would take more than kCompressAboveBytesPerDof bytes per dof, as
+  /// the exact cells of degree 4 and up do) | none (0) | zlib (1)
+  int compression = -1;
+  static constexpr double kCompressAboveBytesPerDof = 400;
   std::vector<Probe> probes;
 
   /// Samples per element and direction of the sampled grid (result_<n>.h5, result.xdmf) of a

@@ -10,7 +10,7 @@ missing() { echo "$1 not found: skipped"; case "${CI:-}" in "" | false | 0) exit
 command -v pvpython > /dev/null || missing pvpython
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 IGACONTACT_VTU_OUT="$tmp" "$test_vtk" --gtest_filter=VtkBezier.WritesQuarterAnnulusFiles > "$tmp/gtest.log" 2>&1 || { cat "$tmp/gtest.log"; exit 1; }
-for f in annulus.vtu annulus_ascii.vtu; do
+for f in annulus.vtu annulus_ascii.vtu annulus_zlib.vtu; do
   echo "== $f ($(stat -c %s "$tmp/$f") bytes)"
   pvpython "$check" "$tmp/$f"
 done

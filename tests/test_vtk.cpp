@@ -373,11 +373,16 @@ TEST(VtkBezier, WritesQuarterAnnulusFiles) {
   std::filesystem::create_directories(dir);
   const std::string bin = bezier_vtu(s.P, s.disp, 0.5, "test-run & <1>");
   const std::string asc = bezier_vtu(s.P, s.disp, 0.5, "test-run & <1>", VtkEncoding::Ascii);
+  const std::string zip = bezier_vtu(s.P, s.disp, 0.5, "test-run & <1>", VtkEncoding::AppendedZlib);
   EXPECT_NE(bin.find("<AppendedData encoding=\"raw\">"), std::string::npos);
+  EXPECT_EQ(bin.find("compressor="), std::string::npos);
   EXPECT_EQ(asc.find("AppendedData"), std::string::npos);
   EXPECT_NE(asc.find("Name=\"RationalWeights\""), std::string::npos);
+  EXPECT_NE(zip.find("compressor=\"vtkZLibDataCompressor\""), std::string::npos);
+  EXPECT_LT(zip.size(), bin.size());
   for (const auto& [name, text] : {std::pair<std::string, const std::string&>{"annulus.vtu", bin},
-                                   std::pair<std::string, const std::string&>{"annulus_ascii.vtu", asc}}) {
+                                   std::pair<std::string, const std::string&>{"annulus_ascii.vtu", asc},
+                                   std::pair<std::string, const std::string&>{"annulus_zlib.vtu", zip}}) {
     std::ofstream out(dir / name, std::ios::binary);
     out << text;
     ASSERT_TRUE(out.good());
