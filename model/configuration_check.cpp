@@ -206,10 +206,14 @@ double overlap_depth(const std::vector<S>& slave, const std::vector<S>& master, 
 // than d, or the sides face away (naming the slave body's sides that do face it,
 // facing_sides()). Where they face, *warning gets the initial overlap's line (deeper than 1e-8
 // of that extent). Two sides of one body have its own material between them: no overlap.
-template <class S, class FacingSides>
+// Where none of the slave body's sides faces the master but some of the master body's sides
+// face the slave side (master_facing()), the master side is the one at fault: the line says so,
+// names those, and *master_at_fault is set (the caller then names the key contact[k].master).
+template <class S, class FacingSides, class MasterFacing>
 std::string facing_and_overlap(const Problem& P, const ContactPair& c, const std::vector<S>& slave,
                                const std::vector<S>& master, size_t row, double extent, const char* word,
-                               const FacingSides& facing_sides, std::string* warning) {
+                               const FacingSides& facing_sides, const MasterFacing& master_facing,
+                               std::string* warning, bool* master_at_fault) {
   const Body& sb = P.bodies[c.slave.body];
   const std::string master_side = P.bodies[c.master.body].name + "." + c.master.label;
   const bool self = c.master.body == c.slave.body;
@@ -229,6 +233,15 @@ std::string facing_and_overlap(const Problem& P, const ContactPair& c, const std
            ": the bodies overlap in the problem file by more than half the slave body's smallest extent (" + check_number(d) +
            "), so no slave point has the master in front of it; check the bodies' positions";
   const std::string facing = facing_sides();
+  if (facing.empty()) {
+    const std::string other = master_facing();
+    if (!other.empty()) {
+      if (master_at_fault) *master_at_fault = true;
+      return std::string("the master ") + word + " " + master_side + " faces away from the slave " + sb.name + "." +
+             c.slave.label + ": no slave point has the master in front of it with opposite outward normals, so they can "
+             "never touch (" + word + "s of " + P.bodies[c.master.body].name + " that face the slave: " + other + ")";
+    }
+  }
   return std::string("the slave ") + word + " faces away from the master " + master_side +
          ": no slave point has the master in front of it with opposite outward normals, so they can never touch" +
          (facing.empty() ? std::string("") : " (" + std::string(word) + "s of " + sb.name + " that face it: " + facing + ")");
@@ -236,38 +249,51 @@ std::string facing_and_overlap(const Problem& P, const ContactPair& c, const std
 
 }  // namespace
 
-std::string check_pair_facing(const Problem& P, const ContactPair& c, std::string* overlap_warning) {
+std::string check_pair_facing(const Problem& P, const ContactPair& c, std::string* overlap_warning,
+                              bool* master_at_fault) {
+  if (master_at_fault) *master_at_fault = false;
   const Body& sb = P.bodies[c.slave.body];
-  // the slave body's other sides that face the master (for the refusal's line)
-  auto other_side = [&](const PatchSide& ps) {
-    return !(c.master.body == c.slave.body &&
+  const Body& mb = P.bodies[c.master.body];
+  // the other sides of a body (the slave's facing the master, the master's facing the slave)
+  // for the refusal's line; on one body (self-contact) not the pair's own sides
+  auto other_side = [&](const PatchSide& ps, const std::vector<PatchSide>& own) {
+    return std::find(own.begin(), own.end(), ps) == own.end() &&
+           !(c.master.body == c.slave.body &&
              std::find(c.master.sides.begin(), c.master.sides.end(), ps) != c.master.sides.end());
   };
-  auto add = [&](std::string& list, const PatchSide& ps) { list += (list.empty() ? "" : ", ") + sb.side_label(ps.patch, ps.side); };
-  if (P.dim() == 3) {
-    const auto master = sample_faces(P.bodies[c.master.body], c.master.sides, 1);
-    const double d = 0.5 * smallest_extent3(sb);
-    // (face samples: 3 x 3 per element, per = 1)
-    return facing_and_overlap(P, c, sample_faces(sb, c.slave.sides, 1), master, 3, smallest_extent3(sb), "face", [&] {
-      std::string facing;
-      for (const PatchSide& ps : outer_sides(sb))
-        if (other_side(ps) && faces(sample_faces(sb, {ps}, 1), master, d)) add(facing, ps);
-      return facing;
-    }, overlap_warning);
-  }
-  const auto master = sample_chain(surface_chain(P, c.master), 4);
-  const double d = 0.5 * smallest_extent(sb);
-  return facing_and_overlap(P, c, sample_chain(surface_chain(P, c.slave), 4), master, 1, smallest_extent(sb), "side", [&] {
-    std::string facing;
-    for (const PatchSide& ps : outer_sides(sb)) {
-      if (!other_side(ps)) continue;
+  auto add = [](std::string& list, const Body& b, const PatchSide& ps) {
+    list += (list.empty() ? "" : ", ") + b.side_label(ps.patch, ps.side);
+  };
+  // the sides of body b (other than own) for which test(samples of the side) holds
+  auto sides_where = [&](const Body& b, const std::vector<PatchSide>& own, const auto& samples, const auto& test) {
+    std::string list;
+    for (const PatchSide& ps : outer_sides(b)) {
+      if (!other_side(ps, own)) continue;
       try {
-        if (faces(sample_chain(make_chain(sb.patches, {ps}, sb.tolerance), 4), master, d)) add(facing, ps);
+        if (test(samples(b, ps))) add(list, b, ps);
       } catch (const std::exception&) {
       }
     }
-    return facing;
-  }, overlap_warning);
+    return list;
+  };
+  // one pass for curves (2-D: 4 samples per element) and faces (3-D: 3 x 3 per element, a
+  // row of 3 in the grid), side_samples(body, side) sampling one side
+  auto check = [&](const auto& master, const auto& slave, const auto& side_samples, size_t row, double extent,
+                   const char* word) {
+    const double d = 0.5 * extent;
+    return facing_and_overlap(
+        P, c, slave, master, row, extent, word,
+        [&] { return sides_where(sb, c.slave.sides, side_samples, [&](const auto& s) { return faces(s, master, d); }); },
+        [&] { return sides_where(mb, c.master.sides, side_samples, [&](const auto& m) { return faces(slave, m, d); }); },
+        overlap_warning, master_at_fault);
+  };
+  if (P.dim() == 3)
+    return check(sample_faces(mb, c.master.sides, 1), sample_faces(sb, c.slave.sides, 1),
+                 [](const Body& b, const PatchSide& ps) { return sample_faces(b, {ps}, 1); }, 3, smallest_extent3(sb),
+                 "face");
+  return check(sample_chain(surface_chain(P, c.master), 4), sample_chain(surface_chain(P, c.slave), 4),
+               [](const Body& b, const PatchSide& ps) { return sample_chain(make_chain(b.patches, {ps}, b.tolerance), 4); },
+               1, smallest_extent(sb), "side");
 }
 
 double smallest_element_size(const Patch& F) {

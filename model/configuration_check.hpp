@@ -47,7 +47,11 @@ namespace iga {
 /// Where they face, *overlap_warning (if given) gets one line when the slave side starts inside
 /// its master (an initial overlap deeper than 1e-8 of that extent, measured between sample
 /// points of the two sides with opposed normals): the run treats it as an interference fit.
-std::string check_pair_facing(const Problem& P, const ContactPair& c, std::string* overlap_warning = nullptr);
+/// Where the slave body has no side that faces the master but the master body has sides that
+/// face the slave side, the line blames the master side and names those, and *master_at_fault
+/// (if given) is set.
+std::string check_pair_facing(const Problem& P, const ContactPair& c, std::string* overlap_warning = nullptr,
+                              bool* master_at_fault = nullptr);
 
 /// penalty / (E / h): E the smaller Young's modulus of the pair's bodies, h the smallest slave
 /// element (reference arc length). Typical penalties are 1..100 E / h; far above, round-off in

@@ -144,8 +144,10 @@ void read_contact_pairs(const Reader& R, const YAML::Node& root, Problem& P) {
       // a slave side that faces away from its master never touches it: the run would end
       // with no contact and exit 0
       std::string overlap;
-      const std::string facing = check_pair_facing(P, cp, &overlap);
-      if (!facing.empty()) R.fail(path + ".slave", n["slave"], facing);
+      bool master_at_fault = false;
+      const std::string facing = check_pair_facing(P, cp, &overlap, &master_at_fault);
+      if (!facing.empty())
+        R.fail(path + (master_at_fault ? ".master" : ".slave"), n[master_at_fault ? "master" : "slave"], facing);
       if (!overlap.empty()) P.warnings.push_back(R.file + ": " + path + ": " + overlap);
       P.contact.push_back(cp);
       const std::string warn = penalty_warning(P, static_cast<int>(P.contact.size()) - 1);
