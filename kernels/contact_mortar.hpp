@@ -46,6 +46,10 @@ constexpr int kMortarInitialEntries = 160;   // dofs per delta g_A to start with
 struct MortarState {
   Kokkos::View<double*, MemSpace> wA, gA, lbar, lambda;
   Kokkos::View<int*, MemSpace> active, covered;
+  /// 2-D: the covered part of w_A (int R_A over the support's slots that have a projection);
+  /// where it is a sliver of w_A (a master's end inside A's support) the multiplier acts on
+  /// that sliver only and cannot close g_A: the ALM test leaves such A out (contact.cpp)
+  Kokkos::View<double*, MemSpace> cwA;
   // maxima of what was needed where a capacity was short: [0] segments of one slave
   // element, [1] dofs of one delta g_A (0: every capacity sufficed)
   Kokkos::View<int*, MemSpace> flags;
@@ -236,10 +240,13 @@ struct MortarGaps {
     double g = 0;
     int cov = 0;
     const SlavePoints& p = sp;
+    double cw = 0;
     for_each_support_point(s, sp, slots, A, [&](int i, double RA, const double (*)[kMaxBasis1D], int) {
       g += RA * p.weight(i) * p.gap(i);
+      cw += RA * p.weight(i);
       cov = 1;
     });
+    if (A < static_cast<int>(ms.cwA.extent(0))) ms.cwA(A) = cw;
     mortar_multiplier(ms, A, g, cov, eps, touch);
   }
 };
