@@ -46,9 +46,10 @@ constexpr int kMortarInitialEntries = 160;   // dofs per delta g_A to start with
 struct MortarState {
   Kokkos::View<double*, MemSpace> wA, gA, lbar, lambda;
   Kokkos::View<int*, MemSpace> active, covered;
-  /// 2-D: the covered part of w_A (int R_A over the support's slots that have a projection);
-  /// where it is a sliver of w_A (a master's end inside A's support) the multiplier acts on
-  /// that sliver only and cannot close g_A: the ALM test leaves such A out (contact.cpp)
+  /// The covered part of w_A (int R_A over the support's slots that have a projection); where
+  /// it is a sliver of w_A (a master's end inside A's support) the multiplier acts on that
+  /// sliver only and cannot close g_A: the ALM test leaves such A out (solver/contact.cpp,
+  /// solver/contact3d.cpp)
   Kokkos::View<double*, MemSpace> cwA;
   // maxima of what was needed where a capacity was short: [0] segments of one slave
   // element, [1] dofs of one delta g_A (0: every capacity sufficed)

@@ -957,13 +957,15 @@ struct MortarGaps3 {
   Kokkos::View<const int*, MemSpace> out;   // MortarOut3's; empty: none
 
   KOKKOS_INLINE_FUNCTION void operator()(const int A) const {
-    double g = 0;
+    double g = 0, cw = 0;
     int cov = 0;
     const SlavePoints3& p = sp;
     for_each_support_slot3(s, sp, slots, A, [&](int i, double RA, int, const int*) {
       g += RA * p.weight(i) * p.gap(i);
+      cw += RA * p.weight(i);
       cov = 1;
     });
+    if (A < static_cast<int>(ms.cwA.extent(0))) ms.cwA(A) = cw;
     mortar_multiplier(ms, A, g, cov, eps, touch);
     if (out.extent(0) > 0 && out(A)) {   // certainly out of contact (MortarOut3): its support partly unsegmented
       ms.active(A) = 0;

@@ -191,6 +191,7 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
     ms.lambda = Kokkos::View<double*, MemSpace>("lambdaA", na);
     ms.active = Kokkos::View<int*, MemSpace>("activeA", na);
     ms.covered = Kokkos::View<int*, MemSpace>("coveredA", na);
+    ms.cwA = Kokkos::View<double*, MemSpace>("coveredWeightA", na);
     ms.flags = Kokkos::View<int*, MemSpace>("flags", 2);
     seg_flags_ = Kokkos::View<int*, MemSpace>("segment_flags", 4);
     if (friction) {
@@ -614,8 +615,11 @@ double ContactSurfaces3::max_active_gap() const {
     auto g = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms.gA);
     auto w = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms.wA);
     auto act = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms.active);
+    auto cw = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms.cwA);
+    // not the control points the master covers on a sliver (as in 2-D, ContactPairData::
+    // max_active_gap_ratio): their multipliers act on the sliver alone
     for (size_t A = 0; A < g.extent(0); ++A)
-      if (act(A)) r = std::max(r, std::abs(g(A) / w(A)));
+      if (act(A) && cw(A) >= 1e-3 * w(A)) r = std::max(r, std::abs(g(A) / w(A)));
     if (friction) {   // the stick control points' weighted slip, its part along the contact plane
       // (s_A sums slip vectors tangent to the master at the slots; where the master is curved
       // or dented under the load their sum has a part along A's normal, which is no slip and
@@ -1046,6 +1050,7 @@ void ContactSurfaces3::refresh() {
       sum_device_over_ranks(*comm_, ms.lambda, a_begin, a_end);
       sum_device_over_ranks(*comm_, ms.active, a_begin, a_end);
       sum_device_over_ranks(*comm_, ms.covered, a_begin, a_end);
+      sum_device_over_ranks(*comm_, ms.cwA, a_begin, a_end);
     }
     MortarPointPressure3 kp;
     kp.s = slave; kp.sp = sp; kp.ms = ms;
