@@ -55,8 +55,6 @@ void* amg_module_symbol(const char* symbol) {
   return s;
 }
 
-std::string amg_module_path() { return load().path; }
-
 Teuchos::RCP<const Teuchos::ParameterList> muelu_master_list() {
   using Entry = Teuchos::RCP<const Teuchos::ParameterList> (*)();
   return reinterpret_cast<Entry>(amg_module_symbol("igacontact_muelu_master_list"))();

@@ -17,9 +17,6 @@ namespace iga {
 /// and the reason where it cannot be loaded or lacks the symbol.
 void* amg_module_symbol(const char* symbol);
 
-/// The module's path as loaded, or where it was looked for.
-std::string amg_module_path();
-
 /// MueLu's master list: every parameter name MueLu knows (checks solver.linear.muelu_xml).
 Teuchos::RCP<const Teuchos::ParameterList> muelu_master_list();
 
