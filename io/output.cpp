@@ -524,11 +524,9 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
     {
       const BezierMesh mesh = bezier_mesh(P, disp);
       // output.compression (auto: zlib where the cells would take more than 400 bytes per dof)
-      long long dofs = 0;
-      for (const Body& b : P.bodies) dofs += static_cast<long long>(P.dim()) * b.num_cps;
       const bool zlib = P.output.compression == 1 ||
                         (P.output.compression < 0 && static_cast<double>(vtu_raw_bytes(mesh)) >
-                                                         OutputOptions::kCompressAboveBytesPerDof * static_cast<double>(dofs));
+                                                         OutputOptions::kCompressAboveBytesPerDof * static_cast<double>(sys_.num_dofs()));
       write(name + ".vtu", vtu_text(mesh, lambda, run_id_, zlib ? VtkEncoding::AppendedZlib : VtkEncoding::AppendedRaw));
       if (dim == 3) umax = mesh.max_displacement;   // 3-D: at the cells' evaluation points
     }

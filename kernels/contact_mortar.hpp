@@ -48,9 +48,10 @@ struct MortarState {
   Kokkos::View<int*, MemSpace> active, covered;
   /// The covered part of w_A (int R_A over the support's slots that have a projection); where
   /// it is a sliver of w_A (a master's end inside A's support) the multiplier acts on that
-  /// sliver only and cannot close g_A: the ALM test leaves such A out (solver/contact.cpp,
-  /// solver/contact3d.cpp)
+  /// sliver only and cannot close g_A: the ALM test leaves such A out (sliver())
   Kokkos::View<double*, MemSpace> cwA;
+  /// A's support covered on less than 1e-3 of w_A (host copies cw, w of cwA, wA)
+  static bool sliver(double cw, double w) { return cw < 1e-3 * w; }
   // maxima of what was needed where a capacity was short: [0] segments of one slave
   // element, [1] dofs of one delta g_A (0: every capacity sufficed)
   Kokkos::View<int*, MemSpace> flags;

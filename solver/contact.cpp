@@ -321,13 +321,13 @@ double ContactPairData::max_active_gap_ratio() const {
     const auto g = weighted_gaps(), w = mortar_weights();
     auto act = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms_.active);
     auto cw = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms_.cwA);
-    // a control point whose support the master covers only on a sliver (below 1e-3 of w_A: a
+    // a control point whose support the master covers only on a sliver (MortarState::sliver: a
     // master's end, e.g. a punch's corner, just inside its support) is left out: its
     // multiplier acts on the sliver alone, so g_A stays as it is however it grows (a flat punch
     // as the master of a soft block: g_A / w_A = 2.2e-9 over 38 updates, the covered part
     // 3e-5 of w_A, with its neighbours closed)
     for (size_t A = 0; A < g.size(); ++A)
-      if (act(A) && cw(A) >= 1e-3 * w[A]) r = std::max(r, std::abs(g[A] / w[A]));
+      if (act(A) && !MortarState::sliver(cw(A), w[A])) r = std::max(r, std::abs(g[A] / w[A]));
     if (friction()) {
       auto sA = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr_.sA);
       auto stA = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr_.stateA);

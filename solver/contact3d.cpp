@@ -619,7 +619,7 @@ double ContactSurfaces3::max_active_gap() const {
     // not the control points the master covers on a sliver (as in 2-D, ContactPairData::
     // max_active_gap_ratio): their multipliers act on the sliver alone
     for (size_t A = 0; A < g.extent(0); ++A)
-      if (act(A) && cw(A) >= 1e-3 * w(A)) r = std::max(r, std::abs(g(A) / w(A)));
+      if (act(A) && !MortarState::sliver(cw(A), w(A))) r = std::max(r, std::abs(g(A) / w(A)));
     if (friction) {   // the stick control points' weighted slip, its part along the contact plane
       // (s_A sums slip vectors tangent to the master at the slots; where the master is curved
       // or dented under the load their sum has a part along A's normal, which is no slip and

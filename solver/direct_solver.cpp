@@ -77,6 +77,30 @@ DirectSolver::~DirectSolver() = default;
 
 bool DirectSolver::factorised() const { return d_->factorised; }
 
+namespace {
+
+// f(row, column, value) for this rank's entries in global 1-based indices (the upper triangle
+// if symmetric), row after row, in the order MUMPS is given them; stops where f returns false
+// (then false).
+template <class F>
+bool for_each_entry(const Matrix& A, bool symmetric, const F& f) {
+  auto lcl = A.getLocalMatrixHost();
+  auto colmap = A.getColMap()->getLocalMap();
+  auto lrow = A.getRowMap()->getLocalMap();
+  for (LO r = 0; r < static_cast<LO>(lcl.numRows()); ++r) {
+    const GO gr = lrow.getGlobalElement(r);
+    auto row = lcl.row(r);
+    for (int k = 0; k < row.length; ++k) {
+      const GO gc = colmap.getGlobalElement(row.colidx(k));
+      if (symmetric && gc < gr) continue;
+      if (!f(static_cast<MUMPS_INT>(gr + 1), static_cast<MUMPS_INT>(gc + 1), row.value(k))) return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
 // This rank's entries in global 1-based indices (the upper triangle if symmetric), and
 // whether the pattern (0) or the values (1) differ from the last analysed / factored ones on
 // any rank (collective).
@@ -97,23 +121,15 @@ void DirectSolver::entries(const Matrix& A, bool symmetric, std::vector<MUMPS_IN
       if (rowmap->getGlobalElement(r) != g0 + r)
         throw std::logic_error("DirectSolver: a rank's rows are not one contiguous block of global indices");
   }
-  auto lcl = A.getLocalMatrixHost();
-  auto colmap = A.getColMap()->getLocalMap();
-  auto lrow = rowmap->getLocalMap();
-  const size_t nnz = lcl.nnz();
+  const size_t nnz = A.getLocalMatrixHost().nnz();
   irn.clear(); jcn.clear(); a.clear();
   irn.reserve(nnz); jcn.reserve(nnz); a.reserve(nnz);
-  for (LO r = 0; r < static_cast<LO>(lcl.numRows()); ++r) {
-    const GO gr = lrow.getGlobalElement(r);
-    auto row = lcl.row(r);
-    for (int k = 0; k < row.length; ++k) {
-      const GO gc = colmap.getGlobalElement(row.colidx(k));
-      if (symmetric && gc < gr) continue;
-      irn.push_back(static_cast<MUMPS_INT>(gr + 1));
-      jcn.push_back(static_cast<MUMPS_INT>(gc + 1));
-      a.push_back(row.value(k));
-    }
-  }
+  for_each_entry(A, symmetric, [&](MUMPS_INT i, MUMPS_INT j, double v) {
+    irn.push_back(i);
+    jcn.push_back(j);
+    a.push_back(v);
+    return true;
+  });
   int local_change[2] = {0, 0}, any[2] = {0, 0};
   if (!d.analysed || symmetric != d.symmetric || irn != d.irn || jcn != d.jcn) local_change[0] = 1;
   if (local_change[0] || !d.factorised || a != d.a) local_change[1] = 1;
@@ -130,25 +146,14 @@ bool DirectSolver::unchanged(const Matrix& A, bool symmetric) const {
   Teuchos::TimeMonitor t(*Teuchos::TimeMonitor::getNewTimer("4a) Direct: entries and analysis"));
   int local = !d.analysed || !d.factorised || symmetric != d.symmetric ? 1 : 0;
   if (!local) {
-    auto lcl = A.getLocalMatrixHost();
-    auto colmap = A.getColMap()->getLocalMap();
-    auto lrow = A.getRowMap()->getLocalMap();
     size_t k = 0;
     const size_t n = d.a.size();
-    for (LO r = 0; r < static_cast<LO>(lcl.numRows()) && !local; ++r) {
-      const GO gr = lrow.getGlobalElement(r);
-      auto row = lcl.row(r);
-      for (int j = 0; j < row.length; ++j) {
-        const GO gc = colmap.getGlobalElement(row.colidx(j));
-        if (symmetric && gc < gr) continue;
-        if (k == n || d.irn[k] != gr + 1 || d.jcn[k] != gc + 1 || d.a[k] != row.value(j)) {
-          local = 1;
-          break;
-        }
-        ++k;
-      }
-    }
-    if (k != n) local = 1;
+    const bool same = for_each_entry(A, symmetric, [&](MUMPS_INT i, MUMPS_INT j, double v) {
+      if (k == n || d.irn[k] != i || d.jcn[k] != j || d.a[k] != v) return false;
+      ++k;
+      return true;
+    });
+    local = same && k == n ? 0 : 1;
   }
   int any = 0;
   MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, d.comm);
