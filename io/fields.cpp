@@ -27,123 +27,141 @@ BodyField::BodyField(const Problem& P, int body, const std::vector<double>& u, i
     pd_ = host_patch_data(*patch_);
 }
 
-FieldPoint BodyField::eval(const double* t, const int* s) const {
-  if (dim_ == 3) return eval3(t, s);
-  return eval(t[0], t[1], s ? s[0] : -1, s ? s[1] : -1);
+FieldPoint BodyField::eval(const double* t, const int* sp) const {
+  int s[3];
+  const int D = dim_;
+  for (int d = 0; d < D; ++d) {
+    const int nb = D == 3 ? pd3_.n[d] : pd_.n[d], p = D == 3 ? pd3_.p[d] : pd_.p[d];
+    const double* U = D == 3 ? pd3_.U[d].data() : pd_.U[d].data();
+    s[d] = sp && sp[d] >= 0 ? sp[d] : find_span(nb, p, t[d], U);
+  }
+  const int n[3] = {1, 1, 1};
+  const double* tt[3] = {&t[0], &t[1], D == 3 ? &t[2] : nullptr};
+  FieldPoint f;
+  eval_grid(s, n, tt, &f);
+  return f;
 }
 
 FieldPoint BodyField::eval(double u, double v, int s0, int s1) const {
   if (dim_ != 2) throw std::logic_error("BodyField::eval(u, v): a 3-D patch needs three parameters");
-  if (s0 < 0) s0 = find_span(pd_.n[0], pd_.p[0], u, pd_.U[0].data());
-  if (s1 < 0) s1 = find_span(pd_.n[1], pd_.p[1], v, pd_.U[1].data());
-  FieldPoint f;
-  double g[2][2] = {{0, 0}, {0, 0}};
-  dispatch_degree(std::max(pd_.p[0], pd_.p[1]), [&](auto PP) {
-    constexpr int P = decltype(PP)::value;
-    double R[(P + 1) * (P + 1)], dR[(P + 1) * (P + 1)][2], x[2];
-    f.detJ = nurbs_grad<P>(pd_, s0, s1, u, v, R, dR, x);
-    f.x = x[0];
-    f.y = x[1];
-    for (int j = 0; j <= pd_.p[1]; ++j)
-      for (int i = 0; i <= pd_.p[0]; ++i) {
-        const int a = i + j * (pd_.p[0] + 1);
-        const int cp = s0 - pd_.p[0] + i + (s1 - pd_.p[1] + j) * pd_.n[0];
-        f.ux += R[a] * u_[2 * cp];
-        f.uy += R[a] * u_[2 * cp + 1];
-        for (int c = 0; c < 2; ++c)
-          for (int d = 0; d < 2; ++d) g[c][d] += dR[a][d] * u_[2 * cp + c];
-      }
-  });
-  // the same material law as the kernels; Cauchy stress sigma = P F^T / J
-  double Pk[2][2], P33, s[2][2], s33;
-  material_response<false>(mat_, g, Pk, P33, nullptr);
-  cauchy_stress(mat_, g, Pk, P33, s, s33);
-  f.sxx = s[0][0];
-  f.syy = s[1][1];
-  f.sxy = 0.5 * (s[0][1] + s[1][0]);
-  f.szz = mat_.model != Material::kLinear ? s33 : plane_strain_ ? nu_ * (f.sxx + f.syy) : 0.0;
-  return f;
+  const double t[2] = {u, v};
+  const int s[2] = {s0, s1};
+  return eval(t, s);
 }
 
-// 3-D: x, u and H = Grad u from the trivariate NURBS basis (nurbs_grad on the kernels' patch
-// data), then the kernels' law on the full tensors and sigma = P F^T / J (small strain: P).
-// Where the map is degenerate (det J = 0 on a face collapsed onto an edge or a point, as the
-// pole of a sphere octant) Grad u does not exist: the basis functions' physical gradients are
-// unbounded there, and a discrete solution whose control points on the collapsed face differ
-// (independent dofs) has a stress growing like 1/distance in a thin layer (measured on a thick
-// sphere octant, p = 2, 6 x 6 x 4: sound at 6e-3 of an element from the pole, -47 at 6e-5,
-// -6500 at 1e-6, against an exact 7.1; NaN on the pole itself). H is taken at the point moved
-// 1 % of the way towards the element's centre, outside that layer (there: 6.9, 6.5, -9.6
+void BodyField::eval_grid(const int* s, const int* n, const double* const* t, FieldPoint* out) const {
+  if (dim_ == 3)
+    grid<3>(pd3_, s, n, t, out);
+  else
+    grid<2>(pd_, s, n, t, out);
+}
+
+// x, u and H = Grad u from the NURBS basis (nurbs_grad_tensor on the kernels' patch data: the
+// same arithmetic as nurbs_grad at each point), then the kernels' law and sigma = P F^T / J
+// (small strain: P).
+// 3-D: where the map is degenerate (det J = 0 on a face collapsed onto an edge or a point, as
+// the pole of a sphere octant) Grad u does not exist: the basis functions' physical gradients
+// are unbounded there, and a discrete solution whose control points on the collapsed face
+// differ (independent dofs) has a stress growing like 1/distance in a thin layer (measured on a
+// thick sphere octant, p = 2, 6 x 6 x 4: sound at 6e-3 of an element from the pole, -47 at
+// 6e-5, -6500 at 1e-6, against an exact 7.1; NaN on the pole itself). H is taken at the point
+// moved 1 % of the way towards the element's centre, outside that layer (there: 6.9, 6.5, -9.6
 // against 7.1, 7.1, -10); x, u and detJ stay those of the point itself. The output's other
 // evaluation points lie 1 / p or 1 / s (s <= 64 samples) of an element or more from the face.
-FieldPoint BodyField::eval3(const double* t, const int* sp) const {
-  int s[3];
-  for (int d = 0; d < 3; ++d)
-    s[d] = sp && sp[d] >= 0 ? sp[d] : find_span(pd3_.n[d], pd3_.p[d], t[d], pd3_.U[d].data());
-  FieldPoint f;
-  double g[3][3] = {};
-  dispatch_degree(std::max({pd3_.p[0], pd3_.p[1], pd3_.p[2]}), [&](auto PP) {
+template <int D, class PD>
+void BodyField::grid(const PD& pd, const int* s, const int* n, const double* const* t, FieldPoint* out) const {
+  int pmax = 1;
+  for (int d = 0; d < D; ++d) pmax = std::max(pmax, pd.p[d]);
+  // each direction's 1-D B-spline values and first derivatives, per parameter
+  std::vector<double> N[D];
+  for (int d = 0; d < D; ++d) {
+    N[d].resize(static_cast<size_t>(n[d]) * 3 * kMaxBasis1D);
+    for (int i = 0; i < n[d]; ++i)
+      bspline_ders(s[d], t[d][i], pd.p[d], pd.U[d].data(), 1,
+                   reinterpret_cast<double(*)[kMaxBasis1D]>(&N[d][static_cast<size_t>(i) * 3 * kMaxBasis1D]));
+  }
+  dispatch_degree(pmax, [&](auto PP) {
     constexpr int P = decltype(PP)::value;
-    constexpr int nen = kNen<3, P>;
-    double R[nen], dR[nen][3], x[3];
+    constexpr int nen = kNen<D, P>;
+    double cw[nen][D + 1], R[nen], dR[nen][D], x[D];
     int cps[nen];
-    pd3_.local_cps(s, cps);
-    // H (and optionally x, u) at the parameters tt; returns det J
-    auto at = [&](const double* tt, bool values) {
-      const double detJ = nurbs_grad<P>(pd3_, s, tt, R, dR, x);
-      double uu[3] = {0, 0, 0};
-      for (int c = 0; c < 3; ++c)
-        for (int d = 0; d < 3; ++d) g[c][d] = 0;
-      for (int a = 0; a < pd3_.nen(); ++a) {
-        const double* ua = &u_[3 * static_cast<size_t>(cps[a])];
-        for (int c = 0; c < 3; ++c) {
-          uu[c] += R[a] * ua[c];
-          for (int d = 0; d < 3; ++d) g[c][d] += dR[a][d] * ua[c];
+    element_homogeneous_cp<P>(pd, s, cw);
+    pd.local_cps(s, cps);
+    const int ne = pd.nen();
+    const int n2 = D == 3 ? n[2] : 1;
+    FieldPoint* f = out;
+    for (int i2 = 0; i2 < n2; ++i2)
+      for (int i1 = 0; i1 < n[1]; ++i1)
+        for (int i0 = 0; i0 < n[0]; ++i0, ++f) {
+          const int ii[3] = {i0, i1, i2};
+          const double(*B[D])[kMaxBasis1D];
+          for (int d = 0; d < D; ++d)
+            B[d] = reinterpret_cast<const double(*)[kMaxBasis1D]>(&N[d][static_cast<size_t>(ii[d]) * 3 * kMaxBasis1D]);
+          *f = FieldPoint{};
+          double g[D][D] = {}, uu[D] = {};
+          // H = Grad u from the basis gradients (and u where `values`)
+          auto contract = [&](bool values) {
+            for (int c = 0; c < D; ++c)
+              for (int e = 0; e < D; ++e) g[c][e] = 0;
+            for (int a = 0; a < ne; ++a) {
+              const double* ua = &u_[static_cast<size_t>(D) * static_cast<size_t>(cps[a])];
+              for (int c = 0; c < D; ++c) {
+                if (values) uu[c] += R[a] * ua[c];
+                for (int e = 0; e < D; ++e) g[c][e] += dR[a][e] * ua[c];
+              }
+            }
+          };
+          f->detJ = nurbs_grad_tensor<D, P>(pd.p, B, cw, R, dR, x);
+          contract(true);
+          f->x = x[0];
+          f->y = x[1];
+          f->ux = uu[0];
+          f->uy = uu[1];
+          if constexpr (D == 2) {
+            double Pk[2][2], P33, sg[2][2], s33;
+            material_response<false>(mat_, g, Pk, P33, nullptr);
+            cauchy_stress(mat_, g, Pk, P33, sg, s33);
+            f->sxx = sg[0][0];
+            f->syy = sg[1][1];
+            f->sxy = 0.5 * (sg[0][1] + sg[1][0]);
+            f->szz = mat_.model != Material::kLinear ? s33 : plane_strain_ ? nu_ * (f->sxx + f->syy) : 0.0;
+          } else {
+            f->z = x[2];
+            f->uz = uu[2];
+            // degenerate: |det J| far below the element's scale, (size of its control points'
+            // box)^3 over the product of its parametric lengths
+            double lo[3] = {x[0], x[1], x[2]}, hi[3] = {x[0], x[1], x[2]}, h = 1;
+            for (int a = 0; a < ne; ++a)
+              for (int c = 0; c < 3; ++c) {
+                lo[c] = std::min(lo[c], pd.cp(cps[a], c));
+                hi[c] = std::max(hi[c], pd.cp(cps[a], c));
+              }
+            const double L = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+            for (int d = 0; d < 3; ++d) h *= pd.U[d](s[d] + 1) - pd.U[d](s[d]);
+            bool finite = true;
+            for (int c = 0; c < 3; ++c)
+              for (int d = 0; d < 3; ++d) finite = finite && std::isfinite(g[c][d]);
+            if (!finite || !(std::abs(f->detJ) > 1e-9 * L * L * L / h)) {
+              double tt[3];
+              for (int d = 0; d < 3; ++d) {
+                const double mid = 0.5 * (pd.U[d](s[d]) + pd.U[d](s[d] + 1));
+                tt[d] = t[d][ii[d]] + 1e-2 * (mid - t[d][ii[d]]);
+              }
+              nurbs_grad<P>(pd, s, tt, R, dR, x);
+              contract(false);
+            }
+            double Pk[3][3], P33, sg[3][3], s33;
+            material_response<false>(mat_, g, Pk, P33, nullptr);
+            cauchy_stress(mat_, g, Pk, P33, sg, s33);
+            f->sxx = sg[0][0];
+            f->syy = sg[1][1];
+            f->szz = sg[2][2];
+            f->syz = 0.5 * (sg[1][2] + sg[2][1]);
+            f->sxz = 0.5 * (sg[0][2] + sg[2][0]);
+            f->sxy = 0.5 * (sg[0][1] + sg[1][0]);
+          }
         }
-      }
-      if (values) {
-        f.x = x[0];
-        f.y = x[1];
-        f.z = x[2];
-        f.ux = uu[0];
-        f.uy = uu[1];
-        f.uz = uu[2];
-      }
-      return detJ;
-    };
-    f.detJ = at(t, true);
-    // degenerate: |det J| far below the element's scale, (size of its control points' box)^3
-    // over the product of its parametric lengths
-    double lo[3] = {x[0], x[1], x[2]}, hi[3] = {x[0], x[1], x[2]}, h = 1;
-    for (int a = 0; a < pd3_.nen(); ++a)
-      for (int c = 0; c < 3; ++c) {
-        lo[c] = std::min(lo[c], pd3_.cp(cps[a], c));
-        hi[c] = std::max(hi[c], pd3_.cp(cps[a], c));
-      }
-    const double L = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
-    for (int d = 0; d < 3; ++d) h *= pd3_.U[d](s[d] + 1) - pd3_.U[d](s[d]);
-    bool finite = true;
-    for (int c = 0; c < 3; ++c)
-      for (int d = 0; d < 3; ++d) finite = finite && std::isfinite(g[c][d]);
-    if (!finite || !(std::abs(f.detJ) > 1e-9 * L * L * L / h)) {
-      double tt[3];
-      for (int d = 0; d < 3; ++d) {
-        const double mid = 0.5 * (pd3_.U[d](s[d]) + pd3_.U[d](s[d] + 1));
-        tt[d] = t[d] + 1e-2 * (mid - t[d]);
-      }
-      at(tt, false);
-    }
   });
-  double Pk[3][3], P33, sg[3][3], s33;
-  material_response<false>(mat_, g, Pk, P33, nullptr);
-  cauchy_stress(mat_, g, Pk, P33, sg, s33);
-  f.sxx = sg[0][0];
-  f.syy = sg[1][1];
-  f.szz = sg[2][2];
-  f.syz = 0.5 * (sg[1][2] + sg[2][1]);
-  f.sxz = 0.5 * (sg[0][2] + sg[2][0]);
-  f.sxy = 0.5 * (sg[0][1] + sg[1][0]);
-  return f;
 }
 
 }  // namespace iga

@@ -31,11 +31,17 @@ class BodyField {
   /// 2-D or 3-D: field at the parameters t[0 .. dim()) in the patch's knot ranges; s (null or
   /// dim() entries) the spans to use, an entry -1 (or s null): found.
   FieldPoint eval(const double* t, const int* s = nullptr) const;
+  /// The field at the tensor grid of n[d] parameters t[d][0 .. n[d]) per direction d < dim(),
+  /// all in the element of spans s (given): out[i0 + n0 (i1 + n1 i2)]. The same numbers as eval
+  /// at each point; the element's control points and each parameter's 1-D basis are taken once
+  /// (the output's fit points: (p + 1)^dim points an element).
+  void eval_grid(const int* s, const int* n, const double* const* t, FieldPoint* out) const;
   const Patch& patch() const { return *patch_; }
   int dim() const { return dim_; }
 
  private:
-  FieldPoint eval3(const double* t, const int* s) const;
+  template <int D, class PD>
+  void grid(const PD& pd, const int* s, const int* n, const double* const* t, FieldPoint* out) const;
   const Patch* patch_;
   int dim_;
   HostPatchData pd_;     // 2-D

@@ -12,6 +12,7 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 
 #include "io/fields.hpp"
 #include "io/vtk.hpp"
@@ -425,7 +426,11 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
       *o << "  <Grid Name=\"step_" << name.substr(7) << "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
          << "   <Time Value=\"" << tv << "\"/>\n";
     const int dim = P.dim();
-    double umax = write_bodies(f, h5name, P, disp, grids, nets);
+    double umax = 0;
+    {
+      Teuchos::TimeMonitor t1(*Teuchos::TimeMonitor::getNewTimer("6.1) Output: sampled grid, control nets"));
+      umax = write_bodies(f, h5name, P, disp, grids, nets);
+    }
     if (!cstate.empty()) f.group("/contact");
     // a pair's contact points as an XDMF grid: polyvertices at the reference points, the
     // displacement, and the scalar arrays `names` of the HDF5 group g
@@ -522,12 +527,20 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
       return xml;
     };
     {
-      const BezierMesh mesh = bezier_mesh(P, disp);
+      BezierMesh mesh;
+      {
+        Teuchos::TimeMonitor t2(*Teuchos::TimeMonitor::getNewTimer("6.2) Output: Bezier cells"));
+        mesh = bezier_mesh(P, disp);
+      }
       // output.compression (auto: zlib where the cells would take more than 400 bytes per dof)
       const bool zlib = P.output.compression == 1 ||
                         (P.output.compression < 0 && static_cast<double>(vtu_raw_bytes(mesh)) >
                                                          OutputOptions::kCompressAboveBytesPerDof * static_cast<double>(sys_.num_dofs()));
-      write(name + ".vtu", vtu_text(mesh, lambda, run_id_, zlib ? VtkEncoding::AppendedZlib : VtkEncoding::AppendedRaw));
+      Teuchos::TimeMonitor t3(*Teuchos::TimeMonitor::getNewTimer("6.3) Output: encoding"));
+      // the compression on the cores not taken by other ranks (as MUMPS' threads)
+      const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
+      const int threads = static_cast<int>(std::max(1u, hw / static_cast<unsigned>(sys_.comm()->getSize())));
+      write(name + ".vtu", vtu_text(mesh, lambda, run_id_, zlib ? VtkEncoding::AppendedZlib : VtkEncoding::AppendedRaw, threads));
       if (dim == 3) umax = mesh.max_displacement;   // 3-D: at the cells' evaluation points
     }
 
@@ -542,6 +555,7 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
     std::vector<std::pair<double, std::string>> vtus;
     for (const auto& w : written_) vtus.push_back({w.lambda, step_name(w.step) + ".vtu"});
     write("result.pvd", with_comment(pvd_collection(vtus)));
+    Teuchos::TimeMonitor t4(*Teuchos::TimeMonitor::getNewTimer("6.4) Output: flush"));
     batch_.commit();   // the step's files: one flush, then their names
     max_displacement_ = umax;
   });
@@ -607,6 +621,7 @@ nlohmann::json ResultWriter::finish(const SolveResult& res) {
     // the refined geometry and the deformed control nets, for G+Smo and the tools that read
     // its XML: per body, the reference multipatch first (what a reader takes), then the
     // deformed one
+    Teuchos::TimeMonitor t5(*Teuchos::TimeMonitor::getNewTimer("6.5) Output: geometry, csv, summary"));
     for (size_t b = 0; b < P.bodies.size(); ++b) {
       const MultiPatch ref = body_geometry(P.bodies[b]), def = body_geometry(P.bodies[b], &disp[b]);
       write("geometry_" + P.bodies[b].name + ".xml", gismo_xml_text({&ref, &def}));

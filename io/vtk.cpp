@@ -5,6 +5,7 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <functional>
@@ -13,6 +14,7 @@
 #include <sstream>
 #include <type_traits>
 #include <stdexcept>
+#include <thread>
 
 #include "io/fields.hpp"
 #include "kernels/nurbs_basis.hpp"
@@ -196,7 +198,9 @@ struct CellFamily {
   const Patch* volume = nullptr;
   bool flip = false;
   int samples = 0;   // the bounds grid per element and direction (0: the fit points only)
-  std::function<FieldPoint(const double* t, const int* s)> eval;   // t: geo's parameters, s its spans
+  // the field at the tensor grid t[d][0 .. n[d]) of geo's parameters in the element of spans s
+  // (BodyField::eval_grid), out numbered i0 + n0 (i1 + n1 i2)
+  std::function<void(const int* s, const int* n, const double* const* t, FieldPoint* out)> eval;
 };
 
 // The stress values of a field point fitted per cell: 2-D sxx, syy, szz, sxy, von Mises; 3-D
@@ -235,20 +239,18 @@ void add_cells(BezierMesh& m, const CellFamily& F) {
   // union of the sampled ranges of the elements that share it
   std::vector<double> sum(nq * np, 0.0), lo(nq * np, inf), hi(nq * np, -inf);
   std::vector<int> count(np, 0);
-  // fit points (j0 / p0, j1 / p1[, j2 / p2]), j0 fastest; then the bounds grid of s per element
-  // and direction, less the points that are fit points already (the same doubles: j s' = k p)
-  std::vector<std::array<double, 3>> tb;
-  for (int j2 = 0; j2 <= p[2]; ++j2)
-    for (int j1 = 0; j1 <= p[1]; ++j1)
-      for (int j0 = 0; j0 <= p[0]; ++j0)
-        tb.push_back({static_cast<double>(j0) / p[0], static_cast<double>(j1) / p[1], cd == 3 ? static_cast<double>(j2) / p[2] : 0.0});
+  // per element the fit points (j0 / p0, j1 / p1[, j2 / p2]), j0 fastest, then the bounds grid
+  // of s per element and direction (its points that are fit points too, the same doubles where
+  // j s' = k p, give the same values)
   const int s = F.samples;
-  if (s > 0)
-    for (int j2 = 0; j2 <= (cd == 3 ? s : 0); ++j2)
-      for (int j1 = 0; j1 <= s; ++j1)
-        for (int j0 = 0; j0 <= s; ++j0)
-          if ((j0 * p[0]) % s != 0 || (j1 * p[1]) % s != 0 || (cd == 3 && (j2 * p[2]) % s != 0))
-            tb.push_back({static_cast<double>(j0) / s, static_cast<double>(j1) / s, cd == 3 ? static_cast<double>(j2) / s : 0.0});
+  int nfit[3] = {1, 1, 1}, nbound[3] = {1, 1, 1};
+  for (int d = 0; d < cd; ++d) {
+    nfit[d] = p[d] + 1;
+    nbound[d] = s > 0 ? s + 1 : 0;
+  }
+  const size_t nb = s > 0 ? static_cast<size_t>(nbound[0]) * nbound[1] * nbound[2] : 0;
+  std::vector<FieldPoint> fp(static_cast<size_t>(n) + nb);
+  std::vector<double> tfit[3], tbound[3];
   std::vector<ControlPoint> pts(n);
   std::vector<double> u(F.ncu * n), w(n), vals(nq * n), coef(nq * n), elo(nq), ehi(nq);
   const std::vector<double> none;
@@ -257,17 +259,25 @@ void add_cells(BezierMesh& m, const CellFamily& F) {
     B.element_field(e, F.u->data(), F.ncu, u.data());
     std::array<double, 2> r[3] = {{0, 0}, {0, 0}, {0, 0}};
     int sp[3] = {0, 0, 0}, ei[3] = {0, 0, 0};
+    const double* tf[3] = {nullptr, nullptr, nullptr};
+    const double* tbd[3] = {nullptr, nullptr, nullptr};
     for (int d = 0; d < cd; ++d) {
       r[d] = B.range(e, d);
       sp[d] = B.span(e, d);
       ei[d] = B.element_index(e, d);
+      tfit[d].resize(nfit[d]);
+      for (int j = 0; j < nfit[d]; ++j) tfit[d][j] = r[d][0] + static_cast<double>(j) / p[d] * (r[d][1] - r[d][0]);
+      tf[d] = tfit[d].data();
+      tbound[d].resize(nbound[d]);
+      for (int j = 0; j < nbound[d]; ++j) tbound[d][j] = r[d][0] + static_cast<double>(j) / s * (r[d][1] - r[d][0]);
+      tbd[d] = tbound[d].data();
     }
+    F.eval(sp, nfit, tf, fp.data());
+    if (nb > 0) F.eval(sp, nbound, tbd, fp.data() + n);
     std::fill(elo.begin(), elo.end(), inf);
     std::fill(ehi.begin(), ehi.end(), -inf);
-    for (size_t j = 0; j < tb.size(); ++j) {
-      double t[3];
-      for (int d = 0; d < cd; ++d) t[d] = r[d][0] + tb[j][d] * (r[d][1] - r[d][0]);
-      const FieldPoint f = F.eval(t, sp);
+    for (size_t j = 0; j < fp.size(); ++j) {
+      const FieldPoint& f = fp[j];
       m.max_displacement = std::max(m.max_displacement, std::sqrt(f.ux * f.ux + f.uy * f.uy + f.uz * f.uz));
       double v[7];
       stress_values(F.ncu, f, v);
@@ -403,7 +413,7 @@ BezierMesh bezier_mesh(const Problem& P, const std::vector<std::vector<double>>&
         F.geo = &pt;
         F.u = &ucp;
         F.samples = dim == 2 ? output_samples(P.output, pt) : P.output.samples_per_element;
-        F.eval = [&](const double* t, const int* s) { return field.eval(t, s); };
+        F.eval = [&](const int* s, const int* n, const double* const* t, FieldPoint* out) { field.eval_grid(s, n, t, out); };
         add_cells(m, F);
         continue;
       }
@@ -434,16 +444,18 @@ BezierMesh bezier_mesh(const Problem& P, const std::vector<std::vector<double>>&
         F.volume = &pt;
         F.flip = side_normal_sign(side) * pt.orientation() < 0;
         F.samples = output_samples(P.output, face);
-        F.eval = [&](const double* t, const int* s) {
-          double t3[3];
-          int s3[3];
-          t3[fd] = x_fixed;
+        F.eval = [&](const int* s, const int* n, const double* const* t, FieldPoint* out) {
+          int s3[3], n3[3];
+          const double* t3[3];
+          t3[fd] = &x_fixed;
           s3[fd] = s_fixed;
+          n3[fd] = 1;
           for (int a = 0; a < 2; ++a) {
             t3[fdirs[a]] = t[a];
             s3[fdirs[a]] = s[a];
+            n3[fdirs[a]] = n[a];
           }
-          return field.eval(t3, s3);
+          field.eval_grid(s3, n3, t3, out);
         };
         add_cells(m, F);
       }
@@ -489,7 +501,7 @@ std::string ascii_strings(const std::vector<std::string>& v) {
 // Writes the DataArray elements either inline (ascii) or into the appended block.
 class ArrayWriter {
  public:
-  ArrayWriter(std::ostringstream& xml, VtkEncoding enc) : xml_(xml), enc_(enc) {}
+  ArrayWriter(std::ostringstream& xml, VtkEncoding enc, int threads) : xml_(xml), enc_(enc), threads_(std::max(1, threads)) {}
 
   template <class T>
   void array(const char* type, const std::string& name, int ncomp, const std::vector<T>& v, const std::string& indent) {
@@ -525,7 +537,8 @@ class ArrayWriter {
   // vtkZLibDataCompressor's layout (header_type UInt64): the number of blocks, the block size,
   // the size of the last block where it is partial (else 0), each block's compressed size,
   // then the blocks; each block compressed on its own (zlib's format, level 1: 2.4x smaller
-  // on the cells of degree 4, about 0.1 s per 19 MB: docs/performance.md)
+  // on the cells of degree 4, about 0.1 s per 19 MB on one thread: docs/performance.md), the
+  // blocks shared among threads_ threads (the bytes do not depend on how many)
   void append_zlib(const char* data, std::uint64_t bytes) {
     constexpr std::uint64_t block = 1 << 20;
     const std::uint64_t nb = bytes == 0 ? 0 : (bytes + block - 1) / block;
@@ -533,28 +546,38 @@ class ArrayWriter {
     header[0] = nb;
     header[1] = block;
     header[2] = bytes % block;
-    const size_t at = appended_.size();
+    std::vector<std::vector<Bytef>> out(nb);
+    std::atomic<std::uint64_t> next{0};
+    std::atomic<bool> failed{false};
+    auto work = [&] {
+      for (std::uint64_t b; (b = next++) < nb;) {
+        const std::uint64_t n = std::min(block, bytes - b * block);
+        out[b].resize(compressBound(static_cast<uLong>(n)));
+        uLongf len = static_cast<uLongf>(out[b].size());
+        if (compress2(out[b].data(), &len, reinterpret_cast<const Bytef*>(data + b * block), static_cast<uLong>(n), 1) != Z_OK)
+          failed = true;
+        out[b].resize(len);
+      }
+    };
+    std::vector<std::thread> pool;
+    for (int t = 1; t < threads_ && static_cast<std::uint64_t>(t) < nb; ++t) pool.emplace_back(work);
+    work();
+    for (std::thread& t : pool) t.join();
+    if (failed) throw std::runtime_error("zlib could not compress a block of the .vtu");
+    for (std::uint64_t b = 0; b < nb; ++b) header[3 + b] = out[b].size();
     appended_.append(reinterpret_cast<const char*>(header.data()), header.size() * sizeof(std::uint64_t));
-    std::vector<Bytef> out(compressBound(block));
-    for (std::uint64_t b = 0; b < nb; ++b) {
-      const std::uint64_t n = std::min(block, bytes - b * block);
-      uLongf len = static_cast<uLongf>(out.size());
-      if (compress2(out.data(), &len, reinterpret_cast<const Bytef*>(data + b * block), static_cast<uLong>(n), 1) != Z_OK)
-        throw std::runtime_error("zlib could not compress a block of the .vtu");
-      header[3 + b] = len;
-      appended_.append(reinterpret_cast<const char*>(out.data()), len);
-    }
-    std::memcpy(&appended_[at], header.data(), header.size() * sizeof(std::uint64_t));
+    for (const auto& o : out) appended_.append(reinterpret_cast<const char*>(o.data()), o.size());
   }
 
   std::ostringstream& xml_;
   VtkEncoding enc_;
+  int threads_;
   std::string appended_;
 };
 
 }  // namespace
 
-std::string vtu_text(const BezierMesh& m, double load_factor, const std::string& run_id, VtkEncoding enc) {
+std::string vtu_text(const BezierMesh& m, double load_factor, const std::string& run_id, VtkEncoding enc, int threads) {
   const size_t np = m.num_points(), nc = m.num_cells();
   std::ostringstream x;
   x << "<?xml version=\"1.0\"?>\n"
@@ -574,7 +597,7 @@ std::string vtu_text(const BezierMesh& m, double load_factor, const std::string&
     << ascii_strings(m.body_names) << "</Array>\n"
     << "  </FieldData>\n"
     << "  <Piece NumberOfPoints=\"" << np << "\" NumberOfCells=\"" << nc << "\">\n";
-  ArrayWriter w(x, enc);
+  ArrayWriter w(x, enc, threads);
   const std::string in = "    ";
   x << "   <PointData Scalars=\"von_mises\" Vectors=\"displacement\" Tensors=\"stress\" RationalWeights=\"RationalWeights\">\n";
   w.array("Float64", "RationalWeights", 0, m.weights, in);

@@ -156,8 +156,10 @@ std::size_t vtu_raw_bytes(const BezierMesh& mesh);
 /// The VTK XML UnstructuredGrid text (.vtu) of a mesh; load_factor goes into the field data
 /// TimeValue, run_id into the string field data run_id. AppendedRaw: binary arrays after the
 /// XML (header_type UInt64, the machine's byte order), the field data stays ascii.
+/// AppendedZlib compresses each array's blocks on up to `threads` threads (the same bytes for
+/// any number).
 std::string vtu_text(const BezierMesh& mesh, double load_factor, const std::string& run_id,
-                     VtkEncoding encoding = VtkEncoding::AppendedRaw);
+                     VtkEncoding encoding = VtkEncoding::AppendedRaw, int threads = 1);
 
 /// bezier_mesh + vtu_text.
 std::string bezier_vtu(const Problem& P, const std::vector<std::vector<double>>& cp_displacement,
