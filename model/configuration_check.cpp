@@ -490,15 +490,27 @@ namespace {
 double orient(const Vec& a, const Vec& b, const Vec& c) {
   return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
 }
-bool cross(const Vec& a, const Vec& b, const Vec& c, const Vec& d) {
-  return orient(a, b, c) * orient(a, b, d) < 0 && orient(c, d, a) * orient(c, d, b) < 0;
+// Whether the closed segments ab and cd meet: they cross, or one's end lies on the other
+// (collinear segments that overlap too). Two bodies whose sides line up exactly (a cap as wide
+// as the block it is pressed into, both held at x = 0) have boundaries that meet only so: no
+// proper crossing anywhere, though the cap's bottom lies inside the block.
+bool meet(const Vec& a, const Vec& b, const Vec& c, const Vec& d) {
+  const double o1 = orient(a, b, c), o2 = orient(a, b, d), o3 = orient(c, d, a), o4 = orient(c, d, b);
+  auto opposite = [](double x, double y) { return (x < 0 && y > 0) || (x > 0 && y < 0); };
+  if (opposite(o1, o2) && opposite(o3, o4)) return true;
+  // r on the segment pq, r collinear with it
+  auto on = [](const Vec& p, const Vec& q, const Vec& r) {
+    return std::min(p[0], q[0]) <= r[0] && r[0] <= std::max(p[0], q[0]) && std::min(p[1], q[1]) <= r[1] &&
+           r[1] <= std::max(p[1], q[1]);
+  };
+  return (o1 == 0 && on(a, b, c)) || (o2 == 0 && on(a, b, d)) || (o3 == 0 && on(c, d, a)) || (o4 == 0 && on(c, d, b));
 }
 
-// Pairs of boundary polylines that cross (proper crossings of their segments): lines of two
-// bodies, or of one body where the crossing segments are not neighbours along the boundary
+// Pairs of boundary polylines that meet (their segments cross or touch, `meet`): lines of two
+// bodies, or of one body where the segments are not neighbours along the boundary
 // (self-penetration; the crossing may lie close to a crease, as where an O-ring's slit closes). A locally injective
-// map (no inverted element) whose boundary curves do not cross does not overlap itself, and
-// two bodies whose boundaries do not cross do not overlap (unless one lies wholly inside the
+// map (no inverted element) whose boundary curves do not meet does not overlap itself, and
+// two bodies whose boundaries do not meet do not overlap (unless one lies wholly inside the
 // other: find_penetration tests one line of each body for that), so only the lines found here
 // need the point-in-body tests.
 std::vector<std::pair<int, int>> crossing_lines(const Boundary& bd) {
@@ -540,9 +552,9 @@ std::vector<std::pair<int, int>> crossing_lines(const Boundary& bd) {
         const Polyline& B = lines[t.line];
         char& mark = seen[static_cast<size_t>(s.line) * lines.size() + t.line];
         if (mark) continue;
-        if (!cross(A.x[s.i], A.x[s.i + 1], B.x[t.i], B.x[t.i + 1])) continue;
+        if (!meet(A.x[s.i], A.x[s.i + 1], B.x[t.i], B.x[t.i + 1])) continue;
         // one body: segments next to each other along the boundary (they share a point) do
-        // not count; any other proper crossing means the boundary crosses itself
+        // not count; any other meeting means the boundary crosses or touches itself
         if (A.body == B.body &&
             bd.near(s.line, A.s[s.i], t.line, B.s[t.i], 1.01 * (A.s[s.i + 1] - A.s[s.i] + B.s[t.i + 1] - B.s[t.i])))
           continue;

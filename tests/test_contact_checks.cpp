@@ -7,8 +7,8 @@
 //    to round-off, with friction on a curved master, KTS and mortar, on 1 and 2 ranks;
 //  - a mortar run's outputs (contact CSV, result.h5, the summary) hold no NaN or inf, and the
 //    slave point on the symmetry axis carries the Hertz peak pressure;
-//  - the 3-D interpenetration check reports a rigid overlap's depth exactly and allows what
-//    a declared pair allows.
+//  - the 2-D and 3-D interpenetration checks report a rigid overlap's depth exactly (in 2-D
+//    also where the bodies' sides line up) and allow what a declared pair allows.
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
@@ -311,6 +311,49 @@ bodies:
   const std::string m = check(true, 0.1, 0.01);
   EXPECT_NE(m.find("is 0.1 inside"), std::string::npos) << m;
   EXPECT_NE(m.find("the contact pairs between them allow 0.035"), std::string::npos) << m;
+}
+
+// The 2-D check (model/configuration_check.cpp) on a cap moved rigidly down by d into its base,
+// no pair declared: the reported depth is d, exactly, whether the cap is narrower than the base
+// (its sides cross the base's top), as wide (both sides line up with the base's: the boundaries
+// meet only where they touch, with no proper crossing anywhere) or flush on one side. Found by
+// a problem written from the docs: a cap as wide as its base pressed 0.05 into it without a
+// contact pair exited 0 with check.passed true (only proper crossings were looked at).
+TEST(Penetration, RigidOverlapWhereTheSidesLineUp) {
+  auto check = [](double x0, double w, double d) {
+    const std::string yaml = R"(analysis: {type: plane_strain}
+bodies:
+  - name: base
+    material: {youngs_modulus: 500.0, poisson_ratio: 0.25}
+    geometry: {rectangle: {origin: [0.0, 0.0], size: [2.0, 0.4]}}
+    refine: {degree_elevate: 2, subdivide: [7, 2]}
+    boundary: {south: {displacement: {x: 0.0, y: 0.0}}}
+  - name: cap
+    material: {youngs_modulus: 500.0, poisson_ratio: 0.25}
+    geometry: {rectangle: {origin: [X0, 0.4], size: [W, 0.6]}}
+    refine: {degree_elevate: 2, subdivide: [4, 3]}
+    boundary: {north: {displacement: {x: 0.0, y: 0.0}}}
+)";
+    std::string y = yaml;
+    y.replace(y.find("X0"), 2, std::to_string(x0));
+    y.replace(y.find("W,"), 1, std::to_string(w));
+    const Problem P = parse_problem(y, "cap.yaml");
+    std::vector<std::vector<double>> u;
+    for (const Body& B : P.bodies) u.emplace_back(2 * static_cast<size_t>(B.num_cps), 0.0);
+    for (int a = 0; a < P.bodies[1].num_cps; ++a) u[1][2 * static_cast<size_t>(a) + 1] = -d;
+    return find_penetration(P, u, {});
+  };
+  // (0, 1): flush on the west, the east side crossing the base's top at one of its sample points
+  for (const auto& [x0, w] : {std::pair<double, double>{0.5, 1.0}, {0.0, 2.0}, {0.0, 1.0}, {0.0, 1.2}, {0.8, 1.2}}) {
+    SCOPED_TRACE("cap from x = " + std::to_string(x0) + ", width " + std::to_string(w));
+    EXPECT_EQ(check(x0, w, 0.0), "");   // touching
+    for (const auto& [d, text] : {std::pair<double, const char*>{0.05, " 0.05 inside"}, {0.2, " 0.2 inside"}}) {
+      const std::string m = check(x0, w, d);
+      EXPECT_NE(m.find("interpenetration: "), std::string::npos) << m;
+      EXPECT_NE(m.find(text), std::string::npos) << m;
+      EXPECT_NE(m.find("no contact pair is declared between"), std::string::npos) << m;
+    }
+  }
 }
 
 // An initial overlap of a pair's sides (model/configuration_check.cpp, check_pair_facing): bodies
