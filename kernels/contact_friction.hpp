@@ -172,6 +172,7 @@ struct SlipPoint {
   double B[4][kMaxBasis1D];            // master basis and derivatives 1..3 at eta
   double xm[kMaxBasis1D][2];           // current master control points
   double eta = 0, eta_ref = 0, sn = 1; // projection, reference, normal sign (side_normal)
+  bool ref = true;                     // eta_n exists (else no slip measure: ds = 0 for all u)
 };
 
 /// Gathers point i (slave span sp.span(i) at sp.xi(i), master span sp.mspan(i) at sp.mxi(i))
@@ -202,7 +203,8 @@ KOKKOS_INLINE_FUNCTION void gather_slip_point(const CurveData& s, const CurveDat
     }
   }
   d.eta = sp.mxi(i);
-  d.eta_ref = fr.ref_valid(i) ? fr.ref_mxi(i) : sp.mxi(i);
+  d.ref = fr.ref_valid(i) != 0;
+  d.eta_ref = d.ref ? fr.ref_mxi(i) : sp.mxi(i);
   d.sn = static_cast<double>(side_normal_sign(m.side)) * m.orientation;
 }
 
@@ -255,7 +257,12 @@ KOKKOS_INLINE_FUNCTION void slip_variation(const SlipPoint& d, FadN<N> S[N], Fad
   const F n[2] = {d.sn * e[1], -d.sn * e[0]};
   g = (xs[0] - rho[0]) * n[0] + (xs[1] - rho[1]) * n[1];
   const F H = t[0] * t[0] + t[1] * t[1] - g * (n[0] * mm[0] + n[1] * mm[1]);
-  const F arm = eta - d.eta_ref;
+  // a point with no reference projection (it had none at the last converged step: it came
+  // into reach of the master since) has ds = 0 whatever u (FrictionPointUpdate), so its arm has
+  // no derivative either: with eta - eta (a value 0, a derivative D) the tangent held a stick
+  // stiffness eps_T S S^T that its residual (tau = lambda_T = 0) does not have, and Newton
+  // converged linearly (0.94 per iteration) where a sliding master brought points into reach
+  const F arm = d.ref ? F(eta - d.eta_ref) : F(0.0);
   const F em = e[0] * mm[0] + e[1] * mm[1];
   for (int r = 0; r < N; ++r) S[r] = F(0.0);
   for (int a = 0; a <= d.ps; ++a)

@@ -28,7 +28,7 @@ std::string ring_and_block(int p, const std::string& method, double mu, double e
 /// A block pressed onto a rigid flat foundation (the lower block's top is held, so the master
 /// stays flat and its normal is exactly (0, 1)), then dragged by its top: stage 1 presses
 /// (top y = -0.01), stage 2 drags (top x = `drag`).
-std::string sliding_block(const std::string& method, double mu, double drag, int steps2 = 4) {
+std::string sliding_block(const std::string& method, double mu, double drag, int steps2 = 4, bool block_master = false) {
   std::ostringstream os;
   os << "analysis: {type: plane_strain, stages: [2, " << steps2 << "]}\n"
      << "bodies:\n"
@@ -40,10 +40,27 @@ std::string sliding_block(const std::string& method, double mu, double drag, int
      << "    geometry: {rectangle: {origin: [1.0, 0.5], size: [1.0, 0.5]}}\n"
      << "    refine: {degree_elevate: 1, subdivide: [7, 4]}\n"
      << "    boundary: {north: {displacement: {x: [0.0, " << drag << "], y: -0.01}}}\n"
-     << "contact:\n  - {master: {body: foundation, side: north}, slave: {body: block, side: south}, method: " << method
+     << "contact:\n  - {master: {body: " << (block_master ? "block, side: south}, slave: {body: foundation, side: north}"
+                                                      : "foundation, side: north}, slave: {body: block, side: south}")
+     << ", method: " << method
      << ", penalty: 1.0e5, friction: " << mu << "}\n"
      << "solver: {linear: {tolerance: 1e-13}}\n";
   return os.str();
+}
+
+/// Gross sliding: every point with a pressure slips with tau = smu p (smu = +-mu, the sign of
+/// the traction along the master tangent); returns max |tau - smu p| and counts the points.
+template <class State>
+double slip_law_error(const State& st, double smu, int& active, double& pmax) {
+  double worst = 0;
+  for (size_t i = 0; i < st.x.size(); ++i) {
+    if (!(st.pressure[i] > 0)) continue;
+    ++active;
+    EXPECT_EQ(st.state[i], 2) << "point " << i << " at x = " << st.x[i];
+    worst = std::max(worst, std::abs(st.tangential[i] - smu * st.pressure[i]));
+    pmax = std::max(pmax, st.pressure[i]);
+  }
+  return worst;
 }
 
 }  // namespace
@@ -205,16 +222,9 @@ TEST_P(FrictionMethods, GrossSlidingTransmitsMuTimesTheNormalForce) {
   const Solved s = solve_text(sliding_block(method, mu, 0.05));
   ASSERT_TRUE(s.res.converged) << s.res.message;
   const auto& c = s.res.contact[0];
-  const auto st = c.state();
   int active = 0;
-  double worst = 0, pmax = 0;
-  for (size_t i = 0; i < st.x.size(); ++i) {
-    if (!(st.pressure[i] > 0)) continue;
-    ++active;
-    EXPECT_EQ(st.state[i], 2) << "point " << i << " at x = " << st.x[i];
-    worst = std::max(worst, std::abs(st.tangential[i] + mu * st.pressure[i]));
-    pmax = std::max(pmax, st.pressure[i]);
-  }
+  double pmax = 0;
+  const double worst = slip_law_error(c.state(), -mu, active, pmax);
   ASSERT_GT(active, 10);
   const ContactSummary cs = c.summary();
   std::printf("  %s: Fx = %.12g, Fy = %.12g, Fx / Fy = %.15f, max |tau + mu p| = %.2e of p_max %.3g\n", method.c_str(), cs.fx,
@@ -233,7 +243,44 @@ TEST_P(FrictionMethods, GrossSlidingTransmitsMuTimesTheNormalForce) {
   EXPECT_NEAR(top[1], -cs.fy, 1e-7 * std::abs(cs.fy));
 }
 
+// The same with the roles swapped: the sliding block is the master, the held foundation the
+// slave, so the master carries the points along it and slave points come into its reach at
+// its leading edge. Such a point has no reference projection in its first step (no slip
+// measure); KTS gave it a stick stiffness its residual does not have, and Newton converged
+// linearly (0.94 per iteration) until the step was cut four times (exit 3). Now each load
+// step converges quadratically; every active point slips with |tau| = mu p, and the contact
+// force equals the reactions at the block's top.
+class FrictionMovingMaster : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(FrictionMovingMaster, GrossSlidingWithTheSlidingBodyAsTheMaster) {
+  const std::string method = GetParam();
+  const double mu = 0.3;
+  const Solved s = solve_text(sliding_block(method, mu, 0.05, 4, true));
+  ASSERT_TRUE(s.res.converged) << s.res.message;
+  // (the step where stick turns into slip takes the most: 13 with KTS)
+  for (size_t k = 0; k < s.res.newton_iterations.size(); ++k) EXPECT_LE(s.res.newton_iterations[k], 15) << "load step " << k + 1;
+  const auto& c = s.res.contact[0];
+  int active = 0;
+  double pmax = 0;
+  const double worst = slip_law_error(c.state(), mu, active, pmax);   // the foundation dragged along +x, e
+  ASSERT_GT(active, 10);
+  EXPECT_LT(worst, 1e-10 * pmax);
+  const ContactSummary cs = c.summary();
+  const auto R = reactions_json(*s.sys, *s.res.residual);
+  const std::array<double, 2> top{R["block"]["north"][0].get<double>(), R["block"]["north"][1].get<double>()};
+  std::printf("  %s: Fx = %.12g, Fy = %.12g, Fx / Fy = %.6f, top [%.12g, %.12g], Newton", method.c_str(), cs.fx, cs.fy,
+              cs.fx / cs.fy, top[0], top[1]);
+  for (int n : s.res.newton_iterations) std::printf(" %d", n);
+  std::printf("\n");
+  // the force on the slave (the foundation) is the block's: the reactions at its top
+  EXPECT_NEAR(top[0], cs.fx, 1e-7 * std::abs(cs.fy));
+  EXPECT_NEAR(top[1], cs.fy, 1e-7 * std::abs(cs.fy));
+}
+
 INSTANTIATE_TEST_SUITE_P(Methods, FrictionMethods, ::testing::Values("kts_penalty", "kts_alm", "mortar_penalty", "mortar_alm"));
+// the penalty methods (kts_alm with friction does not converge where stick meets slip:
+// docs/friction.md; mortar_alm converges, with a cut and tens of updates per step)
+INSTANTIATE_TEST_SUITE_P(Methods, FrictionMovingMaster, ::testing::Values("kts_penalty", "mortar_penalty"));
 
 class AlmStick : public ::testing::TestWithParam<const char*> {};
 
