@@ -65,9 +65,11 @@ struct FrictionData {
 };
 
 /// The return mapping of the law above. Returns the state (1 stick, 2 slip) and tau.
+/// Frictionless (mu = 0) points slip, whatever their slip increment (one with ds = 0, e.g. no
+/// reference projection yet, was reported as stick).
 KOKKOS_INLINE_FUNCTION int coulomb(double lamT, double epsT, double ds, double mu, double p, double& tau) {
   const double tr = lamT - epsT * ds, bound = mu * p;
-  if (kmath::fabs(tr) <= bound) { tau = tr; return 1; }
+  if (mu > 0 && kmath::fabs(tr) <= bound) { tau = tr; return 1; }
   tau = tr >= 0 ? bound : -bound;
   return 2;
 }

@@ -65,6 +65,25 @@ double slip_law_error(const State& st, double smu, int& active, double& pmax) {
 
 }  // namespace
 
+// The return mapping (kernels/contact_friction.hpp): a frictionless point slips whatever its
+// slip increment (with ds = 0, as a point without a reference projection has, it was reported
+// as stick: a frictionless kts_alm indentation at finite strain showed a stick length of 0.135
+// of its 0.139 contact length); a touching point (p = 0) with mu > 0 and no trial traction
+// sticks; otherwise |tau_tr| <= mu p decides.
+TEST(Coulomb, FrictionlessPointsSlipAndTouchingPointsStick) {
+  double tau = 1;
+  EXPECT_EQ(coulomb(0.0, 1e3, 0.0, 0.0, 2.0, tau), 2);
+  EXPECT_EQ(tau, 0.0);
+  EXPECT_EQ(coulomb(0.0, 1e3, 1e-3, 0.0, 2.0, tau), 2);
+  EXPECT_EQ(tau, 0.0);
+  EXPECT_EQ(coulomb(0.0, 1e3, 0.0, 0.3, 0.0, tau), 1);
+  EXPECT_EQ(tau, 0.0);
+  EXPECT_EQ(coulomb(0.1, 1e3, 1e-4, 0.3, 1.0, tau), 1);   // |0.1 - 0.1| <= 0.3
+  EXPECT_DOUBLE_EQ(tau, 0.0);
+  EXPECT_EQ(coulomb(0.0, 1e3, 1e-3, 0.3, 2.0, tau), 2);   // |-1| > 0.6
+  EXPECT_EQ(tau, -0.6);
+}
+
 class FrictionTangent : public ::testing::TestWithParam<std::tuple<int, const char*, bool>> {};
 
 // K_c against central differences of f_c at a general state: random displacements of the
