@@ -71,6 +71,7 @@ class NewtonCore {
   void set_geometric(double on, ContactContribution* cc = nullptr);
   bool solve_without_geometric(ContactContribution& cc, LinearSolveResult& lr, Outcome& out, double tol);
   void close_gaps(const Vector& uu, ContactContribution& cc);
+  std::string held_apart() const;
   bool newton(const LoadPoint& lp, int step, int cuts, int aug, double& ref, Outcome& out);
   bool augment(int aug, std::vector<double>& gap_history, Outcome& out);
   Outcome increment(const LoadPoint& lp, int step, int cuts, double dt);
@@ -377,6 +378,32 @@ bool NewtonCore::solve_without_geometric(ContactContribution& cc, LinearSolveRes
 // contact is the real one. The band is 4x the pairs' smallest gap, widened x4 until a point
 // is active (at most 8 times); where none is (no projection at all), the tangent stays as it
 // was and the linear solver says it is singular.
+// Where no point of the pairs that hold a body is active after Newton's last iteration: the
+// body (held by contact alone) and how far it still is from the other (collective), for the
+// failure line. The band of close_gaps gives the first tangent the penalty stiffness of the
+// points near contact, so a body that starts apart by more than about load / (penalty x
+// contact length) creeps towards the other and never arrives.
+std::string NewtonCore::held_apart() const {
+  const int n = static_cast<int>(held_.size());
+  if (n == 0) return "";
+  std::vector<double> mine(n), g(n);
+  for (int k = 0; k < n; ++k) mine[k] = res_.contact[held_[k]].local_min_gap();
+  Teuchos::reduceAll<int, double>(*sys_.comm(), Teuchos::REDUCE_MIN, n, mine.data(), g.data());
+  const auto free = [&](int b) { return detail::rigid_rank(P_.bodies[b]) < num_rigid_modes(P_.dim()); };
+  const ContactPair& c = P_.contact[held_[0]];
+  const bool slave_free = free(c.slave.body);
+  const std::string body = P_.bodies[slave_free ? c.slave.body : c.master.body].name;
+  const std::string other = P_.bodies[slave_free ? c.master.body : c.slave.body].name;
+  std::ostringstream os;
+  os << "body " << body << " is held by contact alone (contact[" << held_[0] << "]) and touched " << other
+     << " nowhere";
+  if (std::isfinite(g[0])) os << " (still " << check_number(g[0]) << " apart)";
+  os << ": it started farther from " << other
+     << " than its load moves it over the contact stiffness (about load / (penalty x contact length)); start the "
+        "bodies touching, bring them into contact by a prescribed displacement first, or take a smaller penalty";
+  return os.str();
+}
+
 void NewtonCore::close_gaps(const Vector& uu, ContactContribution& cc) {
   const int n = static_cast<int>(held_.size());
   std::vector<double> mine(n), g(n);
@@ -444,6 +471,12 @@ bool NewtonCore::newton(const LoadPoint& lp, int step, int cuts, int aug, double
       std::ostringstream os;
       os << "Newton reached solver.newton.max_iterations = " << P_.newton.max_iterations
          << " at relative residual " << rel;
+      // a body held by contact alone that never touched: smaller increments move it less
+      const std::string apart = cc.active == 0 ? held_apart() : std::string();
+      if (!apart.empty()) {
+        os << "; " << apart;
+        out.stall = true;
+      }
       out.why = os.str();
       if (progress_) progress_(log);
       return false;
