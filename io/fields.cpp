@@ -72,13 +72,21 @@ template <int D, class PD>
 void BodyField::grid(const PD& pd, const int* s, const int* n, const double* const* t, FieldPoint* out) const {
   int pmax = 1;
   for (int d = 0; d < D; ++d) pmax = std::max(pmax, pd.p[d]);
-  // each direction's 1-D B-spline values and first derivatives, per parameter
-  std::vector<double> N[D];
+  // each direction's 1-D B-spline values and first derivatives, per parameter (on the stack
+  // for up to kSmall parameters: one point, an element's fit points)
+  constexpr int kSmall = kMaxBasis1D, kPer = 3 * kMaxBasis1D;
+  double small[D][kSmall * kPer];
+  std::vector<double> large[D];
+  double* N[D];
   for (int d = 0; d < D; ++d) {
-    N[d].resize(static_cast<size_t>(n[d]) * 3 * kMaxBasis1D);
+    if (n[d] <= kSmall) {
+      N[d] = small[d];
+    } else {
+      large[d].resize(static_cast<size_t>(n[d]) * kPer);
+      N[d] = large[d].data();
+    }
     for (int i = 0; i < n[d]; ++i)
-      bspline_ders(s[d], t[d][i], pd.p[d], pd.U[d].data(), 1,
-                   reinterpret_cast<double(*)[kMaxBasis1D]>(&N[d][static_cast<size_t>(i) * 3 * kMaxBasis1D]));
+      bspline_ders(s[d], t[d][i], pd.p[d], pd.U[d].data(), 1, reinterpret_cast<double(*)[kMaxBasis1D]>(N[d] + static_cast<size_t>(i) * kPer));
   }
   dispatch_degree(pmax, [&](auto PP) {
     constexpr int P = decltype(PP)::value;
@@ -96,7 +104,7 @@ void BodyField::grid(const PD& pd, const int* s, const int* n, const double* con
           const int ii[3] = {i0, i1, i2};
           const double(*B[D])[kMaxBasis1D];
           for (int d = 0; d < D; ++d)
-            B[d] = reinterpret_cast<const double(*)[kMaxBasis1D]>(&N[d][static_cast<size_t>(ii[d]) * 3 * kMaxBasis1D]);
+            B[d] = reinterpret_cast<const double(*)[kMaxBasis1D]>(N[d] + static_cast<size_t>(ii[d]) * kPer);
           *f = FieldPoint{};
           double g[D][D] = {}, uu[D] = {};
           // H = Grad u from the basis gradients (and u where `values`)
