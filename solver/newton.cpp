@@ -603,7 +603,9 @@ bool NewtonCore::augment(int aug, std::vector<double>& gap_history, Outcome& out
     out.stall = true;
     return false;
   }
-  if (!friction_alm && n > kWindow && aug + 1 < max_aug_) {
+  // (a window that starts at 0, an update with no active point to close, has no rate: a
+  // finite-strain punch with kts_alm stopped with 'from 0 to 1.135 (inf per update)')
+  if (!friction_alm && n > kWindow && aug + 1 < max_aug_ && gap_history[n - 1 - kWindow] > 0) {
     const double rate = std::pow(gap_history[n - 1] / gap_history[n - 1 - kWindow], 1.0 / kWindow);
     const double needed = rate < 1 ? std::log(q) / -std::log(rate) : std::numeric_limits<double>::infinity();
     const int left = max_aug_ - 1 - (aug + 1);
