@@ -10,6 +10,7 @@
 # the contact force [Fx, Fy] must agree with the example's to 1e-5 of |F| (both runs stop at a
 # relative residual of 1e-8; they agree to 1e-6 in this test's first runs, force x
 # included, which is 6 % of |F|).
+# Then a 3-D punch with kts_alm at finite strain (below).
 # Usage: cli_one_step.sh EXE IRONING_YAML
 set -u
 exe="$1"; file="$2"
@@ -32,3 +33,38 @@ if not err <= 1e-5:
     sys.exit(1)
 EOF
 echo "one load step per stage: ironing converges to the example's end state"
+
+# A stiff punch pressed 0.15 into a neo-Hookean block with kts_alm in 4 load steps: the ALM
+# stall test took a window of multiplier updates that started at 0 (no active point yet) for a
+# rate of inf and stopped the run at load step 3 ('from 0 to 1.135 times alm_tolerance (inf
+# per update)', exit 3). It converges; the punch's reaction balances the contact force.
+cat > "$tmp/punch.yaml" <<'YAML'
+analysis: {type: solid, kinematics: finite, load_steps: 4}
+bodies:
+  - name: base
+    material: {model: neo_hookean, youngs_modulus: 100.0, poisson_ratio: 0.3}
+    geometry: {box: {origin: [0, 0, 0], size: [2, 2, 1]}}
+    refine: {degree_elevate: 1, subdivide: [12, 12, 3]}
+    boundary: {front: {displacement: {x: 0.0, y: 0.0, z: 0.0}}}
+  - name: punch
+    material: {model: neo_hookean, youngs_modulus: 10000.0, poisson_ratio: 0.3}
+    geometry: {box: {origin: [0.5, 0.5, 1.0], size: [1, 1, 0.5]}}
+    refine: {degree_elevate: 1, subdivide: [4, 4, 1]}
+    boundary: {back: {displacement: {x: 0.0, y: 0.0, z: -0.15}}}
+contact:
+  - {master: {body: base, side: back}, slave: {body: punch, side: front}, method: kts_alm, penalty: 1.0e4}
+YAML
+timeout 300 "$exe" run "$tmp/punch.yaml" --output "$tmp/punch" --quiet 2>"$tmp/err"; rc=$?
+[ "$rc" = 0 ] || { echo "FAIL punch kts_alm: exit $rc: $(cat "$tmp/err")"; exit 1; }
+python3 - "$tmp/punch/summary.json" <<'EOF' || exit 1
+import json, sys
+s = json.load(open(sys.argv[1]))
+c = s["contact"][0]
+r = s["reactions"]["punch"]["back"]
+err = max(abs(r[k] + c["force"][k]) for k in range(3)) / abs(c["force"][2])
+print(f"punch, kts_alm, finite strain: Newton {s['newton_iterations']}, force {c['force']}, punch reaction {r}: {err:.1e}")
+if not (abs(c["force"][2]) > 0 and err <= 1e-6):
+    print("FAIL: the punch's reaction does not balance the contact force")
+    sys.exit(1)
+EOF
+echo "kts_alm punch at finite strain converges"
