@@ -550,13 +550,17 @@ class ArrayWriter {
     std::atomic<std::uint64_t> next{0};
     std::atomic<bool> failed{false};
     auto work = [&] {
-      for (std::uint64_t b; (b = next++) < nb;) {
-        const std::uint64_t n = std::min(block, bytes - b * block);
-        out[b].resize(compressBound(static_cast<uLong>(n)));
-        uLongf len = static_cast<uLongf>(out[b].size());
-        if (compress2(out[b].data(), &len, reinterpret_cast<const Bytef*>(data + b * block), static_cast<uLong>(n), 1) != Z_OK)
-          failed = true;
-        out[b].resize(len);
+      try {   // (nothing may leave a thread: a failure is reported below, on the caller's)
+        for (std::uint64_t b; (b = next++) < nb;) {
+          const std::uint64_t n = std::min(block, bytes - b * block);
+          out[b].resize(compressBound(static_cast<uLong>(n)));
+          uLongf len = static_cast<uLongf>(out[b].size());
+          if (compress2(out[b].data(), &len, reinterpret_cast<const Bytef*>(data + b * block), static_cast<uLong>(n), 1) != Z_OK)
+            failed = true;
+          out[b].resize(len);
+        }
+      } catch (...) {
+        failed = true;
       }
     };
     std::vector<std::thread> pool;

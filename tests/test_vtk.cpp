@@ -6,6 +6,9 @@
 // ParaView check (tests/paraview/check_bezier.py, run by tests/paraview_bezier.sh).
 #include <gtest/gtest.h>
 
+#include <cstring>
+#include <zlib.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -391,6 +394,63 @@ TEST(VtkBezier, WritesQuarterAnnulusFiles) {
   EXPECT_NE(pvd.find("timestep=\"0.5\""), std::string::npos);
   EXPECT_NE(pvd.find("file=\"annulus_ascii.vtu\""), std::string::npos);
   std::ofstream(dir / "annulus.pvd") << pvd;
+}
+
+// The zlib encoding on several threads (the .vtu's arrays split in blocks of 1 MiB, each
+// compressed on its own): the same bytes on 1 and 4 threads, and each array's blocks inflate
+// back to the raw encoding's bytes. The annulus' cells padded with unreferenced points to
+// arrays of several blocks (the displacement: 3.1 MB, 3 blocks).
+TEST(VtkBezier, CompressedBlocksDoNotDependOnTheThreads) {
+  BezierMesh m = bezier_mesh(annulus().P, annulus().disp);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> U(-1, 1);
+  const size_t extra = 130000;
+  for (size_t k = 0; k < extra; ++k) {
+    for (int c = 0; c < 3; ++c) {
+      m.points.push_back(U(rng));
+      m.displacement.push_back(1e-3 * U(rng));
+    }
+    for (int c = 0; c < 6; ++c) m.stress.push_back(U(rng));
+    m.weights.push_back(1 + 0.1 * U(rng));
+    m.von_mises.push_back(1 + U(rng));
+  }
+  const std::string one = vtu_text(m, 1.0, "threads", VtkEncoding::AppendedZlib, 1);
+  const std::string four = vtu_text(m, 1.0, "threads", VtkEncoding::AppendedZlib, 4);
+  EXPECT_EQ(one, four);
+  // the displacement array: the header (blocks, block size, last block's size, sizes), then
+  // the blocks, against the raw encoding's bytes
+  const std::string raw = vtu_text(m, 1.0, "threads", VtkEncoding::AppendedRaw);
+  auto appended_offset = [](const std::string& t, const std::string& name) {
+    const size_t at = t.find("Name=\"" + name + "\"");
+    const size_t o = t.find("offset=\"", at) + 8;
+    return std::stoull(t.substr(o, t.find('"', o) - o));
+  };
+  const size_t zbase = four.find("<AppendedData encoding=\"raw\">\n  _") + 33;
+  const size_t rbase = raw.find("<AppendedData encoding=\"raw\">\n  _") + 33;
+  ASSERT_EQ(four.substr(zbase - 1, 1), "_");
+  const char* z = four.data() + zbase + appended_offset(four, "displacement");
+  std::uint64_t hdr[3];
+  std::memcpy(hdr, z, sizeof hdr);
+  ASSERT_EQ(hdr[1], 1u << 20);
+  ASSERT_GE(hdr[0], 3u);
+  std::vector<std::uint64_t> sizes(hdr[0]);
+  std::memcpy(sizes.data(), z + sizeof hdr, hdr[0] * sizeof(std::uint64_t));
+  const char* blocks = z + sizeof hdr + hdr[0] * sizeof(std::uint64_t);
+  std::string inflated;
+  for (std::uint64_t b = 0; b < hdr[0]; ++b) {
+    std::vector<Bytef> buf(hdr[1]);
+    uLongf len = static_cast<uLongf>(buf.size());
+    ASSERT_EQ(uncompress(buf.data(), &len, reinterpret_cast<const Bytef*>(blocks), static_cast<uLong>(sizes[b])), Z_OK);
+    inflated.append(reinterpret_cast<const char*>(buf.data()), len);
+    blocks += sizes[b];
+  }
+  const char* r = raw.data() + rbase + appended_offset(raw, "displacement");
+  std::uint64_t rbytes;
+  std::memcpy(&rbytes, r, sizeof rbytes);
+  EXPECT_EQ(rbytes, 8 * m.displacement.size());
+  EXPECT_EQ(inflated.size(), rbytes);
+  EXPECT_EQ(hdr[2], rbytes % hdr[1]);
+  EXPECT_TRUE(inflated == std::string(r + sizeof rbytes, rbytes));
 }
 
 // ------------------------------------------------------------------ 3-D (issue 35)
