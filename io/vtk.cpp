@@ -244,11 +244,13 @@ void add_cells(BezierMesh& m, const CellFamily& F) {
   // j s' = k p, give the same values)
   const int s = F.samples;
   int nfit[3] = {1, 1, 1}, nbound[3] = {1, 1, 1};
+  bool new_points = false;   // a bounds point that is no fit point (s does not divide p)
   for (int d = 0; d < cd; ++d) {
     nfit[d] = p[d] + 1;
     nbound[d] = s > 0 ? s + 1 : 0;
+    new_points = new_points || (s > 0 && p[d] % s != 0);
   }
-  const size_t nb = s > 0 ? static_cast<size_t>(nbound[0]) * nbound[1] * nbound[2] : 0;
+  const size_t nb = new_points ? static_cast<size_t>(nbound[0]) * nbound[1] * nbound[2] : 0;
   std::vector<FieldPoint> fp(static_cast<size_t>(n) + nb);
   std::vector<double> tfit[3], tbound[3];
   std::vector<ControlPoint> pts(n);
