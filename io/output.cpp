@@ -527,19 +527,20 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
       return xml;
     };
     {
+      // the cells' fits and the compression on the cores not taken by other ranks (as MUMPS'
+      // threads)
+      const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
+      const int threads = static_cast<int>(std::max(1u, hw / static_cast<unsigned>(sys_.comm()->getSize())));
       BezierMesh mesh;
       {
         Teuchos::TimeMonitor t2(*Teuchos::TimeMonitor::getNewTimer("6.2) Output: Bezier cells"));
-        mesh = bezier_mesh(P, disp);
+        mesh = bezier_mesh(P, disp, threads);
       }
       // output.compression (auto: zlib where the cells would take more than 400 bytes per dof)
       const bool zlib = P.output.compression == 1 ||
                         (P.output.compression < 0 && static_cast<double>(vtu_raw_bytes(mesh)) >
                                                          OutputOptions::kCompressAboveBytesPerDof * static_cast<double>(sys_.num_dofs()));
       Teuchos::TimeMonitor t3(*Teuchos::TimeMonitor::getNewTimer("6.3) Output: encoding"));
-      // the compression on the cores not taken by other ranks (as MUMPS' threads)
-      const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
-      const int threads = static_cast<int>(std::max(1u, hw / static_cast<unsigned>(sys_.comm()->getSize())));
       write(name + ".vtu", vtu_text(mesh, lambda, run_id_, zlib ? VtkEncoding::AppendedZlib : VtkEncoding::AppendedRaw, threads));
       if (dim == 3) umax = mesh.max_displacement;   // 3-D: at the cells' evaluation points
     }

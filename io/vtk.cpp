@@ -216,8 +216,9 @@ int stress_values(int ncu, const FieldPoint& f, double* v) {
   return 7;
 }
 
-// The cells of one family appended to m (points shared within the family, shared_offsets).
-void add_cells(BezierMesh& m, const CellFamily& F) {
+// The cells of one family appended to m (points shared within the family, shared_offsets); the
+// elements' fits on up to `threads` threads.
+void add_cells(BezierMesh& m, const CellFamily& F, int threads) {
   constexpr double inf = std::numeric_limits<double>::infinity();
   const Patch& pt = *F.geo;
   const int cd = pt.dim();   // cell dimension: 2 quadrilaterals, 3 hexahedra
@@ -251,48 +252,99 @@ void add_cells(BezierMesh& m, const CellFamily& F) {
     new_points = new_points || (s > 0 && p[d] % s != 0);
   }
   const size_t nb = new_points ? static_cast<size_t>(nbound[0]) * nbound[1] * nbound[2] : 0;
-  std::vector<FieldPoint> fp(static_cast<size_t>(n) + nb);
-  std::vector<double> tfit[3], tbound[3];
-  std::vector<ControlPoint> pts(n);
-  std::vector<double> u(F.ncu * n), w(n), vals(nq * n), coef(nq * n), elo(nq), ehi(nq);
-  const std::vector<double> none;
-  for (int e = 0; e < B.num_elements(); ++e) {
-    B.element_points(e, pts.data());
-    B.element_field(e, F.u->data(), F.ncu, u.data());
-    std::array<double, 2> r[3] = {{0, 0}, {0, 0}, {0, 0}};
-    int sp[3] = {0, 0, 0}, ei[3] = {0, 0, 0};
+  // One element's part that needs no other element: its Bezier points and displacement, the
+  // field at its fit points (and bounds grid), the fitted coefficients and the sampled range.
+  // Elements go through it in chunks, on `threads` threads, each into its own record; the
+  // records are then merged in element order below (the same numbers for any thread count).
+  struct Record {
+    std::vector<ControlPoint> pts;
+    std::vector<double> u, coef, elo, ehi;
+    std::array<double, 2> r[3];
+    int sp[3], ei[3];
+    double umax;
+  };
+  struct Scratch {
+    std::vector<FieldPoint> fp;
+    std::vector<double> tfit[3], tbound[3], w, vals;
+  };
+  auto element = [&](int e, Record& R, Scratch& W) {
+    R.pts.resize(n);
+    R.u.resize(F.ncu * n);
+    R.coef.resize(nq * n);
+    R.elo.assign(nq, inf);
+    R.ehi.assign(nq, -inf);
+    W.fp.resize(static_cast<size_t>(n) + nb);
+    W.w.resize(n);
+    W.vals.resize(nq * n);
+    B.element_points(e, R.pts.data());
+    B.element_field(e, F.u->data(), F.ncu, R.u.data());
     const double* tf[3] = {nullptr, nullptr, nullptr};
     const double* tbd[3] = {nullptr, nullptr, nullptr};
-    for (int d = 0; d < cd; ++d) {
-      r[d] = B.range(e, d);
-      sp[d] = B.span(e, d);
-      ei[d] = B.element_index(e, d);
-      tfit[d].resize(nfit[d]);
-      for (int j = 0; j < nfit[d]; ++j) tfit[d][j] = r[d][0] + static_cast<double>(j) / p[d] * (r[d][1] - r[d][0]);
-      tf[d] = tfit[d].data();
-      tbound[d].resize(nbound[d]);
-      for (int j = 0; j < nbound[d]; ++j) tbound[d][j] = r[d][0] + static_cast<double>(j) / s * (r[d][1] - r[d][0]);
-      tbd[d] = tbound[d].data();
+    for (int d = 0; d < 3; ++d) {
+      R.r[d] = {0, 0};
+      R.sp[d] = R.ei[d] = 0;
     }
-    F.eval(sp, nfit, tf, fp.data());
-    if (nb > 0) F.eval(sp, nbound, tbd, fp.data() + n);
-    std::fill(elo.begin(), elo.end(), inf);
-    std::fill(ehi.begin(), ehi.end(), -inf);
-    for (size_t j = 0; j < fp.size(); ++j) {
-      const FieldPoint& f = fp[j];
-      m.max_displacement = std::max(m.max_displacement, std::sqrt(f.ux * f.ux + f.uy * f.uy + f.uz * f.uz));
+    for (int d = 0; d < cd; ++d) {
+      R.r[d] = B.range(e, d);
+      R.sp[d] = B.span(e, d);
+      R.ei[d] = B.element_index(e, d);
+      W.tfit[d].resize(nfit[d]);
+      for (int j = 0; j < nfit[d]; ++j) W.tfit[d][j] = R.r[d][0] + static_cast<double>(j) / p[d] * (R.r[d][1] - R.r[d][0]);
+      tf[d] = W.tfit[d].data();
+      W.tbound[d].resize(nbound[d]);
+      for (int j = 0; j < nbound[d]; ++j) W.tbound[d][j] = R.r[d][0] + static_cast<double>(j) / s * (R.r[d][1] - R.r[d][0]);
+      tbd[d] = W.tbound[d].data();
+    }
+    F.eval(R.sp, nfit, tf, W.fp.data());
+    if (nb > 0) F.eval(R.sp, nbound, tbd, W.fp.data() + n);
+    R.umax = 0;
+    for (size_t j = 0; j < W.fp.size(); ++j) {
+      const FieldPoint& f = W.fp[j];
+      R.umax = std::max(R.umax, std::sqrt(f.ux * f.ux + f.uy * f.uy + f.uz * f.uz));
       double v[7];
       stress_values(F.ncu, f, v);
       for (int q = 0; q < nq; ++q) {
-        elo[q] = std::min(elo[q], v[q]);
-        ehi[q] = std::max(ehi[q], v[q]);
+        R.elo[q] = std::min(R.elo[q], v[q]);
+        R.ehi[q] = std::max(R.ehi[q], v[q]);
       }
       if (j < static_cast<size_t>(n)) {
-        w[j] = pts[j].w;
-        std::copy(v, v + nq, &vals[nq * j]);
+        W.w[j] = R.pts[j].w;
+        std::copy(v, v + nq, &W.vals[nq * j]);
       }
     }
-    fit_rational_bezier(cd, p, w.data(), nq, vals.data(), coef.data());
+    fit_rational_bezier(cd, p, W.w.data(), nq, W.vals.data(), R.coef.data());
+  };
+  const int ne = B.num_elements(), nthreads = std::max(1, threads);
+  constexpr int kChunk = 1024;
+  std::vector<Record> records(static_cast<size_t>(std::min(ne, kChunk)));
+  std::vector<Scratch> scratch(static_cast<size_t>(nthreads));
+  for (int c0 = 0; c0 < ne; c0 += kChunk) {
+    const int c1 = std::min(ne, c0 + kChunk);
+    std::atomic<int> next{c0};
+    std::atomic<bool> failed{false};
+    auto work = [&](int t) {
+      try {   // (nothing may leave a thread: rethrown below on the caller's)
+        for (int e; (e = next++) < c1;) element(e, records[e - c0], scratch[t]);
+      } catch (...) {
+        failed = true;
+      }
+    };
+    std::vector<std::thread> pool;
+    for (int t = 1; t < nthreads && t < c1 - c0; ++t) pool.emplace_back(work, t);
+    work(0);
+    for (std::thread& t : pool) t.join();
+    if (failed) throw std::runtime_error("the Bezier cells of a patch could not be built (out of memory?)");
+  for (int e = c0; e < c1; ++e) {
+    const Record& R = records[e - c0];
+    const std::vector<ControlPoint>& pts = R.pts;
+    const std::vector<double>& u = R.u;
+    const std::vector<double>& coef = R.coef;
+    const std::vector<double>& elo = R.elo;
+    const std::vector<double>& ehi = R.ehi;
+    const auto& r = R.r;
+    const int* sp = R.sp;
+    const int* ei = R.ei;
+    m.max_displacement = std::max(m.max_displacement, R.umax);
     const size_t cbase = m.connectivity.size();
     m.connectivity.resize(cbase + n);
     for (int kk = 0; kk < n; ++kk) {
@@ -370,6 +422,7 @@ void add_cells(BezierMesh& m, const CellFamily& F) {
     m.range.insert(m.range.end(), {vr[0][0], vr[0][1], vr[1][0], vr[1][1], vr[2][0], vr[2][1]});
     m.face.push_back(F.face);
   }
+  }
   // the shared coefficients: the mean of the elements' fits (equal to round-off where the
   // stress is continuous), clamped into the union of those elements' sampled ranges
   for (size_t g = 0; g < np; ++g) {
@@ -384,7 +437,7 @@ void add_cells(BezierMesh& m, const CellFamily& F) {
 
 }  // namespace
 
-BezierMesh bezier_mesh(const Problem& P, const std::vector<std::vector<double>>& cp_displacement) {
+BezierMesh bezier_mesh(const Problem& P, const std::vector<std::vector<double>>& cp_displacement, int threads) {
   if (cp_displacement.size() != P.bodies.size())
     throw std::invalid_argument("bezier_mesh: one displacement vector per body expected");
   const int dim = P.dim();
@@ -416,7 +469,7 @@ BezierMesh bezier_mesh(const Problem& P, const std::vector<std::vector<double>>&
         F.u = &ucp;
         F.samples = dim == 2 ? output_samples(P.output, pt) : P.output.samples_per_element;
         F.eval = [&](const int* s, const int* n, const double* const* t, FieldPoint* out) { field.eval_grid(s, n, t, out); };
-        add_cells(m, F);
+        add_cells(m, F, threads);
         continue;
       }
       // 3-D faces: the patch's boundary faces that are not interfaces, each a bivariate patch
@@ -459,7 +512,7 @@ BezierMesh bezier_mesh(const Problem& P, const std::vector<std::vector<double>>&
           }
           field.eval_grid(s3, n3, t3, out);
         };
-        add_cells(m, F);
+        add_cells(m, F, threads);
       }
     }
   return m;

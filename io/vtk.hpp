@@ -143,8 +143,9 @@ int output_samples(const OutputOptions& o, const Patch& pt);
 /// gather_displacements returns them on rank 0). 3-D (Problem::dim() = 3): by default the
 /// boundary faces of every patch that are not interfaces (output.cells: faces), or with
 /// OutputOptions::volume_cells (output.cells: volume) every element as a hexahedron; see
-/// "3-D" above.
-BezierMesh bezier_mesh(const Problem& P, const std::vector<std::vector<double>>& cp_displacement);
+/// "3-D" above. The elements' field evaluations and fits run on up to `threads` threads, in
+/// chunks merged in element order (the same mesh for any number).
+BezierMesh bezier_mesh(const Problem& P, const std::vector<std::vector<double>>& cp_displacement, int threads = 1);
 
 /// AppendedZlib: as AppendedRaw, each array compressed in blocks of 1 MiB with zlib (level 1)
 /// as VTK's vtkZLibDataCompressor reads them (ParaView, any VTK reader).

@@ -396,6 +396,21 @@ TEST(VtkBezier, WritesQuarterAnnulusFiles) {
   std::ofstream(dir / "annulus.pvd") << pvd;
 }
 
+// The cells' fits on several threads (elements in chunks, merged in element order): the same
+// mesh, every array bit for bit, on 1 and 3 threads.
+TEST(VtkBezier, CellsDoNotDependOnTheThreads) {
+  const BezierMesh a = bezier_mesh(annulus().P, annulus().disp, 1), b = bezier_mesh(annulus().P, annulus().disp, 3);
+  EXPECT_GT(a.num_cells(), 3u);
+  EXPECT_TRUE(a.points == b.points);
+  EXPECT_TRUE(a.weights == b.weights);
+  EXPECT_TRUE(a.displacement == b.displacement);
+  EXPECT_TRUE(a.stress == b.stress);
+  EXPECT_TRUE(a.von_mises == b.von_mises);
+  EXPECT_TRUE(a.connectivity == b.connectivity);
+  EXPECT_TRUE(a.range == b.range);
+  EXPECT_EQ(a.max_displacement, b.max_displacement);
+}
+
 // The zlib encoding on several threads (the .vtu's arrays split in blocks of 1 MiB, each
 // compressed on its own): the same bytes on 1 and 4 threads, and each array's blocks inflate
 // back to the raw encoding's bytes. The annulus' cells padded with unreferenced points to
