@@ -107,6 +107,8 @@ class NewtonCore {
   // first residual
   double geometric_ = 1;
   static constexpr double simple_alpha_ = 0.25, simple_back_ = 1e-3;
+  static constexpr double kHoldFloor = 1e-3;
+  double force_scale() const;   // |(f_ext, reactions)| at the last evaluation (collective)
   // inexact Newton (solver.linear.forcing; model/problem.cpp says when auto takes it)
   bool eisenstat_walker_;
   // r = f - f_int(u) - f_c(u), with the contact state updated at u; its constrained rows (the
@@ -378,6 +380,16 @@ bool NewtonCore::solve_without_geometric(ContactContribution& cc, LinearSolveRes
 // contact is the real one. The band is 4x the pairs' smallest gap, widened x4 until a point
 // is active (at most 8 times); where none is (no projection at all), the tangent stays as it
 // was and the linear solver says it is singular.
+// The size of the forces in equilibrium at the last evaluation: the external load vector and
+// the reactions (the residual's constrained rows), in one 2-norm over the ranks.
+double NewtonCore::force_scale() const {
+  double local = 0, global = 0;
+  for (double v : r_fixed_) local += v * v;
+  Teuchos::reduceAll<int, double>(*sys_.comm(), Teuchos::REDUCE_SUM, 1, &local, &global);
+  const double f = f_->norm2();
+  return std::sqrt(global + f * f);
+}
+
 // Where no point of the pairs that hold a body is active after Newton's last iteration: the
 // body (held by contact alone) and how far it still is from the other (collective), for the
 // failure line. The band of close_gaps gives the first tangent the penalty stiffness of the
@@ -441,7 +453,11 @@ bool NewtonCore::newton(const LoadPoint& lp, int step, int cuts, int aug, double
   for (int it = 0; it <= P_.newton.max_iterations; ++it) {
     sys_.zero_dirichlet(*r_);
     const double norm = r_->norm2();
-    if (aug == 0 && it == 0 && ref == 0) ref = norm;
+    // the increment's reference: its first residual, but at least 1e-3 of the forces in
+    // equilibrium (loads and reactions): an increment that changes nothing (a stage that holds
+    // its load) starts at a round-off residual, which Newton cannot reduce by the tolerance
+    // (it never converged: every held stage, linear or not, ended in cuts and exit 3)
+    if (aug == 0 && it == 0 && ref == 0) ref = std::max(norm, kHoldFloor * force_scale());
     const double rel = ref > 0 ? norm / ref : 0.0;
     IterationLog log;
     log.step = step; log.augmentation = aug; log.iteration = it; log.lambda = lp.time();

@@ -62,6 +62,38 @@ TEST(LoadPath, StagesFollowThePrescribedPiecewiseLinearPath) {
   }
 }
 
+// A stage that holds its load (the same top displacement, or the same traction, at both of its
+// ends) converges at once: its increments change nothing, so their first residual is round-off,
+// which Newton cannot reduce by the tolerance relative to itself; measured against the forces
+// in equilibrium it is converged (before: every held stage ended in 10 cuts, exit 3; found by
+// a problem written from the docs). The held steps keep the reaction of the first stage's end.
+TEST(LoadPath, HeldStagesConvergeAtOnce) {
+  for (const char* top : {"[0.01, 0.01]", "traction"}) {
+    SCOPED_TRACE(top);
+    std::string yaml = block_yaml("{type: plane_stress, stages: [1, 3]}", std::string(top) == "traction" ? "0.0" : top);
+    if (std::string(top) == "traction") {
+      const std::string line = "      north: {displacement: {x: 0.0, y: 0.0}}\n";
+      yaml.replace(yaml.find(line), line.size(), "      north: {traction: [0.0, 5.0]}\n      west: {displacement: {x: 0.0}}\n");
+    }
+    const Problem P = parse_problem(yaml, "hold.yaml");
+    System sys(P, Tpetra::getDefaultComm());
+    std::vector<double> ry;
+    const SolveResult res = solve(sys, {}, [&](const StepState& st) {
+      ry.push_back(reactions_json(sys, *st.residual)["block"]["south"][1].get<double>());
+    });
+    ASSERT_TRUE(res.converged) << res.message;
+    ASSERT_EQ(res.newton_iterations.size(), 4u);
+    EXPECT_EQ(res.cuts, 0);
+    EXPECT_LE(res.newton_iterations[0], 1);   // a linear problem: one solve
+    for (int k = 1; k < 4; ++k) {
+      EXPECT_EQ(res.newton_iterations[k], 0) << "held step " << k + 1;
+      EXPECT_NEAR(ry[k], ry[0], 1e-10 * std::abs(ry[0]));
+    }
+    // the reaction of the first stage: E A uy / h = 20, or the traction's resultant 5 x 2
+    EXPECT_NEAR(std::abs(ry[0]), 10.0 * (std::string(top) == "traction" ? 1.0 : 2.0), 1e-8);
+  }
+}
+
 // Without stages, load_steps is one stage: the same path as before (t = step / n).
 TEST(LoadPath, LoadStepsAreOneStage) {
   const auto rec = run_steps(block_yaml("{type: plane_stress, load_steps: 4}", "0.02"));
