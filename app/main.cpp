@@ -69,6 +69,9 @@ Args parse_args(int argc, char** argv) {
     else if (s == "--quiet" || s == "-q") a.quiet = true;
     else if (!s.empty() && s[0] == '-') throw UsageError("unknown option '" + s + "'");
     else if (a.file.empty()) a.file = s;
+    else if (i == 2 && a.command == "run" && std::string(argv[1]) == a.file && a.file.find('.') == std::string::npos &&
+             a.file.find('/') == std::string::npos)   // 'igacontact frob x.yaml': a mistyped command
+      throw UsageError("unknown command '" + a.file + "' (the commands are run, check and export)");
     else throw UsageError("more than one problem file given ('" + a.file + "' and '" + s + "')");
   }
   if (a.file.empty()) throw UsageError("no problem file given");
