@@ -576,11 +576,14 @@ class ArrayWriter {
       }
       xml_ << line.str() << "\n" << indent << "</DataArray>\n";
     } else {
-      xml_ << " format=\"appended\" offset=\"" << appended_.size() << "\"/>\n";
       const std::uint64_t bytes = v.size() * sizeof(T);
       const char* data = reinterpret_cast<const char*>(v.data());
-      if (enc_ == VtkEncoding::AppendedZlib) append_zlib(data, bytes);
-      else {
+      if (enc_ == VtkEncoding::AppendedZlib) {
+        // compressed with the others in finish(): the offset is a marker until then
+        xml_ << " format=\"appended\" offset=\"" << marker(payloads_.size()) << "\"/>\n";
+        payloads_.emplace_back(data, bytes);
+      } else {
+        xml_ << " format=\"appended\" offset=\"" << appended_.size() << "\"/>\n";
         appended_.append(reinterpret_cast<const char*>(&bytes), sizeof(bytes));
         if (bytes) appended_.append(data, bytes);
       }
@@ -588,29 +591,45 @@ class ArrayWriter {
   }
   const std::string& appended() const { return appended_; }
 
+  /// AppendedZlib: every array's blocks compressed in one pass over threads_ threads, appended
+  /// in the arrays' order, and the offset markers of `xml` replaced by their offsets.
+  void finish(std::string& xml) {
+    if (enc_ != VtkEncoding::AppendedZlib) return;
+    std::vector<std::string> z = compress_all();
+    for (size_t k = 0; k < z.size(); ++k) {
+      const std::string mk = marker(k);
+      const size_t at = xml.find(mk);
+      xml.replace(at, mk.size(), std::to_string(appended_.size()));
+      appended_ += z[k];
+    }
+  }
+
  private:
-  // vtkZLibDataCompressor's layout (header_type UInt64): the number of blocks, the block size,
-  // the size of the last block where it is partial (else 0), each block's compressed size,
-  // then the blocks; each block compressed on its own (zlib's format, level 1: 2.4x smaller
-  // on the cells of degree 4, about 0.1 s per 19 MB on one thread: docs/performance.md), the
-  // blocks shared among threads_ threads (the bytes do not depend on how many)
-  void append_zlib(const char* data, std::uint64_t bytes) {
+  static std::string marker(size_t k) { return "\x01" + std::to_string(k) + "\x01"; }
+  // vtkZLibDataCompressor's layout (header_type UInt64), per array: the number of blocks, the
+  // block size, the size of the last block where it is partial (else 0), each block's
+  // compressed size, then the blocks; each block compressed on its own (zlib's format, level 1:
+  // 2.4x smaller on the cells of degree 4, about 0.2 s per 19 MB on one thread:
+  // docs/performance.md). All arrays' blocks are shared among threads_ threads in one pass (the
+  // bytes do not depend on how many).
+  std::vector<std::string> compress_all() {
     constexpr std::uint64_t block = 1 << 20;
-    const std::uint64_t nb = bytes == 0 ? 0 : (bytes + block - 1) / block;
-    std::vector<std::uint64_t> header(3 + nb);
-    header[0] = nb;
-    header[1] = block;
-    header[2] = bytes % block;
-    std::vector<std::vector<Bytef>> out(nb);
-    std::atomic<std::uint64_t> next{0};
+    struct Block { size_t array; std::uint64_t at, n; };
+    std::vector<Block> blocks;
+    for (size_t k = 0; k < payloads_.size(); ++k)
+      for (std::uint64_t at = 0; at < payloads_[k].second; at += block)
+        blocks.push_back({k, at, std::min(block, payloads_[k].second - at)});
+    std::vector<std::vector<Bytef>> out(blocks.size());
+    std::atomic<size_t> next{0};
     std::atomic<bool> failed{false};
     auto work = [&] {
       try {   // (nothing may leave a thread: a failure is reported below, on the caller's)
-        for (std::uint64_t b; (b = next++) < nb;) {
-          const std::uint64_t n = std::min(block, bytes - b * block);
-          out[b].resize(compressBound(static_cast<uLong>(n)));
+        for (size_t b; (b = next++) < blocks.size();) {
+          const Block& B = blocks[b];
+          out[b].resize(compressBound(static_cast<uLong>(B.n)));
           uLongf len = static_cast<uLongf>(out[b].size());
-          if (compress2(out[b].data(), &len, reinterpret_cast<const Bytef*>(data + b * block), static_cast<uLong>(n), 1) != Z_OK)
+          if (compress2(out[b].data(), &len, reinterpret_cast<const Bytef*>(payloads_[B.array].first + B.at),
+                        static_cast<uLong>(B.n), 1) != Z_OK)
             failed = true;
           out[b].resize(len);
         }
@@ -619,19 +638,32 @@ class ArrayWriter {
       }
     };
     std::vector<std::thread> pool;
-    for (int t = 1; t < threads_ && static_cast<std::uint64_t>(t) < nb; ++t) pool.emplace_back(work);
+    for (int t = 1; t < threads_ && static_cast<size_t>(t) < blocks.size(); ++t) pool.emplace_back(work);
     work();
     for (std::thread& t : pool) t.join();
     if (failed) throw std::runtime_error("zlib could not compress a block of the .vtu");
-    for (std::uint64_t b = 0; b < nb; ++b) header[3 + b] = out[b].size();
-    appended_.append(reinterpret_cast<const char*>(header.data()), header.size() * sizeof(std::uint64_t));
-    for (const auto& o : out) appended_.append(reinterpret_cast<const char*>(o.data()), o.size());
+    std::vector<std::string> z(payloads_.size());
+    for (size_t k = 0, b = 0; k < payloads_.size(); ++k) {
+      const std::uint64_t bytes = payloads_[k].second, nb = bytes == 0 ? 0 : (bytes + block - 1) / block;
+      std::vector<std::uint64_t> header(3 + nb);
+      header[0] = nb;
+      header[1] = block;
+      header[2] = bytes % block;
+      for (std::uint64_t j = 0; j < nb; ++j) header[3 + j] = out[b + j].size();
+      z[k].append(reinterpret_cast<const char*>(header.data()), header.size() * sizeof(std::uint64_t));
+      for (std::uint64_t j = 0; j < nb; ++j) z[k].append(reinterpret_cast<const char*>(out[b + j].data()), out[b + j].size());
+      b += nb;
+    }
+    return z;
   }
 
   std::ostringstream& xml_;
   VtkEncoding enc_;
   int threads_;
   std::string appended_;
+  // AppendedZlib: each array's bytes until finish() (the caller's vectors outlive it: see
+  // vtu_text, which keeps its converted copies)
+  std::vector<std::pair<const char*, std::uint64_t>> payloads_;
 };
 
 }  // namespace
@@ -663,8 +695,10 @@ std::string vtu_text(const BezierMesh& m, double load_factor, const std::string&
   w.array("Float64", "displacement", 3, m.displacement, in);
   // the stress fit is a picture of a field that is not in the spline space: Float32 (the
   // geometry and the displacement, exact, stay Float64)
-  w.array("Float32", "stress", 6, std::vector<float>(m.stress.begin(), m.stress.end()), in);
-  w.array("Float32", "von_mises", 0, std::vector<float>(m.von_mises.begin(), m.von_mises.end()), in);
+  // (the converted arrays live until the end: the zlib encoding compresses them at the end)
+  const std::vector<float> stress32(m.stress.begin(), m.stress.end()), vm32(m.von_mises.begin(), m.von_mises.end());
+  w.array("Float32", "stress", 6, stress32, in);
+  w.array("Float32", "von_mises", 0, vm32, in);
   x << "   </PointData>\n"
     << "   <CellData Scalars=\"body\" HigherOrderDegrees=\"HigherOrderDegrees\">\n";
   w.array("Int32", "HigherOrderDegrees", 3, m.degrees, in);
@@ -680,9 +714,12 @@ std::string vtu_text(const BezierMesh& m, double load_factor, const std::string&
   x << "   </Points>\n   <Cells>\n";
   // VTK_BEZIER_QUADRILATERAL (77), VTK_BEZIER_HEXAHEDRON (79)
   const std::vector<std::uint8_t> types = m.types.size() == nc ? m.types : std::vector<std::uint8_t>(nc, 77);
+  std::vector<std::int32_t> conn32, off32;
   if (m.connectivity.size() < static_cast<size_t>(std::numeric_limits<std::int32_t>::max())) {
-    w.array("Int32", "connectivity", 0, std::vector<std::int32_t>(m.connectivity.begin(), m.connectivity.end()), in);
-    w.array("Int32", "offsets", 0, std::vector<std::int32_t>(m.offsets.begin(), m.offsets.end()), in);
+    conn32.assign(m.connectivity.begin(), m.connectivity.end());
+    off32.assign(m.offsets.begin(), m.offsets.end());
+    w.array("Int32", "connectivity", 0, conn32, in);
+    w.array("Int32", "offsets", 0, off32, in);
   } else {
     w.array("Int64", "connectivity", 0, m.connectivity, in);
     w.array("Int64", "offsets", 0, m.offsets, in);
@@ -698,6 +735,7 @@ std::string vtu_text(const BezierMesh& m, double load_factor, const std::string&
   x << " <AppendedData encoding=\"raw\">\n  _";
   const char* tail = "\n </AppendedData>\n</VTKFile>\n";
   std::string out = x.str();
+  w.finish(out);   // zlib: the arrays compressed, their offsets into the XML
   out.reserve(out.size() + w.appended().size() + std::strlen(tail));
   out += w.appended();
   out += tail;
