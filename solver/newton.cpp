@@ -371,15 +371,6 @@ bool NewtonCore::solve_without_geometric(ContactContribution& cc, LinearSolveRes
   return linear_step(tangent_at(cc), lr, out, tol);
 }
 
-// A body held only by contact whose pairs have no active point makes the tangent singular:
-// force control, a wheel pressed by a load onto a block it touches at one point (no slave
-// quadrature point there), or bodies that start a little apart. For this tangent only, gaps
-// up to a band count as touching: those points are active with zero pressure, so the
-// tangent gets their penalty stiffness and the residual no force (the answer is unchanged);
-// the solve then moves the body in by the load over that stiffness, and the next iterate's
-// contact is the real one. The band is 4x the pairs' smallest gap, widened x4 until a point
-// is active (at most 8 times); where none is (no projection at all), the tangent stays as it
-// was and the linear solver says it is singular.
 // The size of the forces in equilibrium at the last evaluation: the external load vector and
 // the reactions (the residual's constrained rows), in one 2-norm over the ranks.
 double NewtonCore::force_scale() const {
@@ -416,6 +407,16 @@ std::string NewtonCore::held_apart() const {
   return os.str();
 }
 
+// A body held only by contact whose pairs have no active point makes the tangent singular:
+// force control, a wheel pressed by a load onto a block it touches at one point (no slave
+// quadrature point there), or bodies that start a little apart (less than about load /
+// (penalty x contact length), else held_apart says why it fails). For this tangent only, gaps
+// up to a band count as touching: those points are active with zero pressure, so the
+// tangent gets their penalty stiffness and the residual no force (the answer is unchanged);
+// the solve then moves the body in by the load over that stiffness, and the next iterate's
+// contact is the real one. The band is 4x the pairs' smallest gap, widened x4 until a point
+// is active (at most 8 times); where none is (no projection at all), the tangent stays as it
+// was and the linear solver says it is singular.
 void NewtonCore::close_gaps(const Vector& uu, ContactContribution& cc) {
   const int n = static_cast<int>(held_.size());
   std::vector<double> mine(n), g(n);
