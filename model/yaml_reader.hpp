@@ -91,7 +91,9 @@ struct Reader {
       if (!ok) {
         std::string list;
         for (const char* a : allowed) list += std::string(list.empty() ? "" : ", ") + a;
-        fail(path.empty() ? k : path + "." + k, kv.second, "unknown key (allowed here: " + list + ")");
+        // YAML 1.1's merge key (<<) is no part of YAML 1.2, which yaml-cpp reads: a key like any other
+        const std::string merge = k == "<<" ? "YAML merge keys (<<) are not supported: write the keys out; " : "";
+        fail(path.empty() ? k : path + "." + k, kv.second, merge + "unknown key (allowed here: " + list + ")");
       }
     }
   }
