@@ -183,6 +183,28 @@ int output_samples(const OutputOptions& o, const Patch& pt) {
 
 namespace {
 
+// f(i, t) for every item i in [begin, end), each once, on up to `threads` threads (t the thread,
+// 0 the caller's); false where an f returned false or threw (nothing may leave a thread: the
+// caller reports it on its own).
+template <class F>
+bool for_each_item(size_t begin, size_t end, int threads, F&& f) {
+  std::atomic<size_t> next{begin};
+  std::atomic<bool> ok{true};
+  auto work = [&](int t) {
+    try {
+      for (size_t i; (i = next++) < end;)
+        if (!f(i, t)) ok = false;
+    } catch (...) {
+      ok = false;
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads && static_cast<size_t>(t) < end - begin; ++t) pool.emplace_back(work, t);
+  work(0);
+  for (std::thread& t : pool) t.join();
+  return ok;
+}
+
 // One family of cells: the elements of a patch `geo` in Bezier form, bivariate (quadrilaterals:
 // a 2-D patch, or a face of a 3-D patch as Patch::face gives it) or trivariate (hexahedra),
 // with the displacement per control point of `geo` (ncu components) and the field evaluated at
@@ -320,20 +342,11 @@ void add_cells(BezierMesh& m, const CellFamily& F, int threads) {
   std::vector<Scratch> scratch(static_cast<size_t>(nthreads));
   for (int c0 = 0; c0 < ne; c0 += kChunk) {
     const int c1 = std::min(ne, c0 + kChunk);
-    std::atomic<int> next{c0};
-    std::atomic<bool> failed{false};
-    auto work = [&](int t) {
-      try {   // (nothing may leave a thread: rethrown below on the caller's)
-        for (int e; (e = next++) < c1;) element(e, records[e - c0], scratch[t]);
-      } catch (...) {
-        failed = true;
-      }
-    };
-    std::vector<std::thread> pool;
-    for (int t = 1; t < nthreads && t < c1 - c0; ++t) pool.emplace_back(work, t);
-    work(0);
-    for (std::thread& t : pool) t.join();
-    if (failed) throw std::runtime_error("the Bezier cells of a patch could not be built (out of memory?)");
+    const bool ok = for_each_item(c0, c1, nthreads, [&](size_t e, int t) {
+      element(static_cast<int>(e), records[e - c0], scratch[t]);
+      return true;
+    });
+    if (!ok) throw std::runtime_error("the Bezier cells of a patch could not be built (out of memory?)");
   for (int e = c0; e < c1; ++e) {
     const Record& R = records[e - c0];
     const std::vector<ControlPoint>& pts = R.pts;
@@ -620,28 +633,16 @@ class ArrayWriter {
       for (std::uint64_t at = 0; at < payloads_[k].second; at += block)
         blocks.push_back({k, at, std::min(block, payloads_[k].second - at)});
     std::vector<std::vector<Bytef>> out(blocks.size());
-    std::atomic<size_t> next{0};
-    std::atomic<bool> failed{false};
-    auto work = [&] {
-      try {   // (nothing may leave a thread: a failure is reported below, on the caller's)
-        for (size_t b; (b = next++) < blocks.size();) {
-          const Block& B = blocks[b];
-          out[b].resize(compressBound(static_cast<uLong>(B.n)));
-          uLongf len = static_cast<uLongf>(out[b].size());
-          if (compress2(out[b].data(), &len, reinterpret_cast<const Bytef*>(payloads_[B.array].first + B.at),
-                        static_cast<uLong>(B.n), 1) != Z_OK)
-            failed = true;
-          out[b].resize(len);
-        }
-      } catch (...) {
-        failed = true;
-      }
-    };
-    std::vector<std::thread> pool;
-    for (int t = 1; t < threads_ && static_cast<size_t>(t) < blocks.size(); ++t) pool.emplace_back(work);
-    work();
-    for (std::thread& t : pool) t.join();
-    if (failed) throw std::runtime_error("zlib could not compress a block of the .vtu");
+    const bool ok = for_each_item(0, blocks.size(), threads_, [&](size_t b, int) {
+      const Block& B = blocks[b];
+      out[b].resize(compressBound(static_cast<uLong>(B.n)));
+      uLongf len = static_cast<uLongf>(out[b].size());
+      const bool done = compress2(out[b].data(), &len, reinterpret_cast<const Bytef*>(payloads_[B.array].first + B.at),
+                                  static_cast<uLong>(B.n), 1) == Z_OK;
+      out[b].resize(len);
+      return done;
+    });
+    if (!ok) throw std::runtime_error("zlib could not compress a block of the .vtu");
     std::vector<std::string> z(payloads_.size());
     for (size_t k = 0, b = 0; k < payloads_.size(); ++k) {
       const std::uint64_t bytes = payloads_[k].second, nb = bytes == 0 ? 0 : (bytes + block - 1) / block;
