@@ -12,7 +12,6 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
-#include <thread>
 
 #include "io/fields.hpp"
 #include "io/vtk.hpp"
@@ -529,8 +528,7 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
     {
       // the cells' fits and the compression on the cores not taken by other ranks (as MUMPS'
       // threads)
-      const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
-      const int threads = static_cast<int>(std::max(1u, hw / static_cast<unsigned>(sys_.comm()->getSize())));
+      const int threads = free_cores_per_rank(sys_.comm()->getSize());
       BezierMesh mesh;
       {
         Teuchos::TimeMonitor t2(*Teuchos::TimeMonitor::getNewTimer("6.2) Output: Bezier cells"));

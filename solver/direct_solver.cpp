@@ -193,8 +193,7 @@ LinearSolveResult DirectSolver::factorise(const Matrix& A, bool symmetric) {
     ICNTL(d.id, 14) = 40;   // workspace: 40 % over the analysis' estimate
     ICNTL(d.id, 24) = 1;    // detect null pivots: a singular matrix is reported, not solved
     // OpenMP threads of MUMPS' own kernels: the cores not taken by other ranks
-    const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
-    ICNTL(d.id, 16) = static_cast<int>(std::max(1u, hw / static_cast<unsigned>(d.size)));
+    ICNTL(d.id, 16) = free_cores_per_rank(d.size);
   }
 
   auto mumps_message = [&](const char* phase) {

@@ -10,6 +10,9 @@
 #include <Tpetra_MultiVector.hpp>
 #include <Tpetra_Vector.hpp>
 
+#include <algorithm>
+#include <thread>
+
 #include "kernels/types.hpp"
 
 namespace iga {
@@ -31,6 +34,13 @@ using Teuchos::rcp;
 
 /// Rank 0's value of s on every rank. Collective. (solver/checks.cpp)
 std::string broadcast_string(const Comm& comm, std::string s);
+
+/// Threads a rank may take for work of its own (MUMPS' kernels, the output's cells and
+/// compression): the machine's cores not taken by the other ranks, at least 1.
+inline int free_cores_per_rank(int ranks) {
+  const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
+  return static_cast<int>(std::max(1u, hw / static_cast<unsigned>(std::max(1, ranks))));
+}
 
 static_assert(std::is_same<Node::execution_space, ExecSpace>::value,
               "the kernels' execution space must be Tpetra's default node's");
