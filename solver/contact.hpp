@@ -27,6 +27,9 @@ struct ContactError : std::runtime_error {
 /// the accumulated slip path and slip_increment the length of this step's slip |g_T|.
 struct ContactPointState {
   std::vector<double> x, y, xi, gap, pressure, weight, nx, ny, tangential, slip, tx, ty;
+  /// ALM: the point's multiplier (kts_alm: interpolated from the slave control points'; 0
+  /// without ALM; mortar: unused)
+  std::vector<double> lambda;
   std::vector<double> z, eta, nz, X, tz, slip_increment;
   std::vector<int> active, state, face;
 };

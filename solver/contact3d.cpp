@@ -1203,6 +1203,7 @@ void ContactSurfaces3::state(ContactPointState& s, bool projected_only) const {
     s.face.push_back(face(i));
     s.gap.push_back(valid(i) ? gap(i) : std::nan(""));
     s.pressure.push_back(pr(i));
+    s.lambda.push_back(lam(i));
     s.weight.push_back(w(i));
     s.active.push_back(valid(i) && (mortar ? pr(i) > 0 : kts_active(lam(i), pair.penalty, gap(i), sp.touch)) ? 1 : 0);
     const double t[3] = {trac(i, 0), trac(i, 1), trac(i, 2)};

@@ -34,10 +34,15 @@ if not err <= 1e-5:
 EOF
 echo "one load step per stage: ironing converges to the example's end state"
 
-# A stiff punch pressed 0.15 into a neo-Hookean block with kts_alm in 4 load steps: the ALM
-# stall test took a window of multiplier updates that started at 0 (no active point yet) for a
-# rate of inf and stopped the run at load step 3 ('from 0 to 1.135 times alm_tolerance (inf
-# per update)', exit 3). It converges; the punch's reaction balances the contact force.
+# A punch pressed 0.15 into a neo-Hookean block with kts_alm in 4 load steps: the ALM stall test
+# took a window of multiplier updates that started at 0 (no active point yet) for a rate of inf
+# and stopped the run at load step 3 ('from 0 to 1.135 times alm_tolerance (inf per update)',
+# exit 3). With the punch as soft as the block (E = 100) it converges and the punch's reaction
+# balances the contact force. The punch 100x stiffer than the block (the run of that finding)
+# locks kts_alm: its quadrature points lift off under closed weighted gaps (the pressure in bands,
+# the force depending on the penalty), which the check after each step now names (exit 5, the
+# line pointing to mortar_alm); it exited 0 before with a contact area of 0.45 of the footprint
+# (mortar_alm 1.0) and a normal force 6 % above mortar_alm's.
 cat > "$tmp/punch.yaml" <<'YAML'
 analysis: {type: solid, kinematics: finite, load_steps: 4}
 bodies:
@@ -54,7 +59,7 @@ bodies:
 contact:
   - {master: {body: base, side: back}, slave: {body: punch, side: front}, method: kts_alm, penalty: 1.0e4}
 YAML
-timeout 300 "$exe" run "$tmp/punch.yaml" --output "$tmp/punch" --quiet 2>"$tmp/err"; rc=$?
+timeout 300 "$exe" run "$tmp/punch.yaml" --output "$tmp/punch" --quiet --set bodies.1.material.youngs_modulus=100.0 2>"$tmp/err"; rc=$?
 [ "$rc" = 0 ] || { echo "FAIL punch kts_alm: exit $rc: $(cat "$tmp/err")"; exit 1; }
 python3 - "$tmp/punch/summary.json" <<'EOF' || exit 1
 import json, sys
@@ -68,3 +73,11 @@ if not (abs(c["force"][2]) > 0 and err <= 1e-6):
     sys.exit(1)
 EOF
 echo "kts_alm punch at finite strain converges"
+timeout 300 "$exe" run "$tmp/punch.yaml" --output "$tmp/stiff" --quiet 2>"$tmp/err"; rc=$?
+[ "$rc" = 5 ] || { echo "FAIL stiff punch kts_alm: exit $rc (5 expected: kts_alm lifted off): $(cat "$tmp/err")"; exit 1; }
+grep -q "kts_alm lifted off: contact\[0\] (punch.front on base.back).*take mortar_alm" "$tmp/err" ||
+  { echo "FAIL stiff punch kts_alm: the line does not name the pair and mortar_alm: $(cat "$tmp/err")"; exit 1; }
+[ "$(wc -l < "$tmp/err")" = 1 ] || { echo "FAIL stiff punch kts_alm: more than one line: $(cat "$tmp/err")"; exit 1; }
+python3 -c "import json,sys; s=json.load(open(sys.argv[1])); assert s['check']['passed'] is False and 'lifted off' in s['check']['message']" "$tmp/stiff/summary.json" ||
+  { echo "FAIL stiff punch kts_alm: summary.json check"; exit 1; }
+echo "kts_alm on a stiff punch: the lock named (exit 5)"
