@@ -51,7 +51,8 @@ std::string broadcast_string(const Comm& comm, std::string s) {
 // footprint). Measured by the share of the multipliers' force, sum w_i lambda_i, that acts at
 // lifted points: 0 to 0.025 on the examples (the band where the multipliers' support reaches
 // past a curved contact edge, coarse Hertz balls included), 0.24 and 0.44 on stiff punches.
-// kLiftedShare is the line between them; "" or one line naming the pair.
+// kLiftedShare is the line between them; "" or one line naming the pair. Collective (a 3-D
+// pair's state is summed over the ranks); the same answer on every rank.
 constexpr double kLiftedShare = 0.1;
 std::string kts_alm_lifted(const Problem& P, const std::vector<ContactPairData>& contact) {
   for (size_t k = 0; k < contact.size(); ++k) {
@@ -87,13 +88,15 @@ std::string check_configuration(const System& sys, const Vector& u, const std::v
   std::vector<double> pen;
   for (const auto& c : contact) pen.push_back(c.summary().max_penetration);
   const auto disp = gather_displacements(sys, u);
+  // on every rank: a 3-D pair's state sums its points over the ranks (collective)
+  const std::string lifted = kts_alm_lifted(sys.problem(), contact);
   std::string why;
   if (sys.comm()->getRank() == 0) {
     // both, where both are found (a crease that folds where a body closes on itself)
     const std::string inverted = find_inverted(sys.problem(), disp);
     const std::string penetration = find_penetration(sys.problem(), disp, pen);
     why = inverted.empty() ? penetration : penetration.empty() ? inverted : inverted + "; " + penetration;
-    if (why.empty()) why = kts_alm_lifted(sys.problem(), contact);
+    if (why.empty()) why = lifted;
   }
   return broadcast_string(*sys.comm(), why);
 }

@@ -81,3 +81,11 @@ grep -q "kts_alm lifted off: contact\[0\] (punch.front on base.back).*take morta
 python3 -c "import json,sys; s=json.load(open(sys.argv[1])); assert s['check']['passed'] is False and 'lifted off' in s['check']['message']" "$tmp/stiff/summary.json" ||
   { echo "FAIL stiff punch kts_alm: summary.json check"; exit 1; }
 echo "kts_alm on a stiff punch: the lock named (exit 5)"
+# the same on 2 ranks (a 3-D pair's point state is summed over the ranks: the check is collective)
+if mpiexec=$(command -v mpiexec); then
+  timeout 300 "$mpiexec" -n 2 "$exe" run "$tmp/punch.yaml" --output "$tmp/stiff2" --quiet 2>"$tmp/err2" >/dev/null; rc=$?
+  line=$(grep "kts_alm lifted off" "$tmp/err2")
+  [ "$rc" != 0 ] && [ "$line" = "$(cat "$tmp/err")" ] ||
+    { echo "FAIL stiff punch kts_alm on 2 ranks: exit $rc, line '$line' against 1 rank's '$(cat "$tmp/err")'"; exit 1; }
+  echo "kts_alm on a stiff punch, 2 ranks: the same line"
+fi
