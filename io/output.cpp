@@ -31,7 +31,11 @@ nlohmann::json linear_solver_json(const Problem& P, const DirectSolverStats& ds,
   if (opt.automatic) j["auto_direct_max_dofs"] = P.auto_direct_max_dofs();
   if (opt.method == LinearMethod::Direct) {
     j["package"] = "MUMPS";
-    j["factorization"] = opt.symmetric ? "LDLT" : "LU";
+    // L D L^T where the tangent is symmetric; "LDLT+LU" where some were not (a 2-D mortar
+    // pair whose master ends inside a slave element)
+    j["factorization"] = ds.lu_factorisations == 0 && opt.symmetric ? "LDLT"
+                         : ds.lu_factorisations < ds.factorisations ? "LDLT+LU"
+                                                                    : "LU";
     j["ordering"] = ds.ordering;
     j["analyses"] = ds.analyses;
     j["factorizations"] = ds.factorisations;

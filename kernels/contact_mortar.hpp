@@ -19,7 +19,8 @@
 //         - \int p(xi) G dGamma_0                                      (per quadrature point)
 //   with delta g = N . delta u and Delta delta g = G of the pointwise gap (contact_kts.hpp).
 //   The segment end points move with u, but the integrand is continuous across them, so
-//   their derivatives cancel and the linearisation above is consistent.
+//   their derivatives cancel, except at the image of a master end, where the covered part of
+//   a slave element ends (MortarEnds: the boundary terms there).
 // Segments: a slave element [a, b] is cut where master knots project onto it: for a master
 //   knot eta_k with rho_k, t_k the cut xi solves (x_s(xi) - rho_k) . t_k = 0 (the slave point
 //   whose closest master point is the knot); candidate knots are those of the master elements
@@ -188,6 +189,154 @@ struct MortarSegments {
   }
 };
 
+/// Where the master ends inside a slave element (a punch as the master of a longer slave), the
+/// slots of that element's segments on one side of the master end's image xi_c have a
+/// projection and those on the other none: the covered part of the element ends at xi_c,
+/// which moves with u. The integrals over the covered part then have boundary terms (the
+/// integrand jumps there to 0; at the images of interior master knots it is continuous and
+/// their derivatives cancel):
+///   d/du int_cov f dGamma_0 = ... + s f(xi_c) j0(xi_c) dxi_c/du,   s = +1 where the covered
+///   part lies below xi_c, -1 above; j0 = |X_s'| thickness.
+/// xi_c solves F = (x_s(xi) - rho_e) . t_e = 0 (MortarSegments' cut), rho_e and t_e = rho'
+/// at the master's end eta_e, so dxi_c/du = V = -(dF/du) / (x_s' . t_e) with
+///   dF/du_s(a) = R_s,a(xi_c) t_e,   dF/du_m(b) = -R_m,b(eta_e) t_e + (x_s - rho_e) R'_m,b(eta_e).
+/// The tangent gets (AssembleMortarGap, AssembleMortarEnds):
+///   eps / w_A (int R_A N) (x) s R_A(xi_c) j0 g(xi_c) V     (the weighted gap's limit)
+///   - s p(xi_c) j0 N(xi_c) (x) V                           (the pressure term's limit)
+/// The residual keeps -int_cov p N (as in 3-D, kernels/contact_mortar3.hpp). Frictionless
+/// terms only: mortar friction's slip integrals have no boundary terms in 2-D.
+struct MortarEnds {
+  Kokkos::View<double**, Kokkos::LayoutRight, MemSpace> xi, eta;   // (ne, 2): xi_c, eta_e
+  Kokkos::View<int**, Kokkos::LayoutRight, MemSpace> sign, mspan;  // (ne, 2): s (0: none), eta_e's span
+};
+
+/// Per slave element: the cuts between two segments whose neighbouring slots differ in
+/// having a projection, where the cut is the image of one of the master curve's ends (up to 2).
+struct FindMortarEnds {
+  CurveData s, m;
+  SlavePoints sp;
+  MortarEnds ends;
+  Kokkos::View<double**, Kokkos::LayoutRight, MemSpace> cuts;
+  int nq = 1, max_segments = 1;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int e) const {
+    ends.sign(e, 0) = ends.sign(e, 1) = 0;
+    const int span = s.span(e), base = e * max_segments * nq;
+    const double a = s.U(span), b = s.U(span + 1);
+    int n = 0;
+    for (int seg = 0; seg + 1 < max_segments && n < 2; ++seg) {
+      const int lo = base + seg * nq + nq - 1, hi = base + (seg + 1) * nq;
+      if (sp.span(hi) < 0) break;   // no segment above this one
+      if ((sp.valid(lo) != 0) == (sp.valid(hi) != 0)) continue;
+      const double xi = cuts(e, seg + 1);
+      double R[3][kMaxBasis1D], x[2], dx[2], dd[2], xa[2], xb[2];
+      curve_eval_span(span, s.p, s.U.data(), CurrentCP{s.X, s.u}, s.w, a, xa, dx, dd, R);
+      curve_eval_span(span, s.p, s.U.data(), CurrentCP{s.X, s.u}, s.w, b, xb, dx, dd, R);
+      curve_eval_span(span, s.p, s.U.data(), CurrentCP{s.X, s.u}, s.w, xi, x, dx, dd, R);
+      const double chord = kmath::sqrt((xb[0] - xa[0]) * (xb[0] - xa[0]) + (xb[1] - xa[1]) * (xb[1] - xa[1]));
+      // the master end whose cut this is: F = (x - rho) . t / |t| at round-off
+      int best = -1;
+      double bd = 1e300;
+      for (int end = 0; end < 2; ++end) {
+        const int ms = m.span(end == 0 ? 0 : m.ne - 1);
+        const double eta = m.U(end == 0 ? ms : ms + 1);
+        double Rm[3][kMaxBasis1D], rho[2], t[2], mm[2];
+        curve_eval_span(ms, m.p, m.U.data(), CurrentCP{m.X, m.u}, m.w, eta, rho, t, mm, Rm);
+        const double tl = kmath::sqrt(t[0] * t[0] + t[1] * t[1]);
+        const double F = ((x[0] - rho[0]) * t[0] + (x[1] - rho[1]) * t[1]) / tl;
+        const double d = (x[0] - rho[0]) * (x[0] - rho[0]) + (x[1] - rho[1]) * (x[1] - rho[1]);
+        if (kmath::fabs(F) <= 1e-9 * chord && d < bd) {
+          bd = d;
+          best = end;
+          ends.eta(e, n) = eta;
+          ends.mspan(e, n) = ms;
+        }
+      }
+      if (best < 0) continue;
+      ends.xi(e, n) = xi;
+      ends.sign(e, n) = sp.valid(lo) ? 1 : -1;
+      ++n;
+    }
+  }
+};
+
+/// At end record (e, k): the slave basis Rs at xi_c, the master basis Rm at eta_e, the
+/// master normal n there, the gap g, j0 and V = dxi_c/du on the slave span's dofs (Vs, 2 per
+/// cp) and the master span's (Vm).
+KOKKOS_INLINE_FUNCTION void mortar_end_point(const CurveData& s, const CurveData& m, const MortarEnds& ends, int e,
+                                             int k, double thickness, double Rs[3][kMaxBasis1D],
+                                             double Rm[3][kMaxBasis1D], double n[2], double& g, double& j0,
+                                             double* Vs, double* Vm) {
+  const int span = s.span(e), ms = ends.mspan(e, k);
+  const double xi = ends.xi(e, k);
+  double x[2], dx[2], dd[2], X[2], dX[2], rho[2], t[2], mm[2];
+  curve_eval_span(span, s.p, s.U.data(), RefCP{s.X}, s.w, xi, X, dX, dd, Rs);
+  j0 = kmath::sqrt(dX[0] * dX[0] + dX[1] * dX[1]) * thickness;
+  curve_eval_span(span, s.p, s.U.data(), CurrentCP{s.X, s.u}, s.w, xi, x, dx, dd, Rs);
+  curve_eval_span(ms, m.p, m.U.data(), CurrentCP{m.X, m.u}, m.w, ends.eta(e, k), rho, t, mm, Rm);
+  side_normal(m.side, m.orientation, t, n);
+  const double d[2] = {x[0] - rho[0], x[1] - rho[1]};
+  g = d[0] * n[0] + d[1] * n[1];
+  const double D = dx[0] * t[0] + dx[1] * t[1];
+  for (int a = 0; a <= s.p; ++a)
+    for (int c = 0; c < 2; ++c) Vs[2 * a + c] = -Rs[0][a] * t[c] / D;
+  for (int b = 0; b <= m.p; ++b)
+    for (int c = 0; c < 2; ++c) Vm[2 * b + c] = (Rm[0][b] * t[c] - d[c] * Rm[1][b]) / D;
+}
+
+/// The pressure term's boundary part, K_c -= s p(xi_c) j0 N(xi_c) (x) V, at the end records
+/// of this rank's slave elements [e_begin, e_end) (each element on the rank of its first slot).
+template <class LocalMatrix>
+struct AssembleMortarEnds {
+  CurveData s, m;
+  MortarState ms;
+  MortarEnds ends;
+  double thickness = 1;
+  int e_begin = 0;
+  LocalMatrix K;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int k0) const {
+    const int e = e_begin + k0;
+    for (int k = 0; k < 2; ++k) {
+      if (ends.sign(e, k) == 0) continue;
+      double Rs[3][kMaxBasis1D], Rm[3][kMaxBasis1D], n[2], g, j0, Vs[2 * kMaxBasis1D], Vm[2 * kMaxBasis1D];
+      mortar_end_point(s, m, ends, e, k, thickness, Rs, Rm, n, g, j0, Vs, Vm);
+      const int span = s.span(e), mspan = ends.mspan(e, k);
+      double pr = 0;
+      for (int a = 0; a <= s.p; ++a) pr += ms.lambda(span - s.p + a) * Rs[0][a];
+      if (!(pr > 0)) continue;
+      const double c = -ends.sign(e, k) * pr * j0;
+      const int ns = 2 * (s.p + 1), nd = ns + 2 * (m.p + 1);
+      int lid[4 * kMaxBasis1D];
+      double N[4 * kMaxBasis1D], V[4 * kMaxBasis1D], row[4 * kMaxBasis1D];
+      for (int a = 0; a <= s.p; ++a)
+        for (int q = 0; q < 2; ++q) {
+          const int cp = s.lid(span - s.p + a);
+          lid[2 * a + q] = cp < 0 ? -1 : dof_of(cp, q, kBoundaryDim);
+          N[2 * a + q] = Rs[0][a] * n[q];
+          V[2 * a + q] = Vs[2 * a + q];
+        }
+      for (int b = 0; b <= m.p; ++b)
+        for (int q = 0; q < 2; ++q) {
+          const int cp = m.lid(mspan - m.p + b);
+          lid[ns + 2 * b + q] = cp < 0 ? -1 : dof_of(cp, q, kBoundaryDim);
+          N[ns + 2 * b + q] = -Rm[0][b] * n[q];
+          V[ns + 2 * b + q] = Vm[2 * b + q];
+        }
+      for (int r = 0; r < nd; ++r) {
+        if (lid[r] < 0 || N[r] == 0) continue;
+        int cols[4 * kMaxBasis1D], nc = 0;
+        for (int q = 0; q < nd; ++q) {
+          if (lid[q] < 0 || V[q] == 0) continue;
+          cols[nc] = lid[q];
+          row[nc++] = c * N[r] * V[q];
+        }
+        if (nc > 0) K.sumIntoValues(lid[r], cols, nc, row, false, true);
+      }
+    }
+  }
+};
+
 /// Loops over the valid quadrature slots in the support of slave control point A:
 /// f(i, slave span). Support: slave elements with span in [A, A + p].
 template <class F>
@@ -346,6 +495,8 @@ struct AssembleMortarGap {
   SlavePoints sp;
   MortarState ms;
   MortarScratch sc;
+  MortarEnds ends;          // the master ends' images (none: empty views)
+  double thickness = 1;
   double eps = 0;
   int slots = 1, a_begin = 0;
   LocalMatrix K;
@@ -369,8 +520,32 @@ struct AssembleMortarGap {
       for (int b = 0; b <= M.p; ++b)
         for (int c = 0; c < 2; ++c) S.v0(k, r.master(mspan - M.p + b, c)) -= w * Rm[0][b] * nn[c];
     });
+    // the weighted gap's boundary terms where a master end's image lies in A's support
+    for (int q = 0; q < r.size(); ++q) S.v1(k, q) = S.v0(k, q);
+    if (ends.sign.extent(0) > 0) {
+      int lo = 0, hi = s.ne;   // first element whose span is >= A
+      while (lo < hi) {
+        const int mid = (lo + hi) / 2;
+        if (s.span(mid) < A) lo = mid + 1; else hi = mid;
+      }
+      for (int e = lo; e < s.ne && s.span(e) <= A + s.p; ++e)
+        for (int j = 0; j < 2; ++j) {
+          if (ends.sign(e, j) == 0) continue;
+          double Rs[3][kMaxBasis1D], Rm[3][kMaxBasis1D], n[2], g, j0, Vs[2 * kMaxBasis1D], Vm[2 * kMaxBasis1D];
+          mortar_end_point(s, m, ends, e, j, thickness, Rs, Rm, n, g, j0, Vs, Vm);
+          const int span = s.span(e), mspan = ends.mspan(e, j);
+          const double c = ends.sign(e, j) * Rs[0][A - (span - s.p)] * j0 * g;
+          for (int a = 0; a <= s.p; ++a)
+            for (int q = 0; q < 2; ++q) S.v1(k, r.slave(span - s.p + a, q)) += c * Vs[2 * a + q];
+          for (int b = 0; b <= m.p; ++b) {
+            const int cp = mspan - m.p + b;
+            if (cp < r.m_lo || cp >= r.m_lo + r.nm) continue;   // (not in A's support: not reached)
+            for (int q = 0; q < 2; ++q) S.v1(k, r.master(cp, q)) += c * Vm[2 * b + q];
+          }
+        }
+    }
     const int n = support_compact(sc, k, r, s, m);
-    support_outer(sc, k, n, eps / ms.wA(A), false, K);
+    support_outer(sc, k, n, eps / ms.wA(A), true, K);
   }
 };
 

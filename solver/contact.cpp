@@ -94,6 +94,10 @@ ContactPairData::ContactPairData(const System& sys, int index)
     ms_.covered = Kokkos::View<int*, MemSpace>("coveredA", slave.nb);
     ms_.cwA = Kokkos::View<double*, MemSpace>("coveredWeightA", slave.nb);
     ms_.flags = Kokkos::View<int*, MemSpace>("flags", 2);
+    ends_.xi = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>("mortar_end_xi", slave.ne, 2);
+    ends_.eta = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>("mortar_end_eta", slave.ne, 2);
+    ends_.sign = Kokkos::View<int**, Kokkos::LayoutRight, MemSpace>("mortar_end_sign", slave.ne, 2);
+    ends_.mspan = Kokkos::View<int**, Kokkos::LayoutRight, MemSpace>("mortar_end_mspan", slave.ne, 2);
     const auto ra = block_range(slave.nb, sys.comm()->getRank(), sys.comm()->getSize());
     a_begin = static_cast<int>(ra.first);
     a_end = static_cast<int>(ra.second);
@@ -244,6 +248,7 @@ void ContactPairData::refresh() {
   k.s = slave; k.m = master; k.sp = sp_; k.grid = grid; k.eps = pair_.penalty;
   Kokkos::parallel_for("iga::ProjectSlavePoints", Kokkos::RangePolicy<ExecSpace>(0, num_points()), k);
   if (mortar_) {
+    find_mortar_ends();
     MortarGaps kg;
     kg.s = slave; kg.sp = sp_; kg.ms = ms_; kg.eps = pair_.penalty; kg.slots = slots; kg.touch = sp_.touch;
     Kokkos::parallel_for("iga::MortarGaps", Kokkos::RangePolicy<ExecSpace>(0, slave.nb), kg);
@@ -254,6 +259,22 @@ void ContactPairData::refresh() {
   }
   update_friction();
   Kokkos::fence();
+}
+
+// The master ends' images in the slave elements (kernels/contact_mortar.hpp, MortarEnds), for
+// frictionless pairs: with friction only the normal part's boundary terms would be consistent,
+// and Newton took more iterations than with neither (the sliding block as the master of its
+// foundation, mortar_penalty: 20-22 per load step against at most 15), so friction pairs keep
+// none (ends_found_ false: the tangent is taken as before).
+void ContactPairData::find_mortar_ends() {
+  ends_found_ = false;
+  if (fr_.mu > 0) return;
+  FindMortarEnds ke;
+  ke.s = slave; ke.m = master; ke.sp = sp_; ke.ends = ends_; ke.cuts = cuts_; ke.nq = gauss_.n;
+  ke.max_segments = max_segments_;
+  Kokkos::parallel_for("iga::FindMortarEnds", Kokkos::RangePolicy<ExecSpace>(0, slave.ne), ke);
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ends_.sign);
+  for (size_t e = 0; e < h.extent(0); ++e) ends_found_ = ends_found_ || h(e, 0) != 0 || h(e, 1) != 0;
 }
 
 void ContactPairData::update_friction() {

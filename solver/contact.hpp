@@ -99,6 +99,11 @@ class ContactPairData {
   /// mortar sum_A w_A lambda_A^2 / (2 eps) (the penalty potential when the multipliers are 0).
   double potential() const;
   bool mortar() const { return mortar_; }
+  /// The contact tangent at the last update is symmetric: false where a 2-D mortar pair's
+  /// master ends inside a slave element whose covered part it bounds (the boundary terms of
+  /// kernels/contact_mortar.hpp, MortarEnds), and for 3-D mortar (the same terms; the loader
+  /// already asks for L U there). Frictionless KTS and mortar elsewhere: true.
+  bool symmetric_tangent() const { return !ends_found_; }
   /// Gaps up to `band` count as touching: such a point is active with zero pressure (the
   /// tangent gets its penalty stiffness, the residual no force); band <= 0: round-off, 1e-12
   /// of the smallest slave element (the default). The Newton core widens it for one tangent
@@ -132,6 +137,8 @@ class ContactPairData {
   MortarState ms_;
   int slots = 0;                           // quadrature slots per slave element (grows)
   MortarScratch scratch_;                  // per-A rows of the assembly kernels (grows)
+  MortarEnds ends_;                        // the master ends' images in slave elements (FindMortarEnds)
+  bool ends_found_ = false;                // some slave element has one (at the last update)
   void mortar_scratch(int cap);            // (re)allocates scratch_ with cap entries per row
   int a_begin = 0, a_end = 0;              // this rank's slave control points
   // friction (every pair: the slip and state outputs; assembled only where mu > 0)
@@ -175,6 +182,7 @@ class ContactPairData {
   void allocate_points(int n);   // every per-point (per-slot) view, for n points
   void refresh();          // search, projection and contact state at the curves' current u
   void update_friction();
+  void find_mortar_ends();   // ends_, ends_found_ at the current slots' projections
   RCP<const Map> replicated_;
   RCP<Import> importer_;
   Kokkos::View<int* [2], MemSpace> slave_rep_, master_rep_;   // replicated dof LIDs of the curves' cps

@@ -299,10 +299,23 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
           k.sc = pd.scratch_; k.slots = pd.slots; k.a_begin = pd.a_begin; k.K = lcl;
           Kokkos::parallel_for("iga::AssembleMortarFriction", Kokkos::RangePolicy<ExecSpace>(0, pd.a_end - pd.a_begin), k);
         });
+      if (pd.mortar() && pd.slots > 0) {
+        // the pressure term's boundary part at the master ends' images: each slave element on
+        // the rank of its first slot
+        const int e_begin = std::min((pd.p_begin + pd.slots - 1) / pd.slots, pd.slave.ne);
+        const int e_end = std::min((pd.p_end + pd.slots - 1) / pd.slots, pd.slave.ne);
+        if (e_end > e_begin) {
+          AssembleMortarEnds<decltype(lcl)> k;
+          k.s = pd.slave; k.m = pd.master; k.ms = pd.ms_; k.ends = pd.ends_; k.thickness = pd.thickness;
+          k.e_begin = e_begin; k.K = lcl;
+          Kokkos::parallel_for("iga::AssembleMortarEnds", Kokkos::RangePolicy<ExecSpace>(0, e_end - e_begin), k);
+        }
+      }
       if (pd.mortar() && pd.a_end > pd.a_begin) {
         AssembleMortarGap<decltype(lcl)> k;
         k.s = pd.slave; k.m = pd.master; k.sp = pd.sp_; k.ms = pd.ms_; k.eps = pd.pair().penalty;
         k.sc = pd.scratch_; k.slots = pd.slots; k.a_begin = pd.a_begin; k.K = lcl;
+        k.ends = pd.ends_; k.thickness = pd.thickness;
         Kokkos::parallel_for("iga::AssembleMortarGap", Kokkos::RangePolicy<ExecSpace>(0, pd.a_end - pd.a_begin), k);
         Kokkos::fence();
         auto fl = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.ms_.flags);

@@ -263,6 +263,7 @@ LinearSolveResult DirectSolver::factorise(const Matrix& A, bool symmetric) {
     }
     d.factorised = true;
     ++stats_.factorisations;
+    if (!symmetric) ++stats_.lu_factorisations;
     stats_.factor_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     stats_.factor_bytes = 1e6 * INFOG(d.id, 22);   // MB, all ranks, during the factorisation
     stats_.factor_entries = INFOG(d.id, 29) >= 0 ? INFOG(d.id, 29) : -1000000LL * INFOG(d.id, 29);

@@ -30,6 +30,7 @@ struct LinearSolveResult;
 struct DirectSolverStats {
   int analyses = 0;          // symbolic analyses (sparsity patterns seen)
   int factorisations = 0;    // numerical factorisations
+  int lu_factorisations = 0; // of them L U (a non-symmetric matrix; the others L D L^T)
   int solves = 0;
   double factor_bytes = 0;   // memory of the last factorisation, all ranks (MUMPS INFOG(22), MB)
   long long factor_entries = 0;   // entries in the factors (INFOG(29))

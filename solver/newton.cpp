@@ -234,6 +234,13 @@ bool NewtonCore::linear_step(const RCP<Matrix>& KT, LinearSolveResult& lr, Outco
   try {
     LinearOptions o = P_.linear;
     o.tolerance = tolerance;
+    // a 2-D mortar pair whose master ends inside a slave element has a non-symmetric tangent
+    // there (its boundary terms): L U, and GMRES for CG
+    for (const auto& c : res_.contact)
+      if (!c.symmetric_tangent()) {
+        o.symmetric = false;
+        if (o.method == LinearMethod::CG) o.method = LinearMethod::GMRES;
+      }
     lr = solve_linear(o, KT, du_, r_, Z_, X_, &prec_);
   } catch (const std::exception& e) {
     std::string what = e.what();
