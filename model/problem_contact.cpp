@@ -97,6 +97,27 @@ void read_contact_pairs(const Reader& R, const YAML::Node& root, Problem& P) {
                        ? std::string("master and slave are the same side of the same body")
                        : "master and slave share the side " + P.bodies[cp.slave.body].side_label(ps.patch, ps.side) +
                              " of body '" + P.bodies[cp.slave.body].name + "'");
+      // an interface declared twice (repeated, or with the roles swapped): each pair carries
+      // its own share of the contact, so each would report about half of it (found by a
+      // problem written from the docs: pressure 5 reported on each of two pairs where 10 acts)
+      for (size_t j = 0; j < P.contact.size(); ++j) {
+        const ContactPair& o = P.contact[j];
+        auto meet = [](const ContactSurface& a, const ContactSurface& b) {
+          if (a.body != b.body) return false;
+          for (const PatchSide& ps : a.sides)
+            if (std::find(b.sides.begin(), b.sides.end(), ps) != b.sides.end()) return true;
+          return false;
+        };
+        const bool same = meet(cp.slave, o.slave) && meet(cp.master, o.master);
+        const bool swapped = meet(cp.slave, o.master) && meet(cp.master, o.slave);
+        if (same || swapped)
+          R.fail(path + ".slave", n["slave"],
+                 "contact[" + std::to_string(j) + "] already joins " + P.bodies[o.slave.body].name + "." + o.slave.label +
+                     " and " + P.bodies[o.master.body].name + "." + o.master.label +
+                     (swapped ? " (with the roles swapped)" : "") +
+                     ": each pair would carry its own share of that contact and report about half of it; declare each "
+                     "interface once");
+      }
       if (n["method"]) {
         const std::string m = R.string(n["method"], path + ".method");
         if (m == "kts_penalty") cp.method = ContactMethod::KtsPenalty;
