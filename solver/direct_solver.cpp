@@ -333,6 +333,10 @@ LinearSolveResult DirectSolver::solve(const Matrix& A, Vector& x, const Vector& 
   const double rel = bn > 0 ? r.norm2() / bn : 0.0;
   res.achieved_tolerance = rel;
   if (!(rel <= 1e-6)) {
+    // far above round-off (MUMPS found no exactly null pivot, but the solution does not solve
+    // the system at all: a body free to move in a direction round-off holds): singular, so
+    // that the Newton core does not cut an increment whose first tangent cannot change
+    if (!(rel <= 1e-2)) res.singular = true;
     std::ostringstream os;
     os << "the direct solver (MUMPS) returned a solution with true relative residual " << rel
        << " (above the 1e-6 a Newton step accepts): the matrix is singular or nearly so; check the displacement "

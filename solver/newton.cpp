@@ -407,7 +407,12 @@ std::string NewtonCore::held_apart() const {
   std::ostringstream os;
   os << "body " << body << " is held by contact alone (contact[" << held_[0] << "]) and touched " << other
      << " nowhere";
-  if (std::isfinite(g[0])) os << " (still " << check_number(g[0]) << " apart)";
+  if (!std::isfinite(g[0])) {
+    // no slave point has a projection on the master: the sides do not face each other here
+    os << " (no slave point of contact[" << held_[0] << "] lies in front of its master: check where the bodies are)";
+    return os.str();
+  }
+  os << " (still " << check_number(g[0]) << " apart)";
   os << ": it started farther from " << other
      << " than its load moves it over the contact stiffness (about load / (penalty x contact length)); start the "
         "bodies touching, bring them into contact by a prescribed displacement first, or take a smaller penalty";
@@ -518,6 +523,11 @@ bool NewtonCore::newton(const LoadPoint& lp, int step, int cuts, int aug, double
     if (!lr.converged || !finite(du_->normInf())) {
       out.why = !lr.converged ? lr.message : "the linear solver returned NaN or Inf";
       out.final = lr.singular && it == 0;
+      // a body held by contact alone that touches nothing: say which, and why
+      if (cc.active == 0) {
+        const std::string apart = held_apart();
+        if (!apart.empty()) out.why += "; " + apart;
+      }
       log.seconds = seconds();
       if (progress_) progress_(log);
       return false;

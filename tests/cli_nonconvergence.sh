@@ -39,3 +39,32 @@ echo "$err" | grep -q "stopped after 1 cut(s).*body cap is held by contact alone
   || { echo "FAIL: cap apart: message: $err"; exit 1; }
 [ "$(printf '%s\n' "$err" | wc -l)" = 1 ] || { echo "FAIL: cap apart: not one line: $err"; exit 1; }
 echo "body held by contact alone, apart: $err"
+
+# A body held by contact alone whose slave side lies nowhere in front of its master (two half
+# cylinders set on opposite sides of the symmetry line, touching at one point, the upper one
+# pressed by a traction): the first tangent is singular, though MUMPS finds no exact null
+# pivot (the solution's true residual is 2.8 of the load). It was cut 10 times (the same
+# matrix each time, exit 3 after ten lines); now the first failure ends it, and the line names
+# the body and the pair that holds nothing (found by a problem written from the docs).
+cat > "$tmp/nowhere.yaml" <<'YAML'
+analysis: {type: plane_strain, load_steps: 2}
+bodies:
+  - name: lower
+    material: {youngs_modulus: 1000.0, poisson_ratio: 0.3}
+    geometry: {quarter_annulus: {center: [0.0, -2.0], inner_radius: 0.2, outer_radius: 2.0, start_angle: 0}}
+    refine: {degree_elevate: [0, 1], subdivide: [6, 3]}
+    boundary: {west: {displacement: {x: 0.0, y: 0.0}}, east: {displacement: {x: 0.0}}}
+  - name: upper
+    material: {youngs_modulus: 1000.0, poisson_ratio: 0.3}
+    geometry: {quarter_annulus: {center: [0.0, 1.0], inner_radius: 0.1, outer_radius: 1.0, start_angle: 180}}
+    refine: {degree_elevate: [0, 1], subdivide: [6, 3]}
+    boundary: {west: {traction: [0.0, -0.6]}, east: {displacement: {x: 0.0}}}
+contact:
+  - {master: {body: lower, side: north}, slave: {body: upper, side: north}, method: mortar_penalty, penalty: 1.0e6}
+YAML
+err=$("$exe" run "$tmp/nowhere.yaml" --output "$tmp/nowhere" --quiet --set solver.linear.method=direct 2>&1 >/dev/null); rc=$?
+[ "$rc" = 3 ] || { echo "FAIL: nowhere: exit $rc, expected 3"; exit 1; }
+echo "$err" | grep -q "failed at its first iteration, which no smaller increment changes.*singular.*body upper is held by contact alone (contact\[0\]) and touched lower nowhere (no slave point of contact\[0\] lies in front of its master" \
+  || { echo "FAIL: nowhere: message: $err"; exit 1; }
+[ "$(printf '%s\n' "$err" | wc -l)" = 1 ] || { echo "FAIL: nowhere: not one line: $err"; exit 1; }
+echo "body held by contact alone, facing nothing: $err"
