@@ -62,10 +62,17 @@ Args parse_args(int argc, char** argv) {
       if (i + 1 >= argc) throw UsageError(std::string("option ") + opt + " needs a value");
       return std::string(argv[++i]);
     };
-    if (s == "--output" || s == "-o") a.output = value("--output");
+    if (s == "--output" || s == "-o") {
+      a.output = value("--output");
+      // an empty path wrote into the default folder without a word (found by a user's test)
+      if (a.output.empty()) throw UsageError("--output needs a folder, not an empty path");
+    }
     else if (s == "--set") a.sets.push_back(value("--set"));
     else if (s.rfind("--set=", 0) == 0) a.sets.push_back(s.substr(6));
-    else if (s.rfind("--output=", 0) == 0) a.output = s.substr(9);
+    else if (s.rfind("--output=", 0) == 0) {
+      a.output = s.substr(9);
+      if (a.output.empty()) throw UsageError("--output needs a folder, not an empty path");
+    }
     else if (s == "--quiet" || s == "-q") a.quiet = true;
     else if (!s.empty() && s[0] == '-') throw UsageError("unknown option '" + s + "'");
     else if (a.file.empty()) a.file = s;

@@ -72,7 +72,9 @@ struct Reader {
     os << file;
     const Override* from = nullptr;
     for (const auto& o : overrides)
-      if (n.IsDefined() && contains_node(o.value, n)) from = &o;
+      // the node is the override's value or inside it, or a map the override's path made
+      // (no line in the file: a mistyped key of --set, bodies.0.materal.youngs_modulus=5)
+      if (n.IsDefined() && (contains_node(o.value, n) || (n.Mark().line < 0 && contains_node(n, o.value)))) from = &o;
     if (from) os << ": --set " << from->text;
     else if (n.IsDefined() && n.Mark().line >= 0) os << ":" << n.Mark().line + 1;
     os << ": " << key << " = " << one_line(n) << ": " << why;

@@ -33,5 +33,6 @@ esac
 # usage errors
 "$exe" run 2>/dev/null; [ $? = 2 ] || { echo "FAIL: no file should exit 2"; fail=1; }
 "$exe" run x.yaml --bogus 2>/dev/null; [ $? = 2 ] || { echo "FAIL: unknown option should exit 2"; fail=1; }
+"$exe" run "$ok" --output '' --quiet 2>/dev/null; [ $? = 2 ] || { echo "FAIL: an empty --output should exit 2"; fail=1; }
 echo "$n bad inputs checked"
 exit $fail

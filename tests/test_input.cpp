@@ -146,4 +146,7 @@ TEST(BadInput, SetReachesDottedKeysOfMultiPatchBodies) {
   one_line_error("bodies.1.boundary.\"\".displacement.y=0", "the key path has an empty part");
   one_line_error("analysis.type.x=0", "--set analysis.type.x: 'x' is below a value, not a map");
   one_line_error("bodies.2.boundary.patch2.south.displacement.y=0", "'2' is not an index of that list");
+  // a mistyped key of --set: the line names the --set it came from (it named the file alone)
+  one_line_error("bodies.0.materal.youngs_modulus=5", "--set bodies.0.materal.youngs_modulus=5: bodies[0].materal = ");
+  one_line_error("bodies.1.boundary.patch2.north.displacement.y=0", "--set bodies.1.boundary.patch2.north.displacement.y=0: ");
 }
