@@ -46,6 +46,7 @@ ContactPairData::ContactPairData(const System& sys, int index)
   if (!mortar_) {
     // slave quadrature points in the reference configuration
     const int nq = pair_.quadrature_points > 0 ? pair_.quadrature_points : 2 * (c.degree + 1);
+    kts_points_per_element_ = nq;
     const GaussRule g = gauss_rule(nq);
     std::vector<double> xi, wt;
     std::vector<int> span;

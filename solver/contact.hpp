@@ -95,6 +95,11 @@ class ContactPairData {
   /// projected_only (what the outputs write) it is left out.
   ContactPointState state(bool projected_only = false) const;
   ContactSummary summary() const;
+  /// KTS: "" or one warning line where the final contact zone covers fewer than about two
+  /// slave elements (2-D: 2 x the points of an element; 3-D: 4 x), so that the pressure's
+  /// peak and shape are not resolved (the forces are): a Hertz zone narrower than one element
+  /// gave max_pressure +199 % (2-D) and +150 % (3-D), exit 0. Mortar: "".
+  std::string unresolved_zone(int index, const Problem& P) const;
   /// The contact potential at the last update: KTS sum_q w <lambda - eps g>^2 / (2 eps),
   /// mortar sum_A w_A lambda_A^2 / (2 eps) (the penalty potential when the multipliers are 0).
   double potential() const;
@@ -139,6 +144,7 @@ class ContactPairData {
   MortarScratch scratch_;                  // per-A rows of the assembly kernels (grows)
   MortarEnds ends_;                        // the master ends' images in slave elements (FindMortarEnds)
   bool ends_found_ = false;                // some slave element has one (at the last update)
+  int kts_points_per_element_ = 0;         // 2-D KTS: quadrature points per slave element
   void mortar_scratch(int cap);            // (re)allocates scratch_ with cap entries per row
   int a_begin = 0, a_end = 0;              // this rank's slave control points
   // friction (every pair: the slip and state outputs; assembled only where mu > 0)

@@ -260,6 +260,7 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
     for (int d = 0; d < 2; ++d)
       nq[d] = pair.quadrature_points > 0 ? pair.quadrature_points : std::min(2 * (h.p[d] + 1), kMaxContactQuadrature);
     const GaussRule g0 = gauss_rule(nq[0]), g1 = gauss_rule(nq[1]);
+    points_per_element = std::max(points_per_element, nq[0] * nq[1]);
     for (int e1 = 0; e1 < h.ne[1]; ++e1)
       for (int e0 = 0; e0 < h.ne[0]; ++e0) {
         const int s0 = h.span[0][e0], s1 = h.span[1][e1];

@@ -25,6 +25,7 @@ class ContactSurfaces3 {
   void update(const Vector& u);
   void refresh();
   int num_points() const { return static_cast<int>(sp.weight.extent(0)); }
+  int points_per_element = 0;   // KTS: the largest nq0 x nq1 of the slave faces (0: mortar)
   /// The groups of coupled control points (global ids) of this rank's points with a
   /// projection, the master element widened by one control point each way; active: the
   /// number of this rank's active points.

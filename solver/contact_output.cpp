@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 namespace iga {
 
@@ -107,6 +108,23 @@ ContactSummary ContactPairData::summary() const {
     c.max_penetration = std::max(c.max_penetration, -st.gap[i]);
   }
   return c;
+}
+
+std::string ContactPairData::unresolved_zone(int index, const Problem& P) const {
+  const bool solid = s3_ != nullptr;
+  if (solid ? s3_->mortar : mortar_) return "";
+  const int per = solid ? s3_->points_per_element : kts_points_per_element_;
+  const int need = (solid ? 4 : 2) * per;
+  const ContactSummary sm = summary();
+  if (per <= 0 || sm.active_points == 0 || sm.active_points >= need) return "";
+  std::ostringstream os;
+  os.precision(2);
+  os << "contact[" << index << "] (" << P.bodies[pair_.slave.body].name << "." << pair_.slave.label << " on "
+     << P.bodies[pair_.master.body].name << "." << pair_.master.label << "): the contact zone covers about "
+     << static_cast<double>(sm.active_points) / per << " slave element(s) (" << sm.active_points << " active points, "
+     << per << " per element): max_pressure and the pressure's shape are not resolved there (the forces are); refine "
+     << "both bodies where they touch";
+  return os.str();
 }
 
 }  // namespace iga
