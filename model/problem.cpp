@@ -218,6 +218,18 @@ Problem parse_problem(const std::string& text, const std::string& file, const st
   } catch (const YAML::Exception& e) {
     std::ostringstream os;
     os << file << ":" << e.mark.line + 1 << ":" << e.mark.column + 1 << ": YAML syntax error: " << e.msg;
+    // YAML forbids tabs in indentation; yaml-cpp says "illegal map value" or the like there
+    {
+      std::istringstream lines(text);
+      std::string l;
+      for (int n = 1; std::getline(lines, l); ++n) {
+        const size_t first = l.find_first_not_of(" \t");
+        if (l.find('\t') < first || (first == std::string::npos && l.find('\t') != std::string::npos)) {
+          os << " (line " << n << " is indented with a tab: YAML allows spaces only)";
+          break;
+        }
+      }
+    }
     throw InputError(printable(os.str()));
   }
   try {
