@@ -337,17 +337,22 @@ struct AssembleMortarEnds {
   }
 };
 
-/// Loops over the valid quadrature slots in the support of slave control point A:
-/// f(i, slave span). Support: slave elements with span in [A, A + p].
-template <class F>
-KOKKOS_INLINE_FUNCTION void for_each_support_slot(const CurveData& s, const SlavePoints& sp, int slots, int A, const F& f) {
-  // first element whose span is >= A (element spans increase)
+/// The first slave element whose span is >= A (element spans increase): with those after it
+/// whose span is <= A + p, the elements of slave control point A's support.
+KOKKOS_INLINE_FUNCTION int first_support_element(const CurveData& s, int A) {
   int lo = 0, hi = s.ne;
   while (lo < hi) {
     const int mid = (lo + hi) / 2;
     if (s.span(mid) < A) lo = mid + 1; else hi = mid;
   }
-  for (int e = lo; e < s.ne && s.span(e) <= A + s.p; ++e)
+  return lo;
+}
+
+/// Loops over the valid quadrature slots in the support of slave control point A:
+/// f(i, slave span). Support: slave elements with span in [A, A + p].
+template <class F>
+KOKKOS_INLINE_FUNCTION void for_each_support_slot(const CurveData& s, const SlavePoints& sp, int slots, int A, const F& f) {
+  for (int e = first_support_element(s, A); e < s.ne && s.span(e) <= A + s.p; ++e)
     for (int i = e * slots; i < (e + 1) * slots; ++i) {
       if (sp.span(i) < 0 || !sp.valid(i)) continue;
       const int a = A - (sp.span(i) - s.p);
@@ -523,12 +528,7 @@ struct AssembleMortarGap {
     // the weighted gap's boundary terms where a master end's image lies in A's support
     for (int q = 0; q < r.size(); ++q) S.v1(k, q) = S.v0(k, q);
     if (ends.sign.extent(0) > 0) {
-      int lo = 0, hi = s.ne;   // first element whose span is >= A
-      while (lo < hi) {
-        const int mid = (lo + hi) / 2;
-        if (s.span(mid) < A) lo = mid + 1; else hi = mid;
-      }
-      for (int e = lo; e < s.ne && s.span(e) <= A + s.p; ++e)
+      for (int e = first_support_element(s, A); e < s.ne && s.span(e) <= A + s.p; ++e)
         for (int j = 0; j < 2; ++j) {
           if (ends.sign(e, j) == 0) continue;
           double Rs[3][kMaxBasis1D], Rm[3][kMaxBasis1D], n[2], g, j0, Vs[2 * kMaxBasis1D], Vm[2 * kMaxBasis1D];
