@@ -273,56 +273,10 @@ struct ProjectSlavePoints {
   double eps = 0;
 };
 
-/// kts_alm: one multiplier per slave control point A, as mortar has, not one per quadrature
-/// point. Per-point multipliers are more constraints than the slave's dofs: Uzawa then
-/// drifts (the multipliers of neighbouring points turn against each other and points leave
-/// the contact one update after another) and rarely closes the gaps (docs/contact-methods.md).
-/// The constraints are int R_A g = 0 for the slave control points A in contact, with
-///   c_A = sum_i w_i R_A(xi_i) g_i,  D_A = sum_i w_i R_A(xi_i),  g_A = c_A / D_A (weighted gap)
-///   M_AB = sum_i w_i R_A(xi_i) R_B(xi_i)                 (points with a projection)
-/// and the update (solver/contact.cpp, ContactPairData::augment) Lambda <- Lambda - eps M^-1 c
-/// on the control points in contact (Lambda_A - eps g_A > 0; the others 0), then clipped at 0;
-/// lambda_i = sum_A R_A(xi_i) Lambda_A, and each point keeps its penalty p_i = <lambda_i - eps
-/// g_i>. (Uzawa with D instead of M converges at 1 - min eig(D^-1 M) per update, 0.87 at
-/// p = 2, however large eps: the pressure's oscillating modes close slowly.) KtsWeightedGaps
-/// sums c, D and, when `mass` is given, the band of M (mass(A, p + B - A)) over the points
-/// (atomics; every rank holds every point); KtsPointMultipliers interpolates Lambda to the
-/// points. Cost per point: one basis evaluation (~ 10 (p + 1)^2 flops) and (p + 1)(p + 3)
-/// atomic adds.
-struct KtsWeightedGaps {
-  CurveData s;
-  SlavePoints sp;
-  Kokkos::View<double*, MemSpace> num, den;                      // c_A and D_A, zeroed by the caller
-  Kokkos::View<double**, Kokkos::LayoutRight, MemSpace> mass;   // (nb, 2p + 1) or empty
-  KOKKOS_INLINE_FUNCTION void operator()(const int i) const {
-    if (!sp.valid(i)) return;
-    double R[3][kMaxBasis1D], x[2], dx[2], ddx[2];
-    const int ss = sp.span(i);
-    curve_eval_span(ss, s.p, s.U.data(), CurrentCP{s.X, s.u}, s.w, sp.xi(i), x, dx, ddx, R);
-    const bool band = mass.extent(0) > 0;
-    for (int a = 0; a <= s.p; ++a) {
-      const double wr = sp.weight(i) * R[0][a];
-      Kokkos::atomic_add(&num(ss - s.p + a), wr * sp.gap(i));
-      Kokkos::atomic_add(&den(ss - s.p + a), wr);
-      if (band)
-        for (int b = 0; b <= s.p; ++b) Kokkos::atomic_add(&mass(ss - s.p + a, s.p + b - a), wr * R[0][b]);
-    }
-  }
-};
-
-struct KtsPointMultipliers {
-  CurveData s;
-  SlavePoints sp;
-  Kokkos::View<double*, MemSpace> lamA;
-  KOKKOS_INLINE_FUNCTION void operator()(const int i) const {
-    double R[3][kMaxBasis1D], x[2], dx[2], ddx[2];
-    const int ss = sp.span(i);
-    curve_eval_span(ss, s.p, s.U.data(), CurrentCP{s.X, s.u}, s.w, sp.xi(i), x, dx, ddx, R);
-    double l = 0;
-    for (int a = 0; a <= s.p; ++a) l += R[0][a] * lamA(ss - s.p + a);
-    sp.lambda(i) = l;
-  }
-};
+/// kts_alm in 2-D runs on mortar's kernels at these points (one segment per slave element:
+/// contact_mortar.hpp, MortarSegments::segmented), so its pressure is mortar's field
+/// p = sum_A R_A <Lambda_A - eps g_A / w_A>, with no penalty per point; kts_penalty alone
+/// keeps p_i = <-eps g_i> per point.
 
 /// Residual and consistent tangent of the active slave points [p_begin, p_end).
 /// Degree template P bounds both curves' degrees. `mortar`: the pressure is the mortar

@@ -143,8 +143,9 @@ inline void update_face_points(const ContactFace& f) {
                        });
 }
 
-/// kts_alm in 3-D: one multiplier per control point of each slave face (2-D:
-/// contact_kts.hpp, KtsWeightedGaps, which states the update). Per point i of this rank with
+/// kts_alm in 3-D: one multiplier per control point of each slave face, updated by
+/// Lambda <- Lambda - eps M^-1 c on the control points in contact (Lambda_A - eps c_A / D_A
+/// > 0), the others 0, then clipped at 0. Per point i of this rank with
 /// a projection, on its face k: c_A += w R_A g, D_A += w R_A, and (where `mass` is given) the
 /// Gram matrix M_AB += w R_A R_B in mass(A, (bi - ai + q0) + w0 (bj - aj + q1)), A = aoff(k) +
 /// the face's control point index ai + n0 aj (a face's control points are numbered on their

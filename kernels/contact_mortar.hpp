@@ -80,6 +80,9 @@ struct MortarSegments {
   GaussRule gauss;
   double thickness = 1;
   int max_segments = kMortarInitialSegments;
+  /// false: one segment per slave element, its Gauss rule on the whole element (kts_alm:
+  /// element-based integration of the weighted gaps, no cuts at the master knots' images)
+  bool segmented = true;
   Kokkos::View<double**, Kokkos::LayoutRight, MemSpace> cuts;   // ne x (max_segments + 1) scratch
   Kokkos::View<int*, MemSpace> flags;
 
@@ -134,7 +137,7 @@ struct MortarSegments {
       curve_eval_span(span, s.p, s.U.data(), CurrentCP{s.X, s.u}, s.w, a, xa, dx, ddx, R);
       curve_eval_span(span, s.p, s.U.data(), CurrentCP{s.X, s.u}, s.w, b, xb, dx, ddx, R);
     }
-    for (int cy = cy0 < 0 ? 0 : cy0; cy <= cy1 && cy < grid.ny; ++cy)
+    for (int cy = cy0 < 0 ? 0 : cy0; segmented && cy <= cy1 && cy < grid.ny; ++cy)
       for (int cx = cx0 < 0 ? 0 : cx0; cx <= cx1 && cx < grid.nx; ++cx) {
         int k0, k1;
         grid.cell_range(cx, cy, k0, k1);

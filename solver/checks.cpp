@@ -41,8 +41,9 @@ std::string broadcast_string(const Comm& comm, std::string s) {
   return s;
 }
 
-// kts_alm closes the weighted gaps of the slave control points (its multipliers), and each
-// quadrature point keeps its penalty p_i = <lambda_i - eps g_i>. Where the quadrature points
+// 3-D kts_alm closes the weighted gaps of the slave control points (its multipliers), and each
+// quadrature point keeps its penalty p_i = <lambda_i - eps g_i>. (2-D kts_alm has mortar's
+// pressure field sum_A R_A lambda_A, no penalty per point, and nothing to lift off.) Where the quadrature points
 // over-constrain the interface (a stiff flat punch as the slave of a soft block: its edges'
 // singular pressure) the pointwise gaps oscillate about the closed weighted ones: points where
 // the multipliers press lift off (p_i = 0), the pressure runs in bands, and the answer depends
@@ -57,7 +58,7 @@ constexpr double kLiftedShare = 0.1;
 std::string kts_alm_lifted(const Problem& P, const std::vector<ContactPairData>& contact) {
   for (size_t k = 0; k < contact.size(); ++k) {
     const ContactPairData& c = contact[k];
-    if (c.pair().method != ContactMethod::KtsAlm) continue;
+    if (c.pair().method != ContactMethod::KtsAlm || c.mortar()) continue;   // (2-D kts_alm: mortar's pressure field)
     const ContactPointState st = c.state(true);
     double all = 0, lifted = 0, gmax = 0;
     for (size_t i = 0; i < st.lambda.size(); ++i) {

@@ -34,7 +34,11 @@ ContactPairData::ContactPairData(const System& sys, int index)
   slave_chain_ = surface_chain(sys.problem(), pair_.slave);
   slave = make_curve(sys, pair_.slave, slave_chain_, slave_gid);
   master = make_curve(sys, pair_.master, surface_chain(sys.problem(), pair_.master), master_gid);
-  mortar_ = pair_.method == ContactMethod::MortarPenalty || pair_.method == ContactMethod::MortarAlm;
+  // kts_alm runs on mortar's weighted gaps and multipliers per slave control point, at the
+  // KTS points (one segment per slave element: element-based integration, no cuts at the
+  // master knots' images); kts_penalty keeps its penalty per point
+  mortar_ = pair_.method != ContactMethod::KtsPenalty;
+  segmented_ = pair_.method != ContactMethod::KtsAlm;
   const Curve& c = slave_chain_.curve;
   h_min_ = 1e300;
   for (int s : c.element_spans()) {
@@ -67,11 +71,14 @@ ContactPairData::ContactPairData(const System& sys, int index)
     sp_.span = to_device("span", span);
   } else {
     // segment quadrature slots (filled by MortarSegments at each update) and, per slave
-    // control point, w_A = int R_A dGamma_0 (thickness included)
+    // control point, w_A = int R_A dGamma_0 (thickness included). kts_alm: the KTS rule,
+    // 2 (p + 1) points on each whole slave element
     const int nq = pair_.quadrature_points > 0 ? pair_.quadrature_points
-                                               : std::min(slave.p + master.p + 1, kMaxGauss);
+                   : segmented_                ? std::min(slave.p + master.p + 1, kMaxGauss)
+                                               : std::min(2 * (slave.p + 1), kMaxGauss);
     gauss_ = gauss_rule(nq);
-    max_segments_ = kMortarInitialSegments;
+    max_segments_ = segmented_ ? kMortarInitialSegments : 1;
+    if (!segmented_) kts_points_per_element_ = nq;
     slots = max_segments_ * nq;
     n = slave.ne * slots;
     const GaussRule g = gauss_rule(kMaxGauss);
@@ -102,12 +109,6 @@ ContactPairData::ContactPairData(const System& sys, int index)
     const auto ra = block_range(slave.nb, sys.comm()->getRank(), sys.comm()->getSize());
     a_begin = static_cast<int>(ra.first);
     a_end = static_cast<int>(ra.second);
-  }
-  if (!mortar_) {
-    lamA_ = Kokkos::View<double*, MemSpace>("kts_lambdaA", slave.nb);
-    gnum_ = Kokkos::View<double*, MemSpace>("kts_gnum", slave.nb);
-    gden_ = Kokkos::View<double*, MemSpace>("kts_gden", slave.nb);
-    gmass_ = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>("kts_gmass", slave.nb, 2 * slave.p + 1);
   }
   allocate_points(n);
   // KTS: a gap within round-off of 0 is touching (mortar: MortarGaps' touch, the same 1e-12)
@@ -235,7 +236,7 @@ void ContactPairData::refresh() {
     for (;;) {
       MortarSegments ks;
       ks.s = slave; ks.m = master; ks.sp = sp_; ks.grid = grid; ks.gauss = gauss_; ks.thickness = thickness;
-      ks.max_segments = max_segments_; ks.cuts = cuts_; ks.flags = ms_.flags;
+      ks.max_segments = max_segments_; ks.segmented = segmented_; ks.cuts = cuts_; ks.flags = ms_.flags;
       Kokkos::deep_copy(ms_.flags, 0);
       Kokkos::parallel_for("iga::MortarSegments", Kokkos::RangePolicy<ExecSpace>(0, slave.ne), ks);
       auto fl = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms_.flags);
@@ -358,20 +359,7 @@ double ContactPairData::max_active_gap_ratio() const {
     }
     return r / h_min_;
   }
-  // KTS: the weighted gaps of the slave control points in contact (Lambda_A - eps g_A > 0),
-  // the constraints the multipliers enforce (kernels/contact_kts.hpp, KtsWeightedGaps)
-  kts_weighted_gaps();
-  const double eps = pair_.penalty;
-  const auto lam = lamA_, num = gnum_, den = gden_;
-  double gmax = 0;
-  Kokkos::parallel_reduce("iga::KtsActiveWeightedGap", Kokkos::RangePolicy<ExecSpace>(0, slave.nb),
-                          KOKKOS_LAMBDA(const int A, double& m) {
-                            if (!(den(A) > 0)) return;
-                            const double g = num(A) / den(A);
-                            if (lam(A) - eps * g > 0 && (g > m || -g > m)) m = g > 0 ? g : -g;
-                          },
-                          Kokkos::Max<double>(gmax));
-  r = gmax;
+  // kts_penalty: no multipliers (the penalty methods make no update)
   if (friction()) {
     auto ds = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr_.ds);
     auto fs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr_.state);
@@ -388,60 +376,9 @@ double ContactPairData::augment() {
     Kokkos::deep_copy(ms_.lbar, ms_.lambda);
     Kokkos::deep_copy(fr_.lamTA, fr_.tauA);
   } else {
-    kts_update_multipliers();
     Kokkos::deep_copy(fr_.lamT, fr_.tau);
   }
   return max_active_gap_ratio();
-}
-
-void ContactPairData::kts_weighted_gaps(bool mass) const {
-  Kokkos::deep_copy(gnum_, 0.0);
-  Kokkos::deep_copy(gden_, 0.0);
-  if (mass) Kokkos::deep_copy(gmass_, 0.0);
-  KtsWeightedGaps k{slave, sp_, gnum_, gden_, mass ? gmass_ : decltype(gmass_)()};
-  Kokkos::parallel_for("iga::KtsWeightedGaps", Kokkos::RangePolicy<ExecSpace>(0, num_points()), k);
-}
-
-// kts_alm's multiplier update (kernels/contact_kts.hpp, KtsWeightedGaps): on the slave control
-// points in contact (Lambda_A - eps g_A > 0) Lambda <- Lambda - eps M^-1 c with M restricted
-// to them (a banded solve, LAPACK GBTRF / GBTRS: M is the Gram matrix of the slave basis over
-// the points, band p), the others 0; then clipped at 0 and interpolated to the points. Its
-// fixed points are the KKT points of the weighted gaps (c_A = 0 where Lambda_A > 0, g_A >= 0
-// where Lambda_A = 0). Every rank holds every point and computes the same.
-void ContactPairData::kts_update_multipliers() {
-  kts_weighted_gaps(true);
-  const int nb = slave.nb, p = slave.p, kl = p, ldab = 3 * p + 1;
-  const double eps = pair_.penalty;
-  auto num = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), gnum_);
-  auto den = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), gden_);
-  auto M = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), gmass_);
-  auto lam = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), lamA_);
-  std::vector<char> in(nb);
-  for (int A = 0; A < nb; ++A) in[A] = den(A) > 0 && lam(A) - eps * num(A) / den(A) > 0;
-  std::vector<double> AB(static_cast<size_t>(ldab) * nb, 0.0), c(nb, 0.0);
-  std::vector<int> piv(nb);
-  for (int A = 0; A < nb; ++A) {
-    if (!in[A]) { AB[2 * kl + static_cast<size_t>(A) * ldab] = 1.0; continue; }   // row of the identity
-    c[A] = num(A);
-    for (int B = std::max(0, A - p); B <= std::min(nb - 1, A + p); ++B)
-      if (in[B]) AB[2 * kl + A - B + static_cast<size_t>(B) * ldab] = M(A, p + B - A);   // AB(kl + ku + A - B, B)
-  }
-  Teuchos::LAPACK<int, double> lapack;
-  int info = 0;
-  lapack.GBTRF(nb, nb, kl, kl, AB.data(), ldab, piv.data(), &info);
-  if (info == 0) lapack.GBTRS('N', nb, kl, kl, 1, AB.data(), ldab, piv.data(), c.data(), nb, &info);
-  bool ok = info == 0;
-  for (int A = 0; A < nb && ok; ++A) ok = std::isfinite(c[A]);
-  for (int A = 0; A < nb; ++A) {
-    // a singular M (points without a projection leave a control point's support nearly
-    // empty): the diagonal D instead
-    const double step = ok ? c[A] : (den(A) > 0 ? num(A) / den(A) : 0.0);
-    const double l = in[A] ? lam(A) - eps * step : 0.0;
-    lam(A) = l > 0 ? l : 0.0;
-  }
-  Kokkos::deep_copy(lamA_, lam);
-  KtsPointMultipliers k{slave, sp_, lamA_};
-  Kokkos::parallel_for("iga::KtsPointMultipliers", Kokkos::RangePolicy<ExecSpace>(0, num_points()), k);
 }
 
 void ContactPairData::raise_penalty(double factor) {
@@ -455,7 +392,6 @@ void ContactPairData::commit() {
     return;
   }
   keep_copy(committed_.lambda, sp_.lambda);
-  if (!mortar_) keep_copy(committed_.lamA, lamA_);
   keep_copy(committed_.mxi, sp_.mxi);
   keep_copy(committed_.melem, sp_.melem);
   keep_copy(committed_.mspan, sp_.mspan);
@@ -489,7 +425,6 @@ void ContactPairData::restore() {
   // per-slot state is not history; the multipliers per control point are
   if (!mortar_) {
     Kokkos::deep_copy(sp_.lambda, committed_.lambda);
-    Kokkos::deep_copy(lamA_, committed_.lamA);
     Kokkos::deep_copy(sp_.mxi, committed_.mxi);
     Kokkos::deep_copy(sp_.melem, committed_.melem);
     Kokkos::deep_copy(sp_.mspan, committed_.mspan);
@@ -508,7 +443,6 @@ void ContactPairData::reset_multipliers() {
     Kokkos::deep_copy(fr_.lamTA, 0.0);
   } else {
     Kokkos::deep_copy(sp_.lambda, 0.0);
-    Kokkos::deep_copy(lamA_, 0.0);
     Kokkos::deep_copy(fr_.lamT, 0.0);
   }
 }

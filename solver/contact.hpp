@@ -27,7 +27,7 @@ struct ContactError : std::runtime_error {
 /// the accumulated slip path and slip_increment the length of this step's slip |g_T|.
 struct ContactPointState {
   std::vector<double> x, y, xi, gap, pressure, weight, nx, ny, tangential, slip, tx, ty;
-  /// ALM: the point's multiplier (kts_alm: interpolated from the slave control points'; 0
+  /// ALM: the point's multiplier (3-D kts_alm: interpolated from the slave control points'; 0
   /// without ALM; mortar: unused)
   std::vector<double> lambda;
   std::vector<double> z, eta, nz, X, tz, slip_increment;
@@ -165,14 +165,9 @@ class ContactPairData {
   double penalty0_ = 1;   // the problem file's penalty
   bool mortar_ = false;
   GaussRule gauss_;
-  // kts_alm: the multiplier Lambda_A per slave control point (the points' lambda is its
-  // interpolation) and the weighted gaps' sums (KtsWeightedGaps, kernels/contact_kts.hpp)
-  Kokkos::View<double*, MemSpace> lamA_, gnum_, gden_;
-  Kokkos::View<double**, Kokkos::LayoutRight, MemSpace> gmass_;
-  void kts_weighted_gaps(bool mass = false) const;   // gnum_, gden_ (and gmass_) now
-  void kts_update_multipliers();
+  bool segmented_ = true;   // mortar: slots on segments; false for kts_alm (one per element)
   struct Committed {
-    Kokkos::View<double*, MemSpace> lambda, mxi, lbar, lamT, lamTA, lamA;
+    Kokkos::View<double*, MemSpace> lambda, mxi, lbar, lamT, lamTA;
     Kokkos::View<int*, MemSpace> melem, mspan, valid;
   } committed_;
   // mortar friction: the committed curves (their displacements at the last converged step)

@@ -597,7 +597,7 @@ bool NewtonCore::augment(int aug, std::vector<double>& gap_history, Outcome& out
     if (is_alm(c.pair())) {
       q = std::max(q, c.max_active_gap_ratio() / c.pair().alm_tolerance);
       friction_alm = friction_alm || c.friction();
-      kts_friction_alm = kts_friction_alm || (c.friction() && c.pair().method == ContactMethod::KtsAlm);
+      kts_friction_alm = kts_friction_alm || (c.friction() && c.pair().method == ContactMethod::KtsAlm && !c.mortar());
     }
   // The method of multipliers' penalty update (Bertsekas 1982; Nocedal and Wright, 17.3):
   // where an update closed the gaps by less than kShrink, the penalty of the next solves is
@@ -606,7 +606,7 @@ bool NewtonCore::augment(int aug, std::vector<double>& gap_history, Outcome& out
   // is larger. Uzawa closes the gaps by about k / (k + eps) per update, k the stiffness behind
   // a contact point, so a penalty near E / h (the r = E / h GetFEM's Alart-Curnier takes)
   // would need hundreds of updates; the converged answer does not depend on the penalty. The
-  // window of the stall test restarts. With friction too, but not with kts_alm there (its
+  // window of the stall test restarts. With friction too, but not with 3-D kts_alm there (its
   // stick constraints drift before they close; raising the penalties did not help it,
   // docs/friction.md): mortar_alm's normal gaps at a flat punch's edge (a singular pressure)
   // closed by 0.88 per update at the problem file's penalty (a box pressed on a block, 50
@@ -675,7 +675,7 @@ bool NewtonCore::augment(int aug, std::vector<double>& gap_history, Outcome& out
     if (friction_alm) {
       out.stall = true;
       for (const auto& c : res_.contact)
-        if (c.friction() && c.pair().method == ContactMethod::KtsAlm) {
+        if (c.friction() && c.pair().method == ContactMethod::KtsAlm && !c.mortar()) {
           os << "; with friction mortar_alm (one stick constraint per slave control point) converges where kts_alm's "
                 "stick constraints at every quadrature point may not (docs/friction.md)";
           break;
