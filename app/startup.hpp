@@ -33,7 +33,7 @@ inline const char* kUsage =
     "Kokkos' own options (threads, devices): --kokkos-help.\n"
     "Exit codes: 0 converged, 2 bad input, 3 not converged (last converged load step kept),\n"
     "4 output could not be written, 5 a converged step failed a physical check\n"
-    "(interpenetration, self-penetration, inverted elements, 3-D kts_alm lifting off; the steps so far\n"
+    "(interpenetration, self-penetration, inverted elements; the steps so far\n"
     "are written).\n";
 
 /// --help or --version among the arguments: answered (usage or version on stdout), true.

@@ -143,15 +143,9 @@ inline void update_face_points(const ContactFace& f) {
                        });
 }
 
-/// kts_alm in 3-D: one multiplier per control point of each slave face, updated by
-/// Lambda <- Lambda - eps M^-1 c on the control points in contact (Lambda_A - eps c_A / D_A
-/// > 0), the others 0, then clipped at 0. Per point i of this rank with
-/// a projection, on its face k: c_A += w R_A g, D_A += w R_A, and (where `mass` is given) the
-/// Gram matrix M_AB += w R_A R_B in mass(A, (bi - ai + q0) + w0 (bj - aj + q1)), A = aoff(k) +
-/// the face's control point index ai + n0 aj (a face's control points are numbered on their
-/// own: where faces of a list share a control point each face has its multiplier). q0, q1: the
-/// largest face degrees, w0 = 2 q0 + 1. Atomics; the caller sums over the ranks.
-/// KtsPointMultipliers3 interpolates Lambda to the points, lambda_i = sum_A R_A(xi_i) Lambda_A.
+/// kts_alm in 3-D runs on mortar's kernels at these points (solver/contact3d.cpp: the KTS
+/// points in mortar's slots, no segmentation), so its pressure is mortar's field
+/// p = sum_A R_A <Lambda_A - eps g_A / w_A>, with no penalty per point.
 
 /// The slave basis R at slave point (or mortar slot) i on its face, and the face's control
 /// point indices cp.
@@ -162,52 +156,6 @@ KOKKOS_INLINE_FUNCTION int slave_point_basis(const ContactFaces& s, const SlaveP
   double Ru[kMaxSurfaceBasis], Rv[kMaxSurfaceBasis];
   return surface_basis(sd, es, sp.uv(i, 0), sp.uv(i, 1), R, Ru, Rv, cp);
 }
-
-struct KtsWeightedGaps3 {
-  ContactFaces s;
-  SlavePoints3 sp;
-  Kokkos::View<const int*, MemSpace> aoff;
-  Kokkos::View<double*, MemSpace> num, den;
-  Kokkos::View<double**, Kokkos::LayoutRight, MemSpace> mass;
-  int q0 = 0, q1 = 0;
-  KOKKOS_INLINE_FUNCTION void operator()(const int i) const {
-    if (!sp.valid(i)) return;
-    const int k = sp.face(i);
-    const SurfaceData& sd = s.f[k].sd;
-    double R[kMaxSurfaceBasis];
-    int cp[kMaxSurfaceBasis];
-    const int n = slave_point_basis(s, sp, i, R, cp);
-    const int w0 = 2 * q0 + 1;
-    const bool band = mass.extent(0) > 0;
-    for (int a = 0; a < n; ++a) {
-      const int A = aoff(k) + cp[a];
-      const double wr = sp.weight(i) * R[a];
-      Kokkos::atomic_add(&num(A), wr * sp.gap(i));
-      Kokkos::atomic_add(&den(A), wr);
-      if (!band) continue;
-      const int ai = cp[a] % sd.n[0], aj = cp[a] / sd.n[0];
-      for (int b = 0; b < n; ++b) {
-        const int bi = cp[b] % sd.n[0], bj = cp[b] / sd.n[0];
-        Kokkos::atomic_add(&mass(A, (bi - ai + q0) + w0 * (bj - aj + q1)), wr * R[b]);
-      }
-    }
-  }
-};
-
-struct KtsPointMultipliers3 {
-  ContactFaces s;
-  SlavePoints3 sp;
-  Kokkos::View<const int*, MemSpace> aoff;
-  Kokkos::View<const double*, MemSpace> lamA;
-  KOKKOS_INLINE_FUNCTION void operator()(const int i) const {
-    double R[kMaxSurfaceBasis];
-    int cp[kMaxSurfaceBasis];
-    const int n = slave_point_basis(s, sp, i, R, cp);
-    double l = 0;
-    for (int a = 0; a < n; ++a) l += R[a] * lamA(aoff(sp.face(i)) + cp[a]);
-    sp.lambda(i) = l;
-  }
-};
 
 /// Slave points' current positions and their projections onto the nearest master face (a foot
 /// inside that face; beyond every master face's edges: no projection, valid 0).

@@ -25,7 +25,9 @@
 //   knot eta_k with rho_k, t_k the cut xi solves (x_s(xi) - rho_k) . t_k = 0 (the slave point
 //   whose closest master point is the knot); candidate knots are those of the master elements
 //   in the search-grid cells that the slave element's box overlaps. Each segment gets its own
-//   Gauss rule, so the integrand is smooth on every piece.
+//   Gauss rule, so the integrand is smooth on every piece. kts_alm uses these kernels with
+//   one segment per slave element (segmented = false: its KTS points, no cuts), so the gap's
+//   kink at a master knot inside a slave element is left to the Gauss rule.
 // Layout: the slave quadrature points are slots of SlavePoints, max_segments x nq per slave
 //   element (element-major, segments in increasing xi); unused slots have span = -1.
 //   max_segments is a run-time capacity: MortarSegments reports how many segments an element

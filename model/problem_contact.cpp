@@ -152,12 +152,6 @@ void read_contact_pairs(const Reader& R, const YAML::Node& root, Problem& P) {
         if (!(cp.friction >= 0) || !std::isfinite(cp.friction))
           R.fail(path + ".friction", n["friction"], "the Coulomb coefficient must be a number >= 0");
       }
-      // 3-D KTS ALM with friction: the stick constraints of the quadrature points outnumber the
-      // slave dofs, and where stick meets slip Uzawa drifts along them for a few hundred
-      // updates (docs/friction.md): a larger default. (2-D kts_alm has mortar's stick
-      // constraints, one per slave control point.)
-      if (!n["augmentations"] && cp.friction > 0 && cp.method == ContactMethod::KtsAlm && P.dim() == 3)
-        cp.augmentations = 500;
       cp.tangential_penalty = n["tangential_penalty"] ? R.positive(n["tangential_penalty"], path + ".tangential_penalty")
                                                       : cp.penalty;
       if (!(cp.tangential_penalty * P.thickness >= std::numeric_limits<double>::min()) ||

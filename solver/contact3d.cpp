@@ -158,7 +158,11 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
         slave_x.push_back({cp.x[0], cp.x[1], cp.x[2]});
     for (int k = 0; k < master.n; ++k) master.f[k].open = open_edges(P.bodies[pair.master.body], pair.master.sides[k], slave_x);
   }
-  mortar = pair.method == ContactMethod::MortarPenalty || pair.method == ContactMethod::MortarAlm;
+  // kts_alm runs on mortar's weighted gaps, multipliers and pressure field at the KTS points
+  // (nq x nq Gauss points on each whole slave element: element-based integration, no
+  // segmentation); kts_penalty keeps its penalty per point
+  mortar = pair.method != ContactMethod::KtsPenalty;
+  segmented = pair.method != ContactMethod::KtsAlm;
   fr.mu = pair.friction;
   fr.epsT = pair.tangential_penalty > 0 ? pair.tangential_penalty : pair.penalty;
   fr.force = ForceSum("friction_force");
@@ -182,9 +186,13 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
     gauss = gauss_rule(pair.quadrature_points > 0 ? pair.quadrature_points : std::min(pmax + (friction ? 3 : 2), kMaxGauss));
     tri = triangle_rule(polygon_rule_degree(gauss.n));
     slots = 4 * 6 * tri.n;   // room for 4 segments of 6 fan triangles to start with
+    if (!segmented) {        // kts_alm: the KTS points of the largest slave element rule
+      slots = 1;
+      for (const HostFace& h : hs_) slots = std::max(slots, kts_rule(h, 0) * kts_rule(h, 1));
+    }
     const int ne = slave.eoff[slave.n], na = num_control_points_;
     allocate_points(ne * slots);
-    allocate_edges(8 * gauss.n);
+    allocate_edges(segmented ? 8 * gauss.n : 0);   // (kts_alm: no master edges' images)
     ms.wA = Kokkos::View<double*, MemSpace>("wA", na);
     ms.gA = Kokkos::View<double*, MemSpace>("gA", na);
     ms.lbar = Kokkos::View<double*, MemSpace>("lbar", na);
@@ -248,17 +256,16 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
     mortar_scratch(kMortarInitialEntries * 3);
   }
   // slave points: nq x nq Gauss points per slave face element (default 2 (p + 1) per direction,
-  // as in 2-D), weights in the reference configuration
+  // as in 2-D), weights in the reference configuration. kts_alm: the same points in mortar's
+  // slots, `slots` per element (the unused ones with face -1)
   std::vector<int> face, elem;
   std::vector<double> uv, gw;
   h_min_ = 1e300;
   for (int fi = 0; fi < slave.n; ++fi) {
     const HostFace& h = hs_[fi];
-    if (mortar) break;   // the slots come from the segmentation
+    if (segmented && mortar) break;   // the slots come from the segmentation
     const Patch F = P.bodies[pair.slave.body].patches[pair.slave.sides[fi].patch].face(pair.slave.sides[fi].side);
-    int nq[2];
-    for (int d = 0; d < 2; ++d)
-      nq[d] = pair.quadrature_points > 0 ? pair.quadrature_points : std::min(2 * (h.p[d] + 1), kMaxContactQuadrature);
+    const int nq[2] = {kts_rule(h, 0), kts_rule(h, 1)};
     const GaussRule g0 = gauss_rule(nq[0]), g1 = gauss_rule(nq[1]);
     points_per_element = std::max(points_per_element, nq[0] * nq[1]);
     for (int e1 = 0; e1 < h.ne[1]; ++e1)
@@ -273,6 +280,13 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
             uv.push_back(a1 + 0.5 * (b1 - a1) * (g1.x[q1] + 1));
             gw.push_back(g0.w[q0] * g1.w[q1] * 0.25 * (b0 - a0) * (b1 - a1));
           }
+        for (int k = nq[0] * nq[1]; mortar && k < slots; ++k) {   // an unused slot
+          face.push_back(-1);
+          elem.push_back(0);
+          uv.push_back(0);
+          uv.push_back(0);
+          gw.push_back(0);
+        }
       }
   }
   // the smallest slave element (the ALM gap scale and the touch tolerance)
@@ -280,9 +294,9 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
     h_min_ = std::min(h_min_, smallest_element_size(P.bodies[pair.slave.body].patches[ps.patch].face(ps.side)));
   if (!(h_min_ < 1e300)) h_min_ = 1;
   sp.touch = 1e-12 * h_min_;   // gaps within round-off of 0 count as closed (touching at the start)
-  if (!mortar) {
+  if (!segmented || !mortar) {
     const int n = static_cast<int>(face.size());
-    allocate_points(n);
+    if (!mortar) allocate_points(n);   // (kts_alm: the slots, allocated above, n of them)
     Kokkos::deep_copy(sp.face, Kokkos::View<int*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(face.data(), n));
     Kokkos::deep_copy(sp.elem, Kokkos::View<int*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(elem.data(), n));
     Kokkos::deep_copy(sp.weight, Kokkos::View<double*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(gw.data(), n));
@@ -291,25 +305,11 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
       for (int i = 0; i < n; ++i) { h(i, 0) = uv[2 * i]; h(i, 1) = uv[2 * i + 1]; }
       Kokkos::deep_copy(sp.uv, h);
     }
-    // kts_alm: a multiplier per control point of each slave face
-    kts_aoff_h_.assign(1, 0);
-    for (const HostFace& h : hs_) {
-      kts_aoff_h_.push_back(kts_aoff_h_.back() + h.n[0] * h.n[1]);
-      kts_q_[0] = std::max(kts_q_[0], h.p[0]);
-      kts_q_[1] = std::max(kts_q_[1], h.p[1]);
-    }
-    const int nA = kts_aoff_h_.back();
-    kts_aoff_ = Kokkos::View<int*, MemSpace>("kts_aoff", kts_aoff_h_.size());
-    Kokkos::deep_copy(kts_aoff_, Kokkos::View<int*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
-                                     kts_aoff_h_.data(), kts_aoff_h_.size()));
-    kts_lamA_ = Kokkos::View<double*, MemSpace>("kts_lambdaA", nA);
-    kts_num_ = Kokkos::View<double*, MemSpace>("kts_num", nA);
-    kts_den_ = Kokkos::View<double*, MemSpace>("kts_den", nA);
-    kts_mass_ = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>("kts_mass", nA, (2 * kts_q_[0] + 1) * (2 * kts_q_[1] + 1));
     // reference points and measures: w = Gauss x |X_u x X_v|
     const ContactFaces s = slave;
     const SlavePoints3 p = sp;
     Kokkos::parallel_for("iga::SlavePoints3", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(const int i) {
+      if (p.face(i) < 0) return;
       const SurfaceData& sd = s.f[p.face(i)].sd;
       int es[2];
       surface_element_spans(sd, p.elem(i), es);
@@ -642,12 +642,7 @@ double ContactSurfaces3::max_active_gap() const {
     }
     return r;
   }
-  // KTS: the weighted gaps of the slave control points in contact (Lambda_A - eps g_A > 0)
-  std::vector<double> c, D;
-  kts_weighted_gaps(c, D, nullptr);
-  auto lam = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), kts_lamA_);
-  for (size_t A = 0; A < c.size(); ++A)
-    if (D[A] > 0 && lam(A) - pair.penalty * c[A] / D[A] > 0) r = std::max(r, std::abs(c[A] / D[A]));
+  // kts_penalty: no multipliers
   if (friction) {
     ContactPointState st;
     state(st, false);
@@ -655,112 +650,6 @@ double ContactSurfaces3::max_active_gap() const {
       if (st.state[i] == 1) r = std::max(r, st.slip_increment[i]);   // the stick points' |g_T|
   }
   return r;
-}
-
-void ContactSurfaces3::kts_weighted_gaps(std::vector<double>& c, std::vector<double>& D, std::vector<double>* M) const {
-  Kokkos::deep_copy(kts_num_, 0.0);
-  Kokkos::deep_copy(kts_den_, 0.0);
-  if (M) Kokkos::deep_copy(kts_mass_, 0.0);
-  KtsWeightedGaps3 k{slave, sp, kts_aoff_, kts_num_, kts_den_, M ? kts_mass_ : decltype(kts_mass_)(), kts_q_[0], kts_q_[1]};
-  Kokkos::parallel_for("iga::KtsWeightedGaps3", Kokkos::RangePolicy<ExecSpace>(p_begin, p_end), k);
-  const size_t nA = kts_num_.extent(0), S = M ? kts_mass_.extent(1) : 0;
-  std::vector<double> mine(2 * nA + nA * S), all(mine.size());
-  auto hn = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), kts_num_);
-  auto hd = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), kts_den_);
-  for (size_t A = 0; A < nA; ++A) {
-    mine[A] = hn(A);
-    mine[nA + A] = hd(A);
-  }
-  if (M) {
-    auto hm = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), kts_mass_);
-    for (size_t A = 0; A < nA; ++A)
-      for (size_t t = 0; t < S; ++t) mine[2 * nA + A * S + t] = hm(A, t);
-  }
-  Teuchos::reduceAll(*comm_, Teuchos::REDUCE_SUM, static_cast<int>(mine.size()), mine.data(), all.data());
-  c.assign(all.begin(), all.begin() + nA);
-  D.assign(all.begin() + nA, all.begin() + 2 * nA);
-  if (M) M->assign(all.begin() + 2 * nA, all.end());
-}
-
-// kts_alm's update, as the 2-D one (solver/contact.cpp, kts_update_multipliers): on the control
-// points in contact Lambda <- Lambda - eps M^-1 c, the others 0, clipped at 0. M (each face's
-// Gram matrix of its basis over the points, restricted to the control points in contact) is
-// solved by CG with its diagonal as preconditioner (its condition number is that of a B-spline
-// mass matrix, ~1 / 0.133^2 at degree 2); where CG fails the diagonal D stands in. Every rank
-// holds the sums of all ranks and computes the same.
-void ContactSurfaces3::kts_update_multipliers() {
-  std::vector<double> c, D, M;
-  kts_weighted_gaps(c, D, &M);
-  const int nA = static_cast<int>(c.size()), w0 = 2 * kts_q_[0] + 1, S = static_cast<int>(kts_mass_.extent(1));
-  const double eps = pair.penalty;
-  auto lam = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), kts_lamA_);
-  std::vector<char> in(nA);
-  for (int A = 0; A < nA; ++A) in[A] = D[A] > 0 && lam(A) - eps * c[A] / D[A] > 0;
-  // the stencil's neighbours: B of A for stencil entry t, or -1
-  std::vector<int> nbr(static_cast<size_t>(nA) * S, -1);
-  for (size_t k = 0; k < hs_.size(); ++k) {
-    const int n0 = hs_[k].n[0], n1 = hs_[k].n[1], off = kts_aoff_h_[k];
-    for (int a = 0; a < n0 * n1; ++a)
-      for (int t = 0; t < S; ++t) {
-        const int bi = a % n0 + t % w0 - kts_q_[0], bj = a / n0 + t / w0 - kts_q_[1];
-        if (bi >= 0 && bi < n0 && bj >= 0 && bj < n1) nbr[static_cast<size_t>(off + a) * S + t] = off + bi + n0 * bj;
-      }
-  }
-  auto apply = [&](const std::vector<double>& x, std::vector<double>& y) {
-    for (int A = 0; A < nA; ++A) {
-      double s = 0;
-      if (in[A])
-        for (int t = 0; t < S; ++t) {
-          const int B = nbr[static_cast<size_t>(A) * S + t];
-          if (B >= 0 && in[B]) s += M[static_cast<size_t>(A) * S + t] * x[B];
-        }
-      y[A] = s;
-    }
-  };
-  std::vector<double> diag(nA, 1.0);
-  for (int A = 0; A < nA; ++A)
-    if (in[A])
-      for (int t = 0; t < S; ++t)
-        if (nbr[static_cast<size_t>(A) * S + t] == A) diag[A] = M[static_cast<size_t>(A) * S + t];
-  // preconditioned CG on M y = c over the control points in contact
-  std::vector<double> y(nA, 0.0), r(nA), z(nA), p(nA), q(nA);
-  double rz = 0, r0 = 0;
-  for (int A = 0; A < nA; ++A) {
-    r[A] = in[A] ? c[A] : 0.0;
-    z[A] = diag[A] > 0 ? r[A] / diag[A] : 0.0;
-    p[A] = z[A];
-    rz += r[A] * z[A];
-    r0 += r[A] * r[A];
-  }
-  bool ok = std::isfinite(rz);
-  for (int it = 0; it < 1000 && ok && rz > 0; ++it) {
-    apply(p, q);
-    double pq = 0;
-    for (int A = 0; A < nA; ++A) pq += p[A] * q[A];
-    if (!(pq > 0)) { ok = false; break; }
-    const double al = rz / pq;
-    double rr = 0, rz1 = 0;
-    for (int A = 0; A < nA; ++A) {
-      y[A] += al * p[A];
-      r[A] -= al * q[A];
-      z[A] = diag[A] > 0 ? r[A] / diag[A] : 0.0;
-      rr += r[A] * r[A];
-      rz1 += r[A] * z[A];
-    }
-    if (rr <= 1e-28 * r0) break;
-    for (int A = 0; A < nA; ++A) p[A] = z[A] + rz1 / rz * p[A];
-    rz = rz1;
-    if (it == 999) ok = false;
-  }
-  for (int A = 0; A < nA && ok; ++A) ok = std::isfinite(y[A]);
-  for (int A = 0; A < nA; ++A) {
-    const double step = ok ? y[A] : (D[A] > 0 ? c[A] / D[A] : 0.0);
-    const double l = in[A] ? lam(A) - eps * step : 0.0;
-    lam(A) = l > 0 ? l : 0.0;
-  }
-  Kokkos::deep_copy(kts_lamA_, lam);
-  KtsPointMultipliers3 k{slave, sp, kts_aoff_, kts_lamA_};
-  Kokkos::parallel_for("iga::KtsPointMultipliers3", Kokkos::RangePolicy<ExecSpace>(0, num_points()), k);
 }
 
 void ContactSurfaces3::update_friction() {
@@ -854,7 +743,6 @@ void ContactSurfaces3::update_mortar_friction() {
 // zeros or stale values that its kernels never read (each rank updates only its own points).
 void ContactSurfaces3::commit() {
   contact_detail::keep_copy(committed_.lambda, mortar ? ms.lbar : sp.lambda);
-  if (!mortar) contact_detail::keep_copy(committed_.lamA, kts_lamA_);
   if (!friction) return;
   if (mortar) {
     Kokkos::deep_copy(fr.lamTA, fr.tauA);
@@ -895,21 +783,18 @@ void ContactSurfaces3::commit() {
 void ContactSurfaces3::restore() {
   if (!committed_.lambda.data()) return;   // nothing committed yet: the initial state stands
   Kokkos::deep_copy(mortar ? ms.lbar : sp.lambda, committed_.lambda);
-  if (!mortar) Kokkos::deep_copy(kts_lamA_, committed_.lamA);
   if (friction && mortar) Kokkos::deep_copy(fr.lamTA, committed_.lamTA);
   else if (friction) Kokkos::deep_copy(fr.lamT, committed_.lamT);
 }
 
 void ContactSurfaces3::augment() {
   if (mortar) Kokkos::deep_copy(ms.lbar, ms.lambda);
-  else kts_update_multipliers();
   if (friction && mortar) Kokkos::deep_copy(fr.lamTA, fr.tauA);
   else if (friction) Kokkos::deep_copy(fr.lamT, fr.tau);
 }
 
 void ContactSurfaces3::reset_multipliers() {
   Kokkos::deep_copy(mortar ? ms.lbar : sp.lambda, 0.0);
-  if (!mortar) Kokkos::deep_copy(kts_lamA_, 0.0);
   if (friction && mortar) Kokkos::deep_copy(fr.lamTA, 0.0);
   else if (friction) Kokkos::deep_copy(fr.lamT, 0.0);
 }
@@ -959,6 +844,8 @@ void ContactSurfaces3::refresh() {
   if (mortar) {
     // this rank's slots: a share of the last update's active slots (several ranks)
     balance_slots();
+  }
+  if (mortar && segmented) {
     // segments; where an element needs more slots than it has, grow them and segment again
     Teuchos::TimeMonitor ts(*Teuchos::TimeMonitor::getNewTimer("3.1.1) Contact: segmentation"));
     const int ne = slave.eoff[slave.n];

@@ -25,7 +25,7 @@ class ContactSurfaces3 {
   void update(const Vector& u);
   void refresh();
   int num_points() const { return static_cast<int>(sp.weight.extent(0)); }
-  int points_per_element = 0;   // KTS: the largest nq0 x nq1 of the slave faces (0: mortar)
+  int points_per_element = 0;   // KTS and kts_alm: the largest nq0 x nq1 of the slave faces (0: mortar)
   /// The groups of coupled control points (global ids) of this rank's points with a
   /// projection, the master element widened by one control point each way; active: the
   /// number of this rank's active points.
@@ -47,6 +47,7 @@ class ContactSurfaces3 {
   // mortar (contact_mortar3.hpp): slots per slave element, the rule on each segment, the
   // per-control-point state, this rank's slave control points and their scratch rows
   bool mortar = false;
+  bool segmented = true;   // mortar: slots on the clipped segments; false for kts_alm (the KTS points)
   int slots = 0;
   GaussRule gauss;      // n points: the edge points' rule, and the degree 2 n - 2 of tri
   TriangleRule tri;     // the rule of each fan triangle of a segment (triangle_rule)
@@ -102,22 +103,10 @@ class ContactSurfaces3 {
   void update_mortar_friction();
   Kokkos::View<int*, MemSpace> state_prev_;
   struct Committed {
-    Kokkos::View<double*, MemSpace> lambda, lamA;
+    Kokkos::View<double*, MemSpace> lambda;
     Kokkos::View<double* [2], MemSpace> lamT;
     Kokkos::View<double* [3], MemSpace> lamTA;
   } committed_;
-  // kts_alm: a multiplier per control point of each slave face (kernels/contact_kts3.hpp,
-  // KtsWeightedGaps3): face k's first A, the multipliers, the sums' views and the stencil of
-  // the Gram matrix (the largest face degrees q)
-  Kokkos::View<int*, MemSpace> kts_aoff_;
-  Kokkos::View<double*, MemSpace> kts_lamA_, kts_num_, kts_den_;
-  Kokkos::View<double**, Kokkos::LayoutRight, MemSpace> kts_mass_;
-  int kts_q_[2] = {0, 0};
-  std::vector<int> kts_aoff_h_;
-  /// c_A, D_A and (with M non-null) the Gram matrix's stencil rows, summed over every rank's
-  /// points (collective)
-  void kts_weighted_gaps(std::vector<double>& c, std::vector<double>& D, std::vector<double>* M) const;
-  void kts_update_multipliers();
   // mortar friction: the faces in the last converged configuration (the slots' reference feet
   // are projected onto it at every update) and the per-A states of the previous update
   ContactFaces slave_c_, master_c_;
@@ -142,6 +131,11 @@ class ContactSurfaces3 {
     std::vector<int> span[2];
   };
   std::vector<HostFace> hs_, hm_;
+  /// The KTS rule's points along direction d of a slave face's elements: contact.quadrature_points,
+  /// else 2 (p + 1) as in 2-D
+  int kts_rule(const HostFace& h, int d) const {
+    return pair.quadrature_points > 0 ? pair.quadrature_points : std::min(2 * (h.p[d] + 1), kMaxContactQuadrature);
+  }
   RCP<const Map> replicated_;
   RCP<Import> importer_;
   std::vector<Kokkos::View<int* [3], MemSpace>> rep_s_, rep_m_;   // replicated dof LIDs per face cp

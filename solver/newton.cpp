@@ -592,12 +592,11 @@ bool NewtonCore::augment(int aug, std::vector<double>& gap_history, Outcome& out
   // stick-slip boundary for a few hundred updates, the gaps growing for a while before
   // they close (docs/friction.md), which a linear rate cannot predict.
   double q = 0;   // the gaps against their tolerances
-  bool friction_alm = false, kts_friction_alm = false;
+  bool friction_alm = false;
   for (const auto& c : res_.contact)
     if (is_alm(c.pair())) {
       q = std::max(q, c.max_active_gap_ratio() / c.pair().alm_tolerance);
       friction_alm = friction_alm || c.friction();
-      kts_friction_alm = kts_friction_alm || (c.friction() && c.pair().method == ContactMethod::KtsAlm && !c.mortar());
     }
   // The method of multipliers' penalty update (Bertsekas 1982; Nocedal and Wright, 17.3):
   // where an update closed the gaps by less than kShrink, the penalty of the next solves is
@@ -606,13 +605,11 @@ bool NewtonCore::augment(int aug, std::vector<double>& gap_history, Outcome& out
   // is larger. Uzawa closes the gaps by about k / (k + eps) per update, k the stiffness behind
   // a contact point, so a penalty near E / h (the r = E / h GetFEM's Alart-Curnier takes)
   // would need hundreds of updates; the converged answer does not depend on the penalty. The
-  // window of the stall test restarts. With friction too, but not with 3-D kts_alm there (its
-  // stick constraints drift before they close; raising the penalties did not help it,
-  // docs/friction.md): mortar_alm's normal gaps at a flat punch's edge (a singular pressure)
+  // window of the stall test restarts. With friction too: mortar_alm's normal gaps at a flat punch's edge (a singular pressure)
   // closed by 0.88 per update at the problem file's penalty (a box pressed on a block, 50
   // updates not enough), and to 5e-12 of the element size with the raise.
   constexpr double kShrink = 0.25, kRaise = 10, kMaxRatio = 100;
-  if (!kts_friction_alm && !gap_history.empty() && q > kShrink * gap_history.back()) {
+  if (!gap_history.empty() && q > kShrink * gap_history.back()) {
     bool raised = false;
     for (auto& c : res_.contact) {
       if (!is_alm(c.pair())) continue;
@@ -634,7 +631,7 @@ bool NewtonCore::augment(int aug, std::vector<double>& gap_history, Outcome& out
   // spent two attempts of 50 updates, 5 min, on a stick slip that sat at 5 x alm_tolerance
   // for 30 of them: its part along the normal, which the check no longer counts)
   constexpr int kFlat = 10;
-  if (friction_alm && !kts_friction_alm && n > kFlat && aug + 1 < max_aug_ && q > 0.9 * gap_history[n - 1 - kFlat]) {
+  if (friction_alm && n > kFlat && aug + 1 < max_aug_ && q > 0.9 * gap_history[n - 1 - kFlat]) {
     std::ostringstream os;
     os << "the augmented Lagrangian stalled: in the last " << kFlat << " multiplier updates the largest gap or stick slip went from "
        << gap_history[n - 1 - kFlat] << " to " << q
@@ -669,18 +666,8 @@ bool NewtonCore::augment(int aug, std::vector<double>& gap_history, Outcome& out
           "multiplier convergence) or a looser contact.alm_tolerance";
     // with friction the stall test above is off, so the limit is where a stall shows: count it
     // as one (two in a row end the run: the cuts between them did not help, and each costs
-    // contact.augmentations solves). kts_alm's stick constraints, one per quadrature point,
-    // are more than the slave's dofs, and where stick meets slip Uzawa may not settle at all
-    // (docs/friction.md); mortar_alm's, one per control point, do.
-    if (friction_alm) {
-      out.stall = true;
-      for (const auto& c : res_.contact)
-        if (c.friction() && c.pair().method == ContactMethod::KtsAlm && !c.mortar()) {
-          os << "; with friction mortar_alm (one stick constraint per slave control point) converges where kts_alm's "
-                "stick constraints at every quadrature point may not (docs/friction.md)";
-          break;
-        }
-    }
+    // contact.augmentations solves).
+    if (friction_alm) out.stall = true;
     out.why = os.str();
   }
   return false;
