@@ -400,6 +400,8 @@ int main(int argc, char** argv) {
   // A file-size limit (ulimit -f) makes write(2) fail with EFBIG, reported like a full disk,
   // instead of killing the process with SIGXFSZ.
   std::signal(SIGXFSZ, SIG_IGN);
+  // an interrupt (Ctrl-C, a batch system's SIGTERM) leaves no half-written <name>.part file
+  iga::remove_part_files_on_interrupt();
   iga::app::keep_freed_memory();
   // run, with its errors turned into exit codes: an OutputError is thrown on every rank
   // together (io/files.hpp); any other failure on one rank only would leave the others waiting

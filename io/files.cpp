@@ -8,6 +8,7 @@
 
 #include <cerrno>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <ctime>
@@ -38,10 +39,49 @@ bool write_all(int fd, const char* p, size_t n) {
   return true;
 }
 
+// The .part files written and not yet renamed or removed, for the interrupt handler: fixed
+// slots of C strings (the handler may not allocate), a slot's path written before its flag.
+constexpr int kPendingSlots = 64;
+constexpr size_t kPendingPath = 4096;
+char g_pending[kPendingSlots][kPendingPath];
+volatile std::sig_atomic_t g_pending_used[kPendingSlots];
+
+int note_pending(const std::string& tmp) {
+  if (tmp.size() >= kPendingPath) return -1;
+  for (int k = 0; k < kPendingSlots; ++k)
+    if (!g_pending_used[k]) {
+      std::memcpy(g_pending[k], tmp.c_str(), tmp.size() + 1);
+      g_pending_used[k] = 1;
+      return k;
+    }
+  return -1;
+}
+
+extern "C" void remove_pending_and_die(int sig) {
+  for (int k = 0; k < kPendingSlots; ++k)
+    if (g_pending_used[k]) ::unlink(g_pending[k]);   // (async-signal-safe)
+  std::signal(sig, SIG_DFL);
+  std::raise(sig);
+}
+
 }  // namespace
+
+void remove_part_files_on_interrupt() {
+  struct sigaction sa {};
+  sa.sa_handler = remove_pending_and_die;
+  sigemptyset(&sa.sa_mask);
+  // a signal the parent had ignored stays ignored (a job started in the background by a
+  // script ignores SIGINT; nohup, SIGHUP)
+  for (int sig : {SIGINT, SIGTERM, SIGHUP}) {
+    struct sigaction old {};
+    if (::sigaction(sig, nullptr, &old) == 0 && old.sa_handler == SIG_IGN) continue;
+    ::sigaction(sig, &sa, nullptr);
+  }
+}
 
 void FileBatch::add(const std::string& path, const std::string& bytes) {
   const std::string tmp = path + ".part";
+  slots_.push_back(note_pending(tmp));
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) {
     const int e = errno;
@@ -81,11 +121,19 @@ void FileBatch::commit() {
       throw OutputError("cannot write " + failed + ": " + errno_text(err));
     }
   paths_.clear();
+  release_slots();
 }
 
 void FileBatch::abandon() noexcept {
   for (const std::string& p : paths_) ::unlink((p + ".part").c_str());
   paths_.clear();
+  release_slots();
+}
+
+void FileBatch::release_slots() noexcept {
+  for (int k : slots_)
+    if (k >= 0) g_pending_used[k] = 0;
+  slots_.clear();
 }
 
 FileBatch::~FileBatch() { abandon(); }
@@ -205,7 +253,7 @@ std::string H5Memory::image() {
 
 bool is_run_output(const std::string& f) {
   static const std::regex ours(
-      R"((result\.(h5|xdmf|pvd)|result_(control_nets|contact)\.xdmf|result_[0-9]+\.(h5|vtu)|summary\.json|contact_[0-9]+\.csv)(\.part)?)");
+      R"((result\.(h5|xdmf|pvd)|result_(control_nets|contact)\.xdmf|result_[0-9]+\.(h5|vtu)|summary\.json|contact_[0-9]+\.csv|geometry_[^/]+\.xml)(\.part)?)");
   return std::regex_match(f, ours);
 }
 

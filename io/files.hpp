@@ -54,7 +54,14 @@ class FileBatch {
 
  private:
   std::vector<std::string> paths_;   // written to <path>.part, not yet renamed
+  std::vector<int> slots_;           // their slots in the interrupt handler's list (-1: none)
+  void release_slots() noexcept;
 };
+
+/// SIGINT, SIGTERM and SIGHUP remove the .part files of every uncommitted FileBatch, then end
+/// the process by the signal as before (an interrupted run leaves its committed steps and no
+/// half-written file; summary.json, written last, is absent).
+void remove_part_files_on_interrupt();
 
 /// CRC-32 (zlib) of bytes, as 8 hex digits.
 std::string crc32_hex(const std::string& bytes);
@@ -87,7 +94,8 @@ class H5Memory {
 
 /// The files a run writes into its output directory, by name (used to remove those of a
 /// previous run): result.h5, result.xdmf, result.pvd, result_<n>.{h5,vtu}, summary.json,
-/// contact_<n>.csv, and leftover <name>.part files.
+/// contact_<n>.csv, geometry_<body>.xml (an interrupted rerun left the previous run's), and
+/// leftover <name>.part files.
 bool is_run_output(const std::string& filename);
 
 /// Creates the output directory if needed and checks that it is a directory this process can

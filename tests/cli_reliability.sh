@@ -5,6 +5,7 @@
 #    exit 4, one line, and no file named like a result (no .part either), on 1 and 2 ranks;
 #  - the files of a previous run are removed when a run starts; a user's own files stay;
 #    summary.json names the run and lists every file with its size and CRC-32;
+#  - a run ended by SIGTERM (or SIGINT) while it writes leaves no half-written .part file;
 #  - a directory, a device or a missing file as the problem file, --set errors that cite
 #    the --set argument, empty key-path parts.
 # Usage: cli_reliability.sh EXE EXAMPLES_DIR MPIEXEC
@@ -62,8 +63,9 @@ done
 out="$tmp/runs"; mkdir -p "$out"
 echo '{"converged": true, "dofs": 1}' > "$out/summary.json"
 echo "x" > "$out/contact_7.csv"; echo "x" > "$out/result_0009.vtu"; echo "x" > "$out/result.h5.part"; echo "mine" > "$out/notes.txt"
+echo "x" > "$out/geometry_ring.xml"   # another problem's body (an interrupted rerun left the previous run's)
 "$exe" run "$ex/lame_cylinder.yaml" --output "$out" --quiet || bad "lame example failed"
-for f in contact_7.csv result_0009.vtu result.h5.part; do [ -e "$out/$f" ] && bad "previous run's $f left"; done
+for f in contact_7.csv result_0009.vtu result.h5.part geometry_ring.xml; do [ -e "$out/$f" ] && bad "previous run's $f left"; done
 [ -e "$out/notes.txt" ] || bad "the user's notes.txt was removed"
 /usr/bin/python3 - "$out" <<'PY' || fail=1
 import json, os, sys, zlib
@@ -81,6 +83,29 @@ listed = set(s["files"]) | {"summary.json", "notes.txt"}
 extra = set(os.listdir(d)) - listed
 assert not extra, ("files not listed in summary.json", extra)
 PY
+
+# 4b. a run ended by a signal (SIGTERM: a batch system's time limit; SIGINT, Ctrl-C, is ignored
+#    by jobs a script starts in the background) leaves its committed steps and no .part file:
+#    one step writes ~20 MB here, so some of the delays land in a write (before the handler,
+#    5 of 11 delays left .part files on this 2-core machine); no summary.json claims success
+cat > "$tmp/sig.yaml" <<'YAML'
+analysis: {type: plane_strain, load_steps: 6}
+bodies:
+  - name: cylinder
+    material: {youngs_modulus: 2.0e5, poisson_ratio: 0.3}
+    geometry: {quarter_annulus: {center: [0, 0], inner_radius: 1.0, outer_radius: 2.0, start_angle: 0}}
+    refine: {degree_elevate: [1, 2], subdivide: [96, 48]}
+    boundary: {west: {displacement: {y: 0.0}}, east: {displacement: {x: 0.0}}, south: {pressure: 10.0}}
+output: {samples_per_element: 8}
+YAML
+for d in 0.9 1.05 1.2 1.35 1.5 1.65 1.8; do
+  rm -rf "$tmp/sig"
+  "$exe" run "$tmp/sig.yaml" --output "$tmp/sig" --quiet 2>/dev/null & pid=$!
+  sleep $d; kill -TERM $pid 2>/dev/null; wait $pid; rc=$?
+  parts=$(ls "$tmp/sig" 2>/dev/null | grep '\.part$')
+  [ -z "$parts" ] || bad "SIGTERM after $d s (exit $rc): left $parts"
+  [ "$rc" = 0 ] || [ ! -e "$tmp/sig/summary.json" ] || bad "SIGTERM after $d s (exit $rc): summary.json written"
+done
 
 # 5. the problem file: a directory, a device, a missing file
 for f in "$ex" /dev/zero "$tmp/missing.yaml"; do
