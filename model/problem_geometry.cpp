@@ -94,7 +94,7 @@ Patch read_nurbs(const Reader& R, const YAML::Node& n, const std::string& path) 
     const std::string key = path + ".control_points[" + std::to_string(a) + "]";
     if (!cps[a].IsSequence() || (static_cast<int>(cps[a].size()) != D + 1 && static_cast<int>(cps[a].size()) != D))
       R.fail(key, cps[a], std::string("expected ") + form);
-    const auto v = R.numbers(cps[a], key);
+    const auto v = R.lengths(cps[a], key);
     ControlPoint c;
     for (int d = 0; d < D; ++d) c.x[d] = v[d];
     c.w = static_cast<int>(v.size()) == D + 1 ? v[D] : 1.0;
@@ -128,8 +128,8 @@ Patch make_rectangle(const Reader& R, const YAML::Node& n, const std::string& pa
   R.keys(n, path, {"origin", "size"});
   if (!n["origin"]) R.missing(path + ".origin");
   if (!n["size"]) R.missing(path + ".size");
-  const auto o = R.numbers(n["origin"], path + ".origin", 2);
-  const auto s = R.numbers(n["size"], path + ".size", 2);
+  const auto o = R.lengths(n["origin"], path + ".origin", 2);
+  const auto s = R.lengths(n["size"], path + ".size", 2);
   for (int d = 0; d < 2; ++d)
     if (!(s[d] > 0)) R.fail(path + ".size", n["size"], "both sizes must be > 0");
   Patch P;
@@ -145,8 +145,8 @@ Patch make_box(const Reader& R, const YAML::Node& n, const std::string& path) {
   R.keys(n, path, {"origin", "size"});
   if (!n["origin"]) R.missing(path + ".origin");
   if (!n["size"]) R.missing(path + ".size");
-  const auto o = R.numbers(n["origin"], path + ".origin", 3);
-  const auto s = R.numbers(n["size"], path + ".size", 3);
+  const auto o = R.lengths(n["origin"], path + ".origin", 3);
+  const auto s = R.lengths(n["size"], path + ".size", 3);
   for (int d = 0; d < 3; ++d)
     if (!(s[d] > 0)) R.fail(path + ".size", n["size"], "all three sizes must be > 0");
   Patch P;
@@ -163,9 +163,9 @@ Patch make_quarter_annulus(const Reader& R, const YAML::Node& n, const std::stri
   R.keys(n, path, {"center", "inner_radius", "outer_radius", "start_angle"});
   for (const char* k : {"center", "inner_radius", "outer_radius"})
     if (!n[k]) R.missing(path + "." + k);
-  const auto c = R.numbers(n["center"], path + ".center", 2);
-  const double ri = R.positive(n["inner_radius"], path + ".inner_radius");
-  const double ro = R.positive(n["outer_radius"], path + ".outer_radius");
+  const auto c = R.lengths(n["center"], path + ".center", 2);
+  const double ri = R.length(n["inner_radius"], path + ".inner_radius");
+  const double ro = R.length(n["outer_radius"], path + ".outer_radius");
   if (!(ro > ri)) R.fail(path + ".outer_radius", n["outer_radius"], "must be > inner_radius");
   const double a0 = n["start_angle"] ? R.number(n["start_angle"], path + ".start_angle") : 0.0;
   const double th = a0 * M_PI / 180.0, cs = std::cos(th), sn = std::sin(th);

@@ -107,6 +107,21 @@ struct Reader {
     if (!std::isfinite(v)) fail(key, n, "expected a finite number");
     return v;
   }
+  /// Coordinates and lengths of the geometry: numbers up to 1e100 in magnitude, so that their
+  /// squares (Jacobians, element sizes, stiffness) stay finite. A size near 1e308 was refused
+  /// further on with a misleading reason (an interface "not conforming", det J vanishing).
+  std::vector<double> lengths(const YAML::Node& n, const std::string& key, int size = -1) const {
+    const std::vector<double> v = numbers(n, key, size);
+    for (double x : v)
+      if (std::abs(x) > 1e100)
+        fail(key, n, "a coordinate or length beyond 1e100 cannot be computed with (its square overflows); rescale the units");
+    return v;
+  }
+  double length(const YAML::Node& n, const std::string& key) const {
+    const double v = positive(n, key);
+    if (v > 1e100) fail(key, n, "a length beyond 1e100 cannot be computed with (its square overflows); rescale the units");
+    return v;
+  }
   int integer(const YAML::Node& n, const std::string& key) const {
     if (!n.IsScalar()) fail(key, n, "expected an integer");
     long v;
