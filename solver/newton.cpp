@@ -413,13 +413,44 @@ std::string NewtonCore::held_apart() const {
     return os.str();
   }
   os << " (still " << check_number(g[0]) << " apart)";
+  // the load on the free body along the contact normal at its closest point (the master's
+  // outward normal, pointing to the slave): where it points away from the other body no
+  // contact can hold it (a wheel pulled off its block by a traction got the line below)
+  {
+    const ContactPointState st = res_.contact[held_[0]].state(true);   // (collective)
+    size_t near = st.gap.size();
+    for (size_t i = 0; i < st.gap.size(); ++i)
+      if (std::isfinite(st.gap[i]) && (near == st.gap.size() || st.gap[i] < st.gap[near])) near = i;
+    const int dim = P_.dim();
+    const size_t fb = slave_free ? c.slave.body : c.master.body;
+    double F[3] = {0, 0, 0}, Fg[3];
+    auto fv = f_->getLocalViewHost(Tpetra::Access::ReadOnly);
+    const auto map = f_->getMap();
+    for (size_t l = 0; l < fv.extent(0); ++l) {
+      const GO d = map->getGlobalElement(static_cast<LO>(l));
+      if (sys_.body_of(point_of_dof(d, dim)) == fb) F[component_of_dof(d, dim)] += fv(l, 0);
+    }
+    Teuchos::reduceAll<int, double>(*sys_.comm(), Teuchos::REDUCE_SUM, 3, F, Fg);
+    if (near < st.gap.size()) {
+      const double n[3] = {st.nx[near], st.ny[near], dim == 3 ? st.nz[near] : 0.0};
+      const double Fn = (Fg[0] * n[0] + Fg[1] * n[1] + Fg[2] * n[2]) * (slave_free ? 1.0 : -1.0);
+      const double Fabs = std::sqrt(Fg[0] * Fg[0] + Fg[1] * Fg[1] + Fg[2] * Fg[2]);
+      if (Fn > 1e-9 * Fabs && Fabs > 0) {
+        os << ": its load pulls it away from " << other
+           << " (the load's part along the contact normal points away), and contact only pushes; reverse the "
+              "load, or support "
+           << body << " by a prescribed displacement";
+        return os.str();
+      }
+    }
+  }
   os << ": it started farther from " << other
      << " than its load moves it over the contact stiffness (about load / (penalty x contact length)); start the "
         "bodies touching, bring them into contact by a prescribed displacement first, or take a smaller penalty";
   // mortar's gap of a slave control point is the mean over its support: bodies that touch at
   // one point start apart by that mean, the more so on a coarse slave (a ball on a block on
   // 8 x 8 x 4 elements, found by a problem written from the docs; KTS converges there)
-  if (c.method == ContactMethod::MortarPenalty || c.method == ContactMethod::MortarAlm)
+  if (c.method != ContactMethod::KtsPenalty)   // (kts_alm: mortar's weighted gaps at the KTS points)
     os << " (with " << contact_method_name(c.method)
        << " the gap of a slave control point is the mean over its support, so bodies touching at one point "
           "start apart by it: refine the slave where they touch, or take kts_penalty)";

@@ -43,8 +43,16 @@ contact:
   - {master: {body: cap, side: south}, slave: {body: base, side: north}, method: mortar_penalty, penalty: 1.0e5}
 YAML
 stops apart "$tmp/cap_apart.yaml" \
-  "stopped after 1 cut(s).*body cap is held by contact alone (contact\[0\]) and touched base nowhere (still 0.0[45][0-9]* apart).*prescribed displacement"
+  "stopped after 1 cut(s).*body cap is held by contact alone (contact\[0\]) and touched base nowhere (still 0.0[45][0-9]* apart): it started farther from base.*prescribed displacement"
 echo "body held by contact alone, apart: $err"
+
+# The same body pulled away by its load (the wheel example's cut under an upward traction):
+# no contact can hold it, and the line says so (it said 'it started farther from block than
+# its load moves it', found with a hostile input).
+stops pulled "$(dirname "$0")/../examples/wheel.yaml" \
+  "body wheel is held by contact alone (contact\[0\]) and touched block nowhere (still .* apart): its load pulls it away from block.*reverse the load, or support wheel by a prescribed displacement" \
+  --set analysis.load_steps=1 --set "bodies.1.boundary.west={traction: [0.0, 2.0]}"
+echo "body held by contact alone, pulled away: $err"
 
 # A body held by contact alone whose slave side lies nowhere in front of its master (two half
 # cylinders set on opposite sides of the symmetry line, touching at one point, the upper one
