@@ -374,7 +374,7 @@ struct AssembleMortarFriction {
       }
     });
     const int n = support_compact(sc, k, r, s, m);
-    const double c = slip ? (fr.tauA(A) >= 0 ? 1.0 : -1.0) * fr.mu * eps / ms.wA(A) : fr.epsT / ms.wA(A);
+    const double c = slip ? (fr.tauA(A) >= 0 ? 1.0 : -1.0) * fr.mu * mortar_eps(ms, A, eps) / ms.wA(A) : fr.epsT / ms.wA(A);
     support_outer(sc, k, n, c, slip, K);
   }
 };

@@ -55,6 +55,14 @@ struct MortarState {
   Kokkos::View<double*, MemSpace> cwA;
   /// A's support covered on less than 1e-3 of w_A (host copies cw, w of cwA, wA)
   static bool sliver(double cw, double w) { return cw < 1e-3 * w; }
+  /// ALM: a factor on the penalty per control point, w_A / cw_A where the master covers A's
+  /// support in part (at most kMaxScale; 1 elsewhere; empty: 1 everywhere), set at each
+  /// multiplier update and held through the Newton solve that follows (scale_partly_covered).
+  /// A multiplier that acts on a part cw_A of its support closes g_A as a penalty of
+  /// eps cw_A / w_A would: a slave wider than its master stalled at 0.89 per update. The
+  /// converged answer (g_A = 0 where lambda_A > 0) does not depend on it.
+  Kokkos::View<double*, MemSpace> scale;
+  static constexpr double kMaxScale = 100;
   // maxima of what was needed where a capacity was short: [0] segments of one slave
   // element, [1] dofs of one delta g_A (0: every capacity sufficed)
   Kokkos::View<int*, MemSpace> flags;
@@ -380,12 +388,29 @@ KOKKOS_INLINE_FUNCTION void for_each_support_point(const CurveData& s, const Sla
 /// Slave control point A's weighted gap g (cov: some slot of its support has a projection),
 /// multiplier and activity: lambda_A = <lbar_A - eps g / w_A>, active at >= -eps touch. One rule
 /// for 2-D and 3-D (MortarGaps, MortarGaps3).
+/// The penalty of control point A: eps times its scale (MortarState::scale).
+KOKKOS_INLINE_FUNCTION double mortar_eps(const MortarState& ms, int A, double eps) {
+  return ms.scale.extent(0) > 0 ? eps * ms.scale(A) : eps;
+}
+
 KOKKOS_INLINE_FUNCTION void mortar_multiplier(const MortarState& ms, int A, double g, int cov, double eps, double touch) {
   ms.gA(A) = g;
   ms.covered(A) = cov;
-  const double l = ms.lbar(A) - eps * g / ms.wA(A);
+  const double l = ms.lbar(A) - mortar_eps(ms, A, eps) * g / ms.wA(A);
   ms.active(A) = cov && l >= -eps * touch ? 1 : 0;
   ms.lambda(A) = cov && l > 0 ? l : 0.0;
+}
+
+/// MortarState::scale from the covered weights of the last update (ALM: at each multiplier
+/// update, so that it is held through the Newton solve that follows and the tangent stays
+/// consistent). Slivers (MortarState::sliver) and fully covered points keep 1.
+inline void scale_partly_covered(const MortarState& ms) {
+  const auto w = ms.wA, cw = ms.cwA, s = ms.scale;
+  Kokkos::parallel_for("iga::MortarScale", Kokkos::RangePolicy<ExecSpace>(0, static_cast<int>(s.extent(0))),
+                       KOKKOS_LAMBDA(const int A) {
+                         const double r = cw(A) >= 1e-3 * w(A) && cw(A) < w(A) ? w(A) / cw(A) : 1.0;
+                         s(A) = r < MortarState::kMaxScale ? r : MortarState::kMaxScale;
+                       });
 }
 
 /// Weighted gaps, multipliers and the active set of every slave control point.
@@ -550,7 +575,7 @@ struct AssembleMortarGap {
         }
     }
     const int n = support_compact(sc, k, r, s, m);
-    support_outer(sc, k, n, eps / ms.wA(A), true, K);
+    support_outer(sc, k, n, mortar_eps(ms, A, eps) / ms.wA(A), true, K);
   }
 };
 

@@ -1178,7 +1178,7 @@ struct AssembleMortarGap3 {
       merge_sorted_dof(dof, val, 2, nnz, [&](int r) -> int& { return sc.dof(k, r); },
                        [&](int r, int b) -> double& { return b == 0 ? sc.v1(k, r) : sc.v0(k, r); });
     }
-    const double c = eps / ms.wA(A);
+    const double c = mortar_eps(ms, A, eps) / ms.wA(A);
     int* dof = &sc.dof(k, 0);
     double* row = &sc.row(k, 0);
     for (int r = 0; r < nnz; ++r) {

@@ -384,7 +384,7 @@ struct AssembleMortarFriction3 {
       const double norm = kmath::sqrt(n2);
       for (int c = 0; c < 3; ++c) that[c] = fr.trA(A, c) / norm;
       cs = fr.mu * ms.lambda(A) / norm * cT;   // the turn of the slip direction
-      cn = dlam ? fr.mu * eps / wA : 0.0;     // the pressure's change
+      cn = dlam ? fr.mu * mortar_eps(ms, A, eps) / wA : 0.0;     // the pressure's change
     }
     int* dof = &sc.dof(k, 0);
     double* row = &sc.row(k, 0);

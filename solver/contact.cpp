@@ -101,6 +101,10 @@ ContactPairData::ContactPairData(const System& sys, int index)
     ms_.active = Kokkos::View<int*, MemSpace>("activeA", slave.nb);
     ms_.covered = Kokkos::View<int*, MemSpace>("coveredA", slave.nb);
     ms_.cwA = Kokkos::View<double*, MemSpace>("coveredWeightA", slave.nb);
+    if (pair_.method != ContactMethod::MortarPenalty) {   // ALM: the penalty per control point
+      ms_.scale = Kokkos::View<double*, MemSpace>("scaleA", slave.nb);
+      Kokkos::deep_copy(ms_.scale, 1.0);
+    }
     ms_.flags = Kokkos::View<int*, MemSpace>("flags", 2);
     ends_.xi = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>("mortar_end_xi", slave.ne, 2);
     ends_.eta = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>("mortar_end_eta", slave.ne, 2);
@@ -375,6 +379,7 @@ double ContactPairData::augment() {
   } else if (mortar_) {
     Kokkos::deep_copy(ms_.lbar, ms_.lambda);
     Kokkos::deep_copy(fr_.lamTA, fr_.tauA);
+    if (ms_.scale.extent(0) > 0) scale_partly_covered(ms_);
   } else {
     Kokkos::deep_copy(fr_.lamT, fr_.tau);
   }

@@ -200,6 +200,10 @@ ContactSurfaces3::ContactSurfaces3(const System& sys, const ContactPair& pr) : p
     ms.active = Kokkos::View<int*, MemSpace>("activeA", na);
     ms.covered = Kokkos::View<int*, MemSpace>("coveredA", na);
     ms.cwA = Kokkos::View<double*, MemSpace>("coveredWeightA", na);
+    if (pair.method != ContactMethod::MortarPenalty) {   // ALM: the penalty per control point
+      ms.scale = Kokkos::View<double*, MemSpace>("scaleA", na);
+      Kokkos::deep_copy(ms.scale, 1.0);
+    }
     ms.flags = Kokkos::View<int*, MemSpace>("flags", 2);
     seg_flags_ = Kokkos::View<int*, MemSpace>("segment_flags", 4);
     if (friction) {
@@ -600,7 +604,12 @@ double ContactSurfaces3::potential() const {
   if (mortar) {
     auto l = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms.lambda);
     auto w = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms.wA);
-    for (size_t A = 0; A < l.extent(0); ++A) pi += 0.5 / pair.penalty * w(A) * l(A) * l(A);
+    std::vector<double> s(l.extent(0), 1.0);   // the penalty's scale per control point (ALM)
+    if (ms.scale.extent(0) > 0) {
+      auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms.scale);
+      for (size_t A = 0; A < s.size(); ++A) s[A] = hs(A);
+    }
+    for (size_t A = 0; A < l.extent(0); ++A) pi += 0.5 / (pair.penalty * s[A]) * w(A) * l(A) * l(A);
     return pi;
   }
   ContactPointState st;
@@ -789,6 +798,7 @@ void ContactSurfaces3::restore() {
 
 void ContactSurfaces3::augment() {
   if (mortar) Kokkos::deep_copy(ms.lbar, ms.lambda);
+  if (mortar && ms.scale.extent(0) > 0) scale_partly_covered(ms);
   if (friction && mortar) Kokkos::deep_copy(fr.lamTA, fr.tauA);
   else if (friction) Kokkos::deep_copy(fr.lamT, fr.tau);
 }
@@ -1034,6 +1044,19 @@ void ContactSurfaces3::set_lids(const std::vector<GO>& cps) {
       Kokkos::deep_copy(faces.f[k].lid, h);
     }
   }
+}
+
+int ContactSurfaces3::active_elements() const {
+  const int ne = slave.eoff[slave.n];
+  auto face = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.face);
+  auto elem = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.elem);
+  auto valid = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.valid);
+  auto pr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.pressure);
+  std::vector<int> mine(ne, 0), all(ne, 0);
+  for (int i = p_begin; i < p_end; ++i)   // (this rank's slots: disjoint ranges that cover all)
+    if (face(i) >= 0 && valid(i) && pr(i) > 0) mine[slave.eoff[face(i)] + elem(i)] = 1;
+  if (ne > 0) Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MAX, ne, mine.data(), all.data());
+  return static_cast<int>(std::count(all.begin(), all.end(), 1));
 }
 
 void ContactSurfaces3::state(ContactPointState& s, bool projected_only) const {

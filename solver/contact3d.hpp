@@ -37,6 +37,8 @@ class ContactSurfaces3 {
   /// come by a sum over the ranks).
   void state(ContactPointState& s, bool projected_only) const;
   double h_min() const { return h_min_; }
+  /// Mortar: the slave elements with a slot under pressure, all ranks' (collective).
+  int active_elements() const;
   /// Global control point ids of both surfaces (sorted, unique).
   std::vector<GO> surface_gids() const;
 

@@ -124,6 +124,13 @@ grep -q "^warning: .*contact\[0\] (wheel.north on block.north): the contact zone
   { echo "FAIL coarse wheel: no warning: $(cat "$tmp/err")"; exit 1; }
 python3 -c "import json,sys; s=json.load(open(sys.argv[1])); assert any('not resolved' in w for w in s['warnings'])" "$tmp/coarse/summary.json" ||
   { echo "FAIL coarse wheel: summary.json warnings"; exit 1; }
+# the same with kts_alm and mortar (mortar counts the slave elements under pressure: one here)
+for m in kts_alm mortar_penalty; do
+  timeout 300 "$exe" run "$tmp/coarse.yaml" --output "$tmp/coarse_$m" --quiet --set contact.0.method=$m 2>"$tmp/err"; rc=$?
+  [ "$rc" = 0 ] || { echo "FAIL coarse wheel $m: exit $rc: $(cat "$tmp/err")"; exit 1; }
+  grep -q "^warning: .*contact\[0\] (wheel.north on block.north): the contact zone covers about 1 slave element(s).*not resolved" "$tmp/err" ||
+    { echo "FAIL coarse wheel $m: no warning: $(cat "$tmp/err")"; exit 1; }
+done
 timeout 300 "$exe" run "$(dirname "$2")/wheel.yaml" --output "$tmp/wheel" --quiet 2>"$tmp/err"; rc=$?
 [ "$rc" = 0 ] && [ ! -s "$tmp/err" ] || { echo "FAIL wheel: exit $rc or stderr: $(cat "$tmp/err")"; exit 1; }
 echo "a KTS zone narrower than two slave elements: warned; the example: not"

@@ -309,3 +309,41 @@ TEST(MortarAlm, FlatPunchAsTheMasterConverges) {
   EXPECT_NEAR(cs.fy, -Rblock, 1e-8 * std::abs(Rblock));
   EXPECT_NEAR(cs.fy, Rpunch, 1e-8 * std::abs(Rblock));
 }
+
+// A slave wider than its master (a block pressed by a narrower cap): the cap's ends lie inside
+// the supports of slave control points, which it covers in part. Their multipliers act on the
+// covered part cw_A only, so they close g_A as a penalty of eps cw_A / w_A would: both ALM
+// methods stalled at 0.89 per update (exit 3; found by a problem written from the docs).
+// The penalty of such a point is now scaled by w_A / cw_A at each update (MortarState::scale):
+// they converge, and as the converged answer of an ALM must, to the same force at penalties
+// 1e5 and 1e6 (to what alm_tolerance leaves).
+TEST(MortarAlm, SlaveWiderThanItsMasterConverges) {
+  const std::string yaml = R"(
+analysis: {type: plane_strain, load_steps: 1}
+bodies:
+  - name: base
+    material: {youngs_modulus: 1000.0, poisson_ratio: 0.3}
+    geometry: {rectangle: {origin: [0.0, 0.0], size: [2.0, 0.5]}}
+    refine: {degree_elevate: 1, subdivide: [9, 3]}
+    boundary: {south: {displacement: {x: 0.0, y: 0.0}}}
+  - name: cap
+    material: {youngs_modulus: 1000.0, poisson_ratio: 0.3}
+    geometry: {rectangle: {origin: [0.55, 0.5], size: [1.0, 0.5]}}
+    refine: {degree_elevate: 1, subdivide: [6, 3]}
+    boundary: {north: {displacement: {x: 0.0, y: -0.01}}}
+contact:
+  - {master: {body: cap, side: south}, slave: {body: base, side: north}, method: mortar_alm, penalty: 1.0e5}
+)";
+  for (const char* method : {"mortar_alm", "kts_alm"}) {
+    double F[2];
+    for (int k = 0; k < 2; ++k) {
+      const Solved s = solve_text(yaml, Tpetra::getDefaultComm(), {},
+                                  {std::string("contact.0.method=") + method, k == 0 ? "contact.0.penalty=1e5" : "contact.0.penalty=1e6"});
+      ASSERT_TRUE(s.res.converged) << method << ": " << s.res.message;
+      F[k] = s.res.contact[0].summary().normal_force;
+      std::printf("  %s, penalty %s: normal force %.10g, Newton %d\n", method, k == 0 ? "1e5" : "1e6", F[k],
+                  s.res.newton_iterations[0]);
+    }
+    EXPECT_NEAR(F[1], F[0], 1e-6 * F[0]) << method;
+  }
+}
