@@ -412,7 +412,11 @@ std::string NewtonCore::held_apart() const {
     os << " (no slave point of contact[" << held_[0] << "] lies in front of its master: check where the bodies are)";
     return os.str();
   }
-  os << " (still " << check_number(g[0]) << " apart)";
+  if (g[0] >= 0)
+    os << " (still " << check_number(g[0]) << " apart)";
+  else   // mortar and kts_alm: a point inside while every weighted gap (a mean) is open
+    os << " (a point of it " << check_number(-g[0]) << " inside " << other
+       << " while no slave control point's weighted gap, a mean over its support, is closed)";
   // the load on the free body along the contact normal at its closest point (the master's
   // outward normal, pointing to the slave): where it points away from the other body no
   // contact can hold it (a wheel pulled off its block by a traction got the line below)
