@@ -635,7 +635,8 @@ bool NewtonCore::augment(int aug, std::vector<double>& gap_history, Outcome& out
     }
   // The method of multipliers' penalty update (Bertsekas 1982; Nocedal and Wright, 17.3):
   // where an update closed the gaps by less than kShrink, the penalty of the next solves is
-  // raised by kRaise, up to kMaxRatio E / h (the top of the range configuration_check
+  // raised by kRaise, up to kMaxRatio E / h (E the smaller modulus, times the moduli's ratio
+  // up to 100, below; the top of the range configuration_check
   // advises; a larger one only worsens the tangent) or the problem file's penalty where that
   // is larger. Uzawa closes the gaps by about k / (k + eps) per update, k the stiffness behind
   // a contact point, so a penalty near E / h (the r = E / h GetFEM's Alart-Curnier takes)
@@ -648,8 +649,15 @@ bool NewtonCore::augment(int aug, std::vector<double>& gap_history, Outcome& out
     bool raised = false;
     for (auto& c : res_.contact) {
       if (!is_alm(c.pair())) continue;
-      const double ratio = penalty_ratio(P_, c.pair());
-      const double f = ratio > 0 ? std::min(kRaise, kMaxRatio / ratio) : kRaise;
+      const double ratio = penalty_ratio(P_, c.pair());   // (in the smaller modulus' E / h)
+      // the cap: kMaxRatio times the ratio of the two moduli, at most 100 (the 1e4 E / h above
+      // which configuration_check warns): a stiff punch on a soft block stalled at 0.85 per
+      // update at 100 E / h of the block (the stiffness behind its contact points is the
+      // punch's) and converges at 1250
+      const double Es = P_.bodies[c.pair().slave.body].E, Em = P_.bodies[c.pair().master.body].E;
+      const double rE = std::max(Es, Em) / std::min(Es, Em);
+      const double cap = kMaxRatio * (std::isfinite(rE) ? std::min(rE, 100.0) : 1.0);
+      const double f = ratio > 0 ? std::min(kRaise, cap / ratio) : kRaise;
       if (f > 1 + 1e-12) {
         c.raise_penalty(f);
         raised = true;

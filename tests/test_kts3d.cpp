@@ -828,6 +828,39 @@ TEST(FlatPunch, MortarConvergesOnAlignedMeshes) {
   EXPECT_NEAR(f_alm[1], f_alm[0], 1e-4 * f_alm[0]);
 }
 
+// A stiff punch (E 5000) pressed 0.01 into a soft, coarse block (E 200, 6 x 6 x 2 elements, 2 x 2
+// under the punch), the punch as the slave, and the same with the roles swapped. Both ALM
+// methods stalled at 0.85 per multiplier update (exit 3): the penalty raise stopped at 100 E / h
+// of the block, far below the stiffness behind the punch's contact points. The raise now goes
+// up to 100 E / h times the ratio of the moduli (at most 1e4 E / h): they converge, and
+// kts_alm and mortar_alm (the same multipliers, with and without segmentation) agree.
+TEST(FlatPunch, StiffPunchOnACoarseSoftBlockConverges) {
+  for (bool punch_is_slave : {true, false}) {
+    const std::string punch = "{body: punch, side: front}", block = "{body: block, side: back}";
+    const std::string text =
+        "analysis: {type: solid, load_steps: 1}\nbodies:\n"
+        "  - name: block\n    material: {youngs_modulus: 200.0, poisson_ratio: 0.3}\n"
+        "    geometry: {box: {origin: [0, 0, 0], size: [3, 3, 1]}}\n    refine: {degree_elevate: 1, subdivide: [6, 6, 2]}\n"
+        "    boundary: {front: {displacement: {x: 0, y: 0, z: 0}}}\n"
+        "  - name: punch\n    material: {youngs_modulus: 5000.0, poisson_ratio: 0.3}\n"
+        "    geometry: {box: {origin: [1, 1, 1], size: [1, 1, 0.5]}}\n    refine: {degree_elevate: 1, subdivide: [4, 4, 1]}\n"
+        "    boundary: {back: {displacement: {x: 0, y: 0, z: -0.01}}}\n"
+        "contact:\n  - {master: " + (punch_is_slave ? block : punch) + ", slave: " + (punch_is_slave ? punch : block) +
+        ", method: mortar_alm, penalty: 1.0e4}\n";
+    double f[2];
+    for (int k = 0; k < 2; ++k) {
+      const Solved s = solve_text(text, Tpetra::getDefaultComm(), {}, {k == 0 ? "contact.0.method=mortar_alm" : "contact.0.method=kts_alm"});
+      ASSERT_TRUE(s.res.converged) << (punch_is_slave ? "punch slave, " : "punch master, ") << k << ": " << s.res.message;
+      f[k] = std::abs(s.res.contact[0].summary().fz);
+      std::printf("  punch %s, %s: |Fz| %.9g, Newton %d\n", punch_is_slave ? "slave" : "master", k == 0 ? "mortar_alm" : "kts_alm",
+                  f[k], newton_total(s));
+    }
+    // measured 7e-8 (punch slave: the block's coarse face is the master either way) and 2.4e-3
+    // (punch master: the coarse block's face, the slave, integrated with or without its cuts)
+    EXPECT_NEAR(f[1], f[0], (punch_is_slave ? 1e-6 : 5e-3) * f[0]);
+  }
+}
+
 // Bodies that touch within round-off at the start (the top block 1e-13 above the base: a gap
 // below 1e-12 of the smallest slave element counts as closed, as in 2-D): the contact holds the
 // top block from the first solve, which is otherwise free to move in z (a singular system).
