@@ -10,8 +10,8 @@
 //                   f' = -t.t + (x_s - rho) . m                        (report eq. 7-8)
 //   gap             g = (x_s - rho(xi_c)) . n, n the master's outward unit normal
 // Potential and pressure
-//   Pi_c = sum_q w_q 1/2 eps <-g_q>^2 (penalty), p = max(0, lambda - eps g) with the
-//   multiplier lambda = 0 (penalty) or held fixed between augmentations (ALM).
+//   Pi_c = sum_q w_q 1/2 eps <-g_q>^2 (penalty), p = max(0, lambda - eps g) with lambda = 0
+//   (kts_penalty; the ALM methods pass the mortar pressure field instead: `mortar` below).
 // Variations, over the element dofs u_e = [slave a = 0..ps (x,y), master b = 0..pm (x,y)]
 //   N  = [N_a n ; -R_b n]    T = [N_a t ; -R_b t]    Nb = [0 ; R_b' n]
 //   delta g = N . delta u
@@ -59,7 +59,7 @@ struct CurrentCP {
 struct SlavePoints {
   Kokkos::View<double*, MemSpace> xi, weight;  // parameter, w = Gauss x |dX/dxi| x thickness
   Kokkos::View<int*, MemSpace> span;           // slave element span
-  Kokkos::View<double*, MemSpace> lambda;      // ALM multiplier (0: penalty)
+  Kokkos::View<double*, MemSpace> lambda;      // 0 (kts_penalty; the ALM methods are on the mortar path)
   // results
   Kokkos::View<int*, MemSpace> valid;          // 1: projection found on the master
   Kokkos::View<int*, MemSpace> mspan;          // master span of the projection

@@ -76,7 +76,7 @@ struct ContactFaces {
 struct SlavePoints3 {
   Kokkos::View<int*, MemSpace> face, elem;         // slave face and its element e0 + ne0 e1
   Kokkos::View<double* [2], MemSpace> uv;          // slave parameters
-  Kokkos::View<double*, MemSpace> weight, lambda;  // reference measure; ALM multiplier
+  Kokkos::View<double*, MemSpace> weight, lambda;  // reference measure; 0 (kts_penalty: ALM is on the mortar path)
   Kokkos::View<double* [3], MemSpace> X;           // reference slave point
   // results
   Kokkos::View<int*, MemSpace> valid, mface, melem;

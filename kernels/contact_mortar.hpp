@@ -385,14 +385,14 @@ KOKKOS_INLINE_FUNCTION void for_each_support_point(const CurveData& s, const Sla
   });
 }
 
-/// Slave control point A's weighted gap g (cov: some slot of its support has a projection),
-/// multiplier and activity: lambda_A = <lbar_A - eps g / w_A>, active at >= -eps touch. One rule
-/// for 2-D and 3-D (MortarGaps, MortarGaps3).
 /// The penalty of control point A: eps times its scale (MortarState::scale).
 KOKKOS_INLINE_FUNCTION double mortar_eps(const MortarState& ms, int A, double eps) {
   return ms.scale.extent(0) > 0 ? eps * ms.scale(A) : eps;
 }
 
+/// Slave control point A's weighted gap g (cov: some slot of its support has a projection),
+/// multiplier and activity: lambda_A = <lbar_A - eps_A g / w_A> (eps_A = mortar_eps), active at
+/// >= -eps touch. One rule for 2-D and 3-D (MortarGaps, MortarGaps3).
 KOKKOS_INLINE_FUNCTION void mortar_multiplier(const MortarState& ms, int A, double g, int cov, double eps, double touch) {
   ms.gA(A) = g;
   ms.covered(A) = cov;

@@ -342,46 +342,36 @@ double ContactPairData::local_min_gap() const {
 }
 
 double ContactPairData::max_active_gap_ratio() const {
-  double r = 0;
   if (s3_) return s3_->max_active_gap() / h_min_;
-  if (mortar_) {
-    const auto g = weighted_gaps(), w = mortar_weights();
-    auto act = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms_.active);
-    auto cw = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms_.cwA);
-    // a control point whose support the master covers only on a sliver (MortarState::sliver: a
-    // master's end, e.g. a punch's corner, just inside its support) is left out: its
-    // multiplier acts on the sliver alone, so g_A stays as it is however it grows (a flat punch
-    // as the master of a soft block: g_A / w_A = 2.2e-9 over 38 updates, the covered part
-    // 3e-5 of w_A, with its neighbours closed)
-    for (size_t A = 0; A < g.size(); ++A)
-      if (act(A) && !MortarState::sliver(cw(A), w[A])) r = std::max(r, std::abs(g[A] / w[A]));
-    if (friction()) {
-      auto sA = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr_.sA);
-      auto stA = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr_.stateA);
-      for (size_t A = 0; A < g.size(); ++A)
-        if (stA(A) == 1) r = std::max(r, std::abs(sA(A)));
-    }
-    return r / h_min_;
-  }
-  // kts_penalty: no multipliers (the penalty methods make no update)
+  if (!mortar_) return 0;   // kts_penalty: no multipliers (ALM pairs are on the mortar path)
+  double r = 0;
+  const auto g = weighted_gaps(), w = mortar_weights();
+  auto act = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms_.active);
+  auto cw = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms_.cwA);
+  // a control point whose support the master covers only on a sliver (MortarState::sliver: a
+  // master's end, e.g. a punch's corner, just inside its support) is left out: its
+  // multiplier acts on the sliver alone, so g_A stays as it is however it grows (a flat punch
+  // as the master of a soft block: g_A / w_A = 2.2e-9 over 38 updates, the covered part
+  // 3e-5 of w_A, with its neighbours closed)
+  for (size_t A = 0; A < g.size(); ++A)
+    if (act(A) && !MortarState::sliver(cw(A), w[A])) r = std::max(r, std::abs(g[A] / w[A]));
   if (friction()) {
-    auto ds = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr_.ds);
-    auto fs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr_.state);
-    for (int i = 0; i < num_points(); ++i)
-      if (fs(i) == 1) r = std::max(r, std::abs(ds(i)));
+    auto sA = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr_.sA);
+    auto stA = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr_.stateA);
+    for (size_t A = 0; A < g.size(); ++A)
+      if (stA(A) == 1) r = std::max(r, std::abs(sA(A)));
   }
   return r / h_min_;
 }
 
+// (ALM pairs only, which are all on the mortar path: mortar_alm and kts_alm)
 double ContactPairData::augment() {
   if (s3_) {
     s3_->augment();
-  } else if (mortar_) {
+  } else {
     Kokkos::deep_copy(ms_.lbar, ms_.lambda);
     Kokkos::deep_copy(fr_.lamTA, fr_.tauA);
     if (ms_.scale.extent(0) > 0) scale_partly_covered(ms_);
-  } else {
-    Kokkos::deep_copy(fr_.lamT, fr_.tau);
   }
   return max_active_gap_ratio();
 }

@@ -27,9 +27,6 @@ struct ContactError : std::runtime_error {
 /// the accumulated slip path and slip_increment the length of this step's slip |g_T|.
 struct ContactPointState {
   std::vector<double> x, y, xi, gap, pressure, weight, nx, ny, tangential, slip, tx, ty;
-  /// ALM: the point's multiplier (3-D kts_alm: interpolated from the slave control points'; 0
-  /// without ALM; mortar: unused)
-  std::vector<double> lambda;
   std::vector<double> z, eta, nz, X, tz, slip_increment;
   std::vector<int> active, state, face;
 };
@@ -67,8 +64,9 @@ class ContactPairData {
   int num_points() const { return s3_ ? s3_->num_points() : static_cast<int>(sp_.xi.extent(0)); }
   /// Current displacements of the two curves from the owned solution, then search + projection.
   void update(const Vector& u);
-  /// ALM: the multipliers' update (mortar: lambda <- pressure; KTS: Uzawa on the slave control
-  /// points' weighted gaps; friction: lamT <- tau); returns max_active_gap_ratio().
+  /// ALM (mortar_alm and kts_alm, both on the mortar path): the multipliers' update (lbar <-
+  /// lambda per slave control point, the penalty's scale at partly covered ones; friction:
+  /// lamTA <- tauA); returns max_active_gap_ratio().
   double augment();
   /// ALM, frictionless: the penalty of the next Newton solves x factor (the method of
   /// multipliers' update when the gaps fall slowly; the converged answer does not depend on
@@ -82,9 +80,9 @@ class ContactPairData {
   /// restore() when one fails and is cut.
   void commit();
   void restore();
-  /// ALM convergence: the largest weighted gap of the slave control points in contact (mortar
-  /// and KTS) and, with friction, the largest slip increment of the stick points, relative to
-  /// the smallest slave element size.
+  /// ALM convergence: the largest weighted gap of the slave control points in contact and,
+  /// with friction, the largest weighted stick slip, relative to the smallest slave element
+  /// size (0 for kts_penalty, which has no multipliers).
   double max_active_gap_ratio() const;
   bool friction() const { return s3_ ? s3_->friction : fr_.mu > 0; }
   FrictionCounts friction_counts() const {

@@ -620,43 +620,34 @@ double ContactSurfaces3::potential() const {
 }
 
 double ContactSurfaces3::max_active_gap() const {
+  if (!mortar) return 0;   // kts_penalty: no multipliers (ALM pairs are on the mortar path)
   double r = 0;
-  if (mortar) {
-    auto g = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms.gA);
-    auto w = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms.wA);
-    auto act = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms.active);
-    auto cw = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms.cwA);
-    // not the control points the master covers on a sliver (as in 2-D, ContactPairData::
-    // max_active_gap_ratio): their multipliers act on the sliver alone
-    for (size_t A = 0; A < g.extent(0); ++A)
-      if (act(A) && !MortarState::sliver(cw(A), w(A))) r = std::max(r, std::abs(g(A) / w(A)));
-    if (friction) {   // the stick control points' weighted slip, its part along the contact plane
-      // (s_A sums slip vectors tangent to the master at the slots; where the master is curved
-      // or dented under the load their sum has a part along A's normal, which is no slip and
-      // which the tangential multipliers cannot close: measured, it held a box pressed on a
-      // block at 5 x alm_tolerance while the rest went to 1e-10)
-      auto sA = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr.sA);
-      auto nA = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr.nA);
-      auto stA = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr.stateA);
-      for (size_t A = 0; A < sA.extent(0); ++A) {
-        if (stA(A) != 1) continue;
-        double s[3] = {sA(A, 0), sA(A, 1), sA(A, 2)};
-        const double nn = std::sqrt(nA(A, 0) * nA(A, 0) + nA(A, 1) * nA(A, 1) + nA(A, 2) * nA(A, 2));
-        if (nn > 0) {
-          const double sn = (s[0] * nA(A, 0) + s[1] * nA(A, 1) + s[2] * nA(A, 2)) / (nn * nn);
-          for (int c = 0; c < 3; ++c) s[c] -= sn * nA(A, c);
-        }
-        r = std::max(r, std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]));
+  auto g = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms.gA);
+  auto w = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms.wA);
+  auto act = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms.active);
+  auto cw = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ms.cwA);
+  // not the control points the master covers on a sliver (as in 2-D, ContactPairData::
+  // max_active_gap_ratio): their multipliers act on the sliver alone
+  for (size_t A = 0; A < g.extent(0); ++A)
+    if (act(A) && !MortarState::sliver(cw(A), w(A))) r = std::max(r, std::abs(g(A) / w(A)));
+  if (friction) {   // the stick control points' weighted slip, its part along the contact plane
+    // (s_A sums slip vectors tangent to the master at the slots; where the master is curved
+    // or dented under the load their sum has a part along A's normal, which is no slip and
+    // which the tangential multipliers cannot close: measured, it held a box pressed on a
+    // block at 5 x alm_tolerance while the rest went to 1e-10)
+    auto sA = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr.sA);
+    auto nA = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr.nA);
+    auto stA = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fr.stateA);
+    for (size_t A = 0; A < sA.extent(0); ++A) {
+      if (stA(A) != 1) continue;
+      double s[3] = {sA(A, 0), sA(A, 1), sA(A, 2)};
+      const double nn = std::sqrt(nA(A, 0) * nA(A, 0) + nA(A, 1) * nA(A, 1) + nA(A, 2) * nA(A, 2));
+      if (nn > 0) {
+        const double sn = (s[0] * nA(A, 0) + s[1] * nA(A, 1) + s[2] * nA(A, 2)) / (nn * nn);
+        for (int c = 0; c < 3; ++c) s[c] -= sn * nA(A, c);
       }
+      r = std::max(r, std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]));
     }
-    return r;
-  }
-  // kts_penalty: no multipliers
-  if (friction) {
-    ContactPointState st;
-    state(st, false);
-    for (size_t i = 0; i < st.gap.size(); ++i)
-      if (st.state[i] == 1) r = std::max(r, st.slip_increment[i]);   // the stick points' |g_T|
   }
   return r;
 }
@@ -796,11 +787,11 @@ void ContactSurfaces3::restore() {
   else if (friction) Kokkos::deep_copy(fr.lamT, committed_.lamT);
 }
 
+// (ALM pairs only, which are all on the mortar path: mortar_alm and kts_alm)
 void ContactSurfaces3::augment() {
-  if (mortar) Kokkos::deep_copy(ms.lbar, ms.lambda);
-  if (mortar && ms.scale.extent(0) > 0) scale_partly_covered(ms);
-  if (friction && mortar) Kokkos::deep_copy(fr.lamTA, fr.tauA);
-  else if (friction) Kokkos::deep_copy(fr.lamT, fr.tau);
+  Kokkos::deep_copy(ms.lbar, ms.lambda);
+  if (ms.scale.extent(0) > 0) scale_partly_covered(ms);
+  if (friction) Kokkos::deep_copy(fr.lamTA, fr.tauA);
 }
 
 void ContactSurfaces3::reset_multipliers() {
@@ -1114,7 +1105,6 @@ void ContactSurfaces3::state(ContactPointState& s, bool projected_only) const {
     s.face.push_back(face(i));
     s.gap.push_back(valid(i) ? gap(i) : std::nan(""));
     s.pressure.push_back(pr(i));
-    s.lambda.push_back(lam(i));
     s.weight.push_back(w(i));
     s.active.push_back(valid(i) && (mortar ? pr(i) > 0 : kts_active(lam(i), pair.penalty, gap(i), sp.touch)) ? 1 : 0);
     const double t[3] = {trac(i, 0), trac(i, 1), trac(i, 2)};

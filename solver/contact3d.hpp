@@ -75,15 +75,15 @@ class ContactSurfaces3 {
   void mortar_scratch(int cap);
   /// sum_A w_A lambda_A^2 / (2 eps) (mortar), the penalty potential of the slots (KTS)
   double potential() const;
-  /// The largest |g_A / w_A| of the slave control points in contact (mortar; KTS: c_A / D_A,
-  /// KtsWeightedGaps3), and with friction the largest slip increment |g_T| of the stick points
-  /// (KTS). Collective.
+  /// The largest |g_A / w_A| of the slave control points in contact and, with friction, the
+  /// largest weighted stick slip along the contact plane (every rank holds every control
+  /// point's; 0 for kts_penalty, which has no multipliers).
   double max_active_gap() const;
 
   // friction (KTS: kernels/contact_friction3.hpp, the law at this rank's points after each
   // projection; mortar: kernels/contact_mortar_friction3.hpp, the law per slave control point
   // after the weighted gaps): the history (committed foot or configuration, traction, slip)
-  // moves on at commit() and comes back at restore(); augment(): lamT <- tau (ALM)
+  // moves on at commit() and comes back at restore(); augment(): lamTA <- tauA (ALM)
   Friction3 fr;
   MortarScratch fscratch;   // mortar friction: V_A and delta g_A per slave control point
   bool friction = false;

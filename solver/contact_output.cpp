@@ -70,7 +70,6 @@ ContactPointState ContactPairData::state(bool projected_only) const {
     s.xi.push_back(xi(i));
     s.gap.push_back(valid(i) ? gap(i) : std::nan(""));
     s.pressure.push_back(pr(i));
-    s.lambda.push_back(lam(i));
     s.weight.push_back(w(i));
     if (mortar_) s.active.push_back(valid(i) && pr(i) > 0 ? 1 : 0);
     else s.active.push_back(valid(i) && kts_active(lam(i), pair_.penalty, gap(i), sp_.touch) ? 1 : 0);
