@@ -80,6 +80,10 @@ void remove_part_files_on_interrupt() {
 }
 
 void FileBatch::add(const std::string& path, const std::string& bytes) {
+  add(path, std::vector<std::string_view>{std::string_view(bytes)});
+}
+
+void FileBatch::add(const std::string& path, const std::vector<std::string_view>& pieces) {
   const std::string tmp = path + ".part";
   slots_.push_back(note_pending(tmp));
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
@@ -89,7 +93,8 @@ void FileBatch::add(const std::string& path, const std::string& bytes) {
     throw OutputError("cannot write " + tmp + ": " + errno_text(e));
   }
   int err = 0;
-  if (!write_all(fd, bytes.data(), bytes.size())) err = errno;
+  for (const std::string_view& b : pieces)
+    if (!err && !write_all(fd, b.data(), b.size())) err = errno;
   if (::close(fd) != 0 && !err) err = errno;
   paths_.push_back(path);
   if (err) {
@@ -144,13 +149,17 @@ void write_file_atomic(const std::string& path, const std::string& bytes) {
   b.commit();
 }
 
-std::string crc32_hex(const std::string& bytes) {
+std::string crc32_hex(const std::string& bytes) { return crc32_hex(std::vector<std::string_view>{std::string_view(bytes)}); }
+
+std::string crc32_hex(const std::vector<std::string_view>& pieces) {
   uLong c = crc32(0L, Z_NULL, 0);
-  size_t off = 0;
-  while (off < bytes.size()) {   // zlib takes uInt lengths
-    const uInt n = static_cast<uInt>(std::min<size_t>(bytes.size() - off, 1u << 30));
-    c = crc32(c, reinterpret_cast<const Bytef*>(bytes.data() + off), n);
-    off += n;
+  for (const std::string_view& bytes : pieces) {
+    size_t off = 0;
+    while (off < bytes.size()) {   // zlib takes uInt lengths
+      const uInt n = static_cast<uInt>(std::min<size_t>(bytes.size() - off, 1u << 30));
+      c = crc32(c, reinterpret_cast<const Bytef*>(bytes.data() + off), n);
+      off += n;
+    }
   }
   char buf[16];
   std::snprintf(buf, sizeof buf, "%08lx", static_cast<unsigned long>(c));

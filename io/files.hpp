@@ -19,6 +19,7 @@
 #include <functional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <hdf5.h>
@@ -48,6 +49,8 @@ class FileBatch {
   FileBatch(const FileBatch&) = delete;
   FileBatch& operator=(const FileBatch&) = delete;
   void add(const std::string& path, const std::string& bytes);
+  /// The file's bytes as pieces written in turn.
+  void add(const std::string& path, const std::vector<std::string_view>& pieces);
   void commit();
   /// Removes the .part files added since the last commit.
   void abandon() noexcept;
@@ -63,8 +66,9 @@ class FileBatch {
 /// half-written file; summary.json, written last, is absent).
 void remove_part_files_on_interrupt();
 
-/// CRC-32 (zlib) of bytes, as 8 hex digits.
+/// CRC-32 (zlib) of bytes, as 8 hex digits; of pieces, that of their bytes in turn.
 std::string crc32_hex(const std::string& bytes);
+std::string crc32_hex(const std::vector<std::string_view>& pieces);
 
 /// A new run id: UTC time, host and process, e.g. "20261123T104512Z-host-12345-3f2a".
 std::string new_run_id();

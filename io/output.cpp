@@ -400,8 +400,14 @@ void ResultWriter::root_write(const std::function<void()>& f) {
 }
 
 void ResultWriter::write(const std::string& name, const std::string& bytes) {
-  batch_.add((fs::path(dir_) / name).string(), bytes);
-  files_[name] = {{"bytes", bytes.size()}, {"crc32", crc32_hex(bytes)}};
+  write(name, std::vector<std::string_view>{std::string_view(bytes)});
+}
+
+void ResultWriter::write(const std::string& name, const std::vector<std::string_view>& pieces) {
+  batch_.add((fs::path(dir_) / name).string(), pieces);
+  std::size_t bytes = 0;
+  for (const std::string_view& p : pieces) bytes += p.size();
+  files_[name] = {{"bytes", bytes}, {"crc32", crc32_hex(pieces)}};
 }
 
 void ResultWriter::write_state(int step, double lambda, const Vector& u, const std::vector<ContactPairData>& contact) {
@@ -543,7 +549,8 @@ void ResultWriter::write_state(int step, double lambda, const Vector& u, const s
                         (P.output.compression < 0 && static_cast<double>(vtu_raw_bytes(mesh)) >
                                                          OutputOptions::kCompressAboveBytesPerDof * static_cast<double>(sys_.num_dofs()));
       Teuchos::TimeMonitor t3(*Teuchos::TimeMonitor::getNewTimer("6.3) Output: encoding"));
-      write(name + ".vtu", vtu_text(mesh, lambda, run_id_, zlib ? VtkEncoding::AppendedZlib : VtkEncoding::AppendedRaw, threads));
+      // written piece by piece (the mesh outlives them)
+      write(name + ".vtu", vtu_file(mesh, lambda, run_id_, zlib ? VtkEncoding::AppendedZlib : VtkEncoding::AppendedRaw, threads).parts);
       if (dim == 3) umax = mesh.max_displacement;   // 3-D: at the cells' evaluation points
     }
 

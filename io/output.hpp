@@ -61,6 +61,7 @@ class ResultWriter {
  private:
   void write_state(int step, double lambda, const Vector& u, const std::vector<ContactPairData>& contact);
   void write(const std::string& name, const std::string& bytes);   // rank 0
+  void write(const std::string& name, const std::vector<std::string_view>& pieces);   // rank 0, bytes in turn
   void root_write(const std::function<void()>& f);   // on_root; a failure abandons the batch
   nlohmann::json contact_json(const std::vector<ContactPairData>& contact) const;
   const System& sys_;

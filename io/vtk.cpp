@@ -3,6 +3,9 @@
 #include "io/vtk.hpp"
 
 #include <zlib.h>
+#ifdef IGACONTACT_HAVE_LIBDEFLATE
+#include <libdeflate.h>
+#endif
 
 #include <algorithm>
 #include <atomic>
@@ -11,6 +14,7 @@
 #include <functional>
 #include <iomanip>
 #include <limits>
+#include <memory>
 #include <sstream>
 #include <type_traits>
 #include <stdexcept>
@@ -258,10 +262,28 @@ void add_cells(BezierMesh& m, const CellFamily& F, int threads) {
   m.displacement.resize(3 * (base + np), 0.0);
   m.stress.resize(6 * (base + np), 0.0);
   m.von_mises.resize(base + np);
-  // per shared point: the sum of the elements' fitted coefficients, their number, and the
-  // union of the sampled ranges of the elements that share it
-  std::vector<double> sum(nq * np, 0.0), lo(nq * np, inf), hi(nq * np, -inf);
-  std::vector<int> count(np, 0);
+  // per shared point the sum of the elements' fitted coefficients goes into m.stress and
+  // m.von_mises (in element order); the elements that share a point, whose number divides the
+  // sum and whose sampled ranges bound the mean, follow from the point's index in each
+  // direction: elements first[d][I] .. last[d][I] (no arrays per point: at p = 4 those were
+  // 24 MB of fresh pages per state, a third of the cells' time)
+  int nel[3] = {1, 1, 1};
+  std::vector<int> first[3], last[3];
+  for (int d = 0; d < 3; ++d) {
+    nel[d] = static_cast<int>(off[d].size());
+    first[d].assign(N[d], std::numeric_limits<int>::max());
+    last[d].assign(N[d], -1);
+    const int pd = d < cd ? p[d] : 0;
+    for (int e = 0; e < nel[d]; ++e)
+      for (int i = off[d][e]; i <= off[d][e] + pd; ++i) {
+        first[d][i] = std::min(first[d][i], e);
+        last[d][i] = std::max(last[d][i], e);
+      }
+  }
+  // per element (by its index in each direction) the range of its sampled values
+  const size_t nelem = static_cast<size_t>(nel[0]) * nel[1] * nel[2];
+  std::vector<double> elem_lo(nq * nelem, inf), elem_hi(nq * nelem, -inf);
+  const auto stress_slot = [&](size_t q, int c) -> double& { return c < nq - 1 ? m.stress[6 * q + c] : m.von_mises[q]; };
   // per element the fit points (j0 / p0, j1 / p1[, j2 / p2]), j0 fastest, then the bounds grid
   // of s per element and direction (its points that are fit points too, the same doubles where
   // j s' = k p, give the same values)
@@ -337,6 +359,12 @@ void add_cells(BezierMesh& m, const CellFamily& F, int threads) {
     fit_rational_bezier(cd, p, W.w.data(), nq, W.vals.data(), R.coef.data());
   };
   const int ne = B.num_elements(), nthreads = std::max(1, threads);
+  m.connectivity.reserve(m.connectivity.size() + static_cast<size_t>(ne) * n);
+  m.offsets.reserve(m.offsets.size() + ne);
+  m.types.reserve(m.types.size() + ne);
+  m.body.reserve(m.body.size() + ne);
+  m.patch.reserve(m.patch.size() + ne);
+  m.element.reserve(m.element.size() + ne);
   constexpr int kChunk = 1024;
   std::vector<Record> records(static_cast<size_t>(std::min(ne, kChunk)));
   std::vector<Scratch> scratch(static_cast<size_t>(nthreads));
@@ -377,13 +405,11 @@ void add_cells(BezierMesh& m, const CellFamily& F, int threads) {
         m.points[3 * q + 2] = pts[kk].x[2];
         m.displacement[3 * q + 2] = u[3 * kk + 2];
       }
-      ++count[g];
-      for (int c = 0; c < nq; ++c) {
-        sum[nq * g + c] += coef[nq * kk + c];
-        lo[nq * g + c] = std::min(lo[nq * g + c], elo[c]);
-        hi[nq * g + c] = std::max(hi[nq * g + c], ehi[c]);
-      }
+      for (int c = 0; c < nq; ++c) stress_slot(q, c) += coef[nq * kk + c];
     }
+    const size_t ef = static_cast<size_t>(ei[0]) + static_cast<size_t>(nel[0]) * (ei[1] + static_cast<size_t>(nel[1]) * ei[2]);
+    std::copy(elo.begin(), elo.end(), &elem_lo[nq * ef]);
+    std::copy(ehi.begin(), ehi.end(), &elem_hi[nq * ef]);
     m.offsets.push_back(static_cast<std::int64_t>(cbase + n));
     m.types.push_back(cd == 3 ? 79 : 77);
     m.body.push_back(F.body);
@@ -438,14 +464,27 @@ void add_cells(BezierMesh& m, const CellFamily& F, int threads) {
   }
   // the shared coefficients: the mean of the elements' fits (equal to round-off where the
   // stress is continuous), clamped into the union of those elements' sampled ranges
-  for (size_t g = 0; g < np; ++g) {
-    double c[7];
-    for (int q = 0; q < nq; ++q) c[q] = sum[nq * g + q] / count[g];
-    clamp_coefficients(1, nq, &lo[nq * g], &hi[nq * g], c);
-    const double st[6] = {c[0], c[1], c[2], c[3], nq == 7 ? c[4] : 0.0, nq == 7 ? c[5] : 0.0};
-    std::copy(st, st + 6, &m.stress[6 * (base + g)]);
-    m.von_mises[base + g] = c[nq - 1];
-  }
+  for (int k = 0; k < N[2]; ++k)
+    for (int j = 0; j < N[1]; ++j)
+      for (int i = 0; i < N[0]; ++i) {
+        const size_t g = static_cast<size_t>(i) + static_cast<size_t>(N[0]) * (j + static_cast<size_t>(N[1]) * k);
+        double lo[7], hi[7], c[7];
+        std::fill(lo, lo + nq, inf);
+        std::fill(hi, hi + nq, -inf);
+        for (int e2 = first[2][k]; e2 <= last[2][k]; ++e2)
+          for (int e1 = first[1][j]; e1 <= last[1][j]; ++e1)
+            for (int e0 = first[0][i]; e0 <= last[0][i]; ++e0) {
+              const size_t ef = static_cast<size_t>(e0) + static_cast<size_t>(nel[0]) * (e1 + static_cast<size_t>(nel[1]) * e2);
+              for (int q = 0; q < nq; ++q) {
+                lo[q] = std::min(lo[q], elem_lo[nq * ef + q]);
+                hi[q] = std::max(hi[q], elem_hi[nq * ef + q]);
+              }
+            }
+        const int count = (last[0][i] - first[0][i] + 1) * (last[1][j] - first[1][j] + 1) * (last[2][k] - first[2][k] + 1);
+        for (int q = 0; q < nq; ++q) c[q] = stress_slot(base + g, q) / count;
+        clamp_coefficients(1, nq, lo, hi, c);
+        for (int q = 0; q < nq; ++q) stress_slot(base + g, q) = c[q];
+      }
 }
 
 }  // namespace
@@ -594,66 +633,119 @@ class ArrayWriter {
       if (enc_ == VtkEncoding::AppendedZlib) {
         // compressed with the others in finish(): the offset is a marker until then
         xml_ << " format=\"appended\" offset=\"" << marker(payloads_.size()) << "\"/>\n";
-        payloads_.emplace_back(data, bytes);
       } else {
-        xml_ << " format=\"appended\" offset=\"" << appended_.size() << "\"/>\n";
-        appended_.append(reinterpret_cast<const char*>(&bytes), sizeof(bytes));
-        if (bytes) appended_.append(data, bytes);
+        xml_ << " format=\"appended\" offset=\"" << raw_offset_ << "\"/>\n";
+        raw_offset_ += sizeof(bytes) + bytes;
       }
+      payloads_.emplace_back(data, bytes);
     }
   }
-  const std::string& appended() const { return appended_; }
 
-  /// AppendedZlib: every array's blocks compressed in one pass over threads_ threads, appended
-  /// in the arrays' order, and the offset markers of `xml` replaced by their offsets.
-  void finish(std::string& xml) {
-    if (enc_ != VtkEncoding::AppendedZlib) return;
-    std::vector<std::string> z = compress_all();
-    for (size_t k = 0; k < z.size(); ++k) {
-      const std::string mk = marker(k);
-      const size_t at = xml.find(mk);
-      xml.replace(at, mk.size(), std::to_string(appended_.size()));
-      appended_ += z[k];
+  /// The file in pieces, in order: `xml` (the text before the appended block, offset markers
+  /// replaced where zlib), each array's header and bytes (AppendedRaw) or its compressed blocks
+  /// (AppendedZlib), then `tail`. The pieces point into `keep` (which takes the XML, the
+  /// headers and the blocks) and into the arrays given to array(): written in turn, no byte is
+  /// copied into one string (those copies of tens of MB onto fresh pages were half the
+  /// encoding at p = 4).
+  void finish(std::string xml, const char* tail, VtuFile& out) {
+    struct Keep {
+      std::string xml;
+      std::vector<std::uint64_t> raw_headers;
+      Compressed z;
+    };
+    auto keep = std::make_shared<Keep>();
+    std::vector<std::string_view>& parts = out.parts;
+    parts.clear();
+    if (enc_ != VtkEncoding::AppendedZlib) {
+      keep->xml = std::move(xml);
+      for (const auto& pl : payloads_) keep->raw_headers.push_back(pl.second);
+      parts.emplace_back(keep->xml);
+      for (size_t k = 0; k < payloads_.size(); ++k) {
+        parts.emplace_back(reinterpret_cast<const char*>(&keep->raw_headers[k]), sizeof(std::uint64_t));
+        if (payloads_[k].second) parts.emplace_back(payloads_[k].first, payloads_[k].second);
+      }
+    } else {
+      keep->z = compress_all();
+      const Compressed& z = keep->z;
+      std::uint64_t at = 0;
+      for (size_t k = 0; k < payloads_.size(); ++k) {
+        const std::string mk = marker(k);
+        xml.replace(xml.find(mk), mk.size(), std::to_string(at));
+        at += z.header[k].size() * sizeof(std::uint64_t);
+        for (size_t j = z.first[k]; j < z.first[k + 1]; ++j) at += z.len[j];
+      }
+      keep->xml = std::move(xml);
+      parts.emplace_back(keep->xml);
+      for (size_t k = 0; k < payloads_.size(); ++k) {
+        parts.emplace_back(reinterpret_cast<const char*>(z.header[k].data()), z.header[k].size() * sizeof(std::uint64_t));
+        for (size_t j = z.first[k]; j < z.first[k + 1]; ++j) parts.emplace_back(reinterpret_cast<const char*>(z.block[j].get()), z.len[j]);
+      }
     }
+    parts.emplace_back(tail);
+    out.keep.push_back(std::move(keep));
   }
 
  private:
   static std::string marker(size_t k) { return "\x01" + std::to_string(k) + "\x01"; }
+  struct Compressed {
+    std::vector<std::vector<std::uint64_t>> header;        // per array
+    std::vector<size_t> first;                             // per array, its first block (and the end)
+    std::vector<std::unique_ptr<unsigned char[]>> block;   // per block, uninitialised but its len bytes
+    std::vector<size_t> len;
+  };
   // vtkZLibDataCompressor's layout (header_type UInt64), per array: the number of blocks, the
   // block size, the size of the last block where it is partial (else 0), each block's
-  // compressed size, then the blocks; each block compressed on its own (zlib's format, level 1:
-  // 2.4x smaller on the cells of degree 4, about 0.2 s per 19 MB on one thread:
-  // docs/performance.md). All arrays' blocks are shared among threads_ threads in one pass (the
-  // bytes do not depend on how many).
-  std::vector<std::string> compress_all() {
+  // compressed size, then the blocks; each block compressed on its own in zlib's format at
+  // level 1 (2.3x smaller on the cells of degree 4), by libdeflate where the build has it
+  // (half zlib's time, 4 % more bytes: docs/performance.md), else by zlib. All arrays' blocks
+  // are shared among threads_ threads in one pass (the bytes do not depend on how many).
+  Compressed compress_all() {
     constexpr std::uint64_t block = 1 << 20;
     struct Block { size_t array; std::uint64_t at, n; };
     std::vector<Block> blocks;
-    for (size_t k = 0; k < payloads_.size(); ++k)
+    Compressed z;
+    for (size_t k = 0; k < payloads_.size(); ++k) {
+      z.first.push_back(blocks.size());
       for (std::uint64_t at = 0; at < payloads_[k].second; at += block)
         blocks.push_back({k, at, std::min(block, payloads_[k].second - at)});
-    std::vector<std::vector<Bytef>> out(blocks.size());
-    const bool ok = for_each_item(0, blocks.size(), threads_, [&](size_t b, int) {
+    }
+    z.first.push_back(blocks.size());
+    z.block.resize(blocks.size());
+    z.len.assign(blocks.size(), 0);
+#ifdef IGACONTACT_HAVE_LIBDEFLATE
+    // one compressor per thread (each holds its hash tables)
+    std::vector<std::unique_ptr<libdeflate_compressor, void (*)(libdeflate_compressor*)>> comp;
+    for (int t = 0; t < threads_; ++t) {
+      comp.emplace_back(libdeflate_alloc_compressor(1), libdeflate_free_compressor);
+      if (!comp.back()) throw std::runtime_error("libdeflate could not allocate a compressor for the .vtu (out of memory?)");
+    }
+#endif
+    const bool ok = for_each_item(0, blocks.size(), threads_, [&](size_t b, int t) {
       const Block& B = blocks[b];
-      out[b].resize(compressBound(static_cast<uLong>(B.n)));
-      uLongf len = static_cast<uLongf>(out[b].size());
-      const bool done = compress2(out[b].data(), &len, reinterpret_cast<const Bytef*>(payloads_[B.array].first + B.at),
-                                  static_cast<uLong>(B.n), 1) == Z_OK;
-      out[b].resize(len);
+      const void* in = payloads_[B.array].first + B.at;
+#ifdef IGACONTACT_HAVE_LIBDEFLATE
+      libdeflate_compressor* c = comp[static_cast<size_t>(t)].get();
+      const size_t bound = libdeflate_zlib_compress_bound(c, B.n);
+      z.block[b].reset(new unsigned char[bound]);
+      z.len[b] = libdeflate_zlib_compress(c, in, B.n, z.block[b].get(), bound);
+      return z.len[b] > 0;
+#else
+      (void)t;
+      uLongf len = compressBound(static_cast<uLong>(B.n));
+      z.block[b].reset(new unsigned char[len]);
+      const bool done = compress2(z.block[b].get(), &len, static_cast<const Bytef*>(in), static_cast<uLong>(B.n), 1) == Z_OK;
+      z.len[b] = len;
       return done;
+#endif
     });
-    if (!ok) throw std::runtime_error("zlib could not compress a block of the .vtu");
-    std::vector<std::string> z(payloads_.size());
-    for (size_t k = 0, b = 0; k < payloads_.size(); ++k) {
-      const std::uint64_t bytes = payloads_[k].second, nb = bytes == 0 ? 0 : (bytes + block - 1) / block;
-      std::vector<std::uint64_t> header(3 + nb);
-      header[0] = nb;
-      header[1] = block;
-      header[2] = bytes % block;
-      for (std::uint64_t j = 0; j < nb; ++j) header[3 + j] = out[b + j].size();
-      z[k].append(reinterpret_cast<const char*>(header.data()), header.size() * sizeof(std::uint64_t));
-      for (std::uint64_t j = 0; j < nb; ++j) z[k].append(reinterpret_cast<const char*>(out[b + j].data()), out[b + j].size());
-      b += nb;
+    if (!ok) throw std::runtime_error("could not compress a block of the .vtu");
+    for (size_t k = 0; k < payloads_.size(); ++k) {
+      const std::uint64_t bytes = payloads_[k].second, nb = z.first[k + 1] - z.first[k];
+      std::vector<std::uint64_t>& h = z.header.emplace_back(3 + nb);
+      h[0] = nb;
+      h[1] = block;
+      h[2] = bytes % block;
+      for (std::uint64_t j = 0; j < nb; ++j) h[3 + j] = z.len[z.first[k] + j];
     }
     return z;
   }
@@ -661,16 +753,25 @@ class ArrayWriter {
   std::ostringstream& xml_;
   VtkEncoding enc_;
   int threads_;
-  std::string appended_;
-  // AppendedZlib: each array's bytes until finish() (the caller's vectors outlive it: see
-  // vtu_text, which keeps its converted copies)
+  std::uint64_t raw_offset_ = 0;   // AppendedRaw: the next array's offset
+  // each array's bytes until finish() (the caller's vectors outlive it: see vtu_file, whose
+  // pieces keep its converted copies)
   std::vector<std::pair<const char*, std::uint64_t>> payloads_;
 };
 
 }  // namespace
 
-std::string vtu_text(const BezierMesh& m, double load_factor, const std::string& run_id, VtkEncoding enc, int threads) {
+VtuFile vtu_file(const BezierMesh& m, double load_factor, const std::string& run_id, VtkEncoding enc, int threads) {
   const size_t np = m.num_points(), nc = m.num_cells();
+  VtuFile out;
+  // the converted arrays, which the pieces point into
+  struct Converted {
+    std::vector<float> stress32, vm32;
+    std::vector<std::int32_t> conn32, off32;
+    std::vector<std::uint8_t> types;
+  };
+  auto cv = std::make_shared<Converted>();
+  out.keep.push_back(cv);
   std::ostringstream x;
   x << "<?xml version=\"1.0\"?>\n"
     << "<!-- igacontact run_id " << run_id << " -->\n"   // VTK writes string arrays as character codes
@@ -696,10 +797,11 @@ std::string vtu_text(const BezierMesh& m, double load_factor, const std::string&
   w.array("Float64", "displacement", 3, m.displacement, in);
   // the stress fit is a picture of a field that is not in the spline space: Float32 (the
   // geometry and the displacement, exact, stay Float64)
-  // (the converted arrays live until the end: the zlib encoding compresses them at the end)
-  const std::vector<float> stress32(m.stress.begin(), m.stress.end()), vm32(m.von_mises.begin(), m.von_mises.end());
-  w.array("Float32", "stress", 6, stress32, in);
-  w.array("Float32", "von_mises", 0, vm32, in);
+  // (the converted arrays live as long as the pieces: finish() compresses every array at the end)
+  cv->stress32.assign(m.stress.begin(), m.stress.end());
+  cv->vm32.assign(m.von_mises.begin(), m.von_mises.end());
+  w.array("Float32", "stress", 6, cv->stress32, in);
+  w.array("Float32", "von_mises", 0, cv->vm32, in);
   x << "   </PointData>\n"
     << "   <CellData Scalars=\"body\" HigherOrderDegrees=\"HigherOrderDegrees\">\n";
   w.array("Int32", "HigherOrderDegrees", 3, m.degrees, in);
@@ -714,13 +816,12 @@ std::string vtu_text(const BezierMesh& m, double load_factor, const std::string&
   w.array("Float64", "Points", 3, m.points, in);
   x << "   </Points>\n   <Cells>\n";
   // VTK_BEZIER_QUADRILATERAL (77), VTK_BEZIER_HEXAHEDRON (79)
-  const std::vector<std::uint8_t> types = m.types.size() == nc ? m.types : std::vector<std::uint8_t>(nc, 77);
-  std::vector<std::int32_t> conn32, off32;
+  const std::vector<std::uint8_t>& types = m.types.size() == nc ? m.types : (cv->types.assign(nc, 77), cv->types);
   if (m.connectivity.size() < static_cast<size_t>(std::numeric_limits<std::int32_t>::max())) {
-    conn32.assign(m.connectivity.begin(), m.connectivity.end());
-    off32.assign(m.offsets.begin(), m.offsets.end());
-    w.array("Int32", "connectivity", 0, conn32, in);
-    w.array("Int32", "offsets", 0, off32, in);
+    cv->conn32.assign(m.connectivity.begin(), m.connectivity.end());
+    cv->off32.assign(m.offsets.begin(), m.offsets.end());
+    w.array("Int32", "connectivity", 0, cv->conn32, in);
+    w.array("Int32", "offsets", 0, cv->off32, in);
   } else {
     w.array("Int64", "connectivity", 0, m.connectivity, in);
     w.array("Int64", "offsets", 0, m.offsets, in);
@@ -729,18 +830,31 @@ std::string vtu_text(const BezierMesh& m, double load_factor, const std::string&
   x << "   </Cells>\n  </Piece>\n </UnstructuredGrid>\n";
   if (enc == VtkEncoding::Ascii) {
     x << "</VTKFile>\n";
-    return x.str();
+    auto text = std::make_shared<std::string>(x.str());
+    out.parts.emplace_back(*text);
+    out.keep.push_back(text);
+    return out;
   }
-  // the binary block appended once into a string of its final size (streaming it through
-  // the ostringstream copied tens of MB twice, onto freshly zeroed pages)
   x << " <AppendedData encoding=\"raw\">\n  _";
-  const char* tail = "\n </AppendedData>\n</VTKFile>\n";
-  std::string out = x.str();
-  w.finish(out);   // zlib: the arrays compressed, their offsets into the XML
-  out.reserve(out.size() + w.appended().size() + std::strlen(tail));
-  out += w.appended();
-  out += tail;
+  w.finish(x.str(), "\n </AppendedData>\n</VTKFile>\n", out);   // zlib: the arrays compressed, their offsets into the XML
   return out;
+}
+
+std::size_t VtuFile::size() const {
+  std::size_t n = 0;
+  for (const std::string_view& p : parts) n += p.size();
+  return n;
+}
+
+std::string VtuFile::str() const {
+  std::string s;
+  s.reserve(size());
+  for (const std::string_view& p : parts) s.append(p);
+  return s;
+}
+
+std::string vtu_text(const BezierMesh& m, double load_factor, const std::string& run_id, VtkEncoding enc, int threads) {
+  return vtu_file(m, load_factor, run_id, enc, threads).str();
 }
 
 std::size_t vtu_raw_bytes(const BezierMesh& m) {

@@ -73,7 +73,9 @@
 // sample of the bounds.
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -147,7 +149,8 @@ int output_samples(const OutputOptions& o, const Patch& pt);
 /// chunks merged in element order (the same mesh for any number).
 BezierMesh bezier_mesh(const Problem& P, const std::vector<std::vector<double>>& cp_displacement, int threads = 1);
 
-/// AppendedZlib: as AppendedRaw, each array compressed in blocks of 1 MiB with zlib (level 1)
+/// AppendedZlib: as AppendedRaw, each array compressed in blocks of 1 MiB in zlib's format (level 1;
+/// libdeflate where the build found it, else zlib)
 /// as VTK's vtkZLibDataCompressor reads them (ParaView, any VTK reader).
 enum class VtkEncoding { Ascii, AppendedRaw, AppendedZlib };
 
@@ -161,6 +164,18 @@ std::size_t vtu_raw_bytes(const BezierMesh& mesh);
 /// any number).
 std::string vtu_text(const BezierMesh& mesh, double load_factor, const std::string& run_id,
                      VtkEncoding encoding = VtkEncoding::AppendedRaw, int threads = 1);
+
+/// A .vtu as the pieces of its bytes in order (vtu_text joins them; ResultWriter writes them in
+/// turn, without a copy into one string). The pieces point into `keep` and into the mesh's
+/// arrays: the mesh must outlive them.
+struct VtuFile {
+  std::vector<std::string_view> parts;
+  std::vector<std::shared_ptr<const void>> keep;
+  std::size_t size() const;
+  std::string str() const;
+};
+VtuFile vtu_file(const BezierMesh& mesh, double load_factor, const std::string& run_id,
+                 VtkEncoding encoding = VtkEncoding::AppendedRaw, int threads = 1);
 
 /// bezier_mesh + vtu_text.
 std::string bezier_vtu(const Problem& P, const std::vector<std::vector<double>>& cp_displacement,

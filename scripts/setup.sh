@@ -25,7 +25,7 @@ done
 pkgs="build-essential cmake ninja-build pkg-config openmpi-bin libopenmpi-dev libhdf5-openmpi-dev \
       libptscotch-dev libmumps-dev libhypre-dev libopenblas0-serial libyaml-cpp-dev libgtest-dev libgmock-dev libbenchmark-dev \
       python3-matplotlib python3-h5py python3-numpy python3-yaml \
-      nlohmann-json3-dev clang-14 libclang-rt-14-dev zlib1g-dev \
+      nlohmann-json3-dev clang-14 libclang-rt-14-dev zlib1g-dev libdeflate-dev \
       paraview python3-paraview xvfb xauth $trilinos_pkgs"
 
 missing=""
