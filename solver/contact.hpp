@@ -93,14 +93,18 @@ class ContactPairData {
   /// projected_only (what the outputs write) it is left out.
   ContactPointState state(bool projected_only = false) const;
   ContactSummary summary() const;
-  /// "" or one warning line where the final contact zone covers fewer than about two slave
-  /// elements (3-D: four), so that the pressure's peak and shape are not resolved (the forces
-  /// are): a Hertz zone narrower than one element gave max_pressure +199 % (2-D) and +150 %
-  /// (3-D), exit 0. KTS and kts_alm count their active points (2 x, 3-D 4 x the points of an
-  /// element), mortar the slave elements with pressure. Collective in 3-D.
+  /// "" or one warning line where the final contact zone covers fewer than about three slave
+  /// or master elements (3-D: four), so that the pressure's peak and shape are not resolved
+  /// (the forces are): a Hertz zone narrower than one element gave max_pressure +199 % (2-D)
+  /// and +150 % (3-D), one of two slave elements -43 %, one of 1.1 master elements +46 %,
+  /// exit 0. KTS and kts_alm count their active points (3 x, 3-D 4 x the points of an
+  /// element), mortar the slave elements with pressure; on the master, the elements those
+  /// points project onto. Collective in 3-D.
   std::string unresolved_zone(int index, const Problem& P) const;
   /// The slave elements with a point (slot) under pressure (3-D: all ranks', collective).
   int active_slave_elements() const;
+  /// The master elements those points project onto (3-D: collective).
+  int active_master_elements() const;
   /// The contact potential at the last update: KTS sum_q w <lambda - eps g>^2 / (2 eps),
   /// mortar sum_A w_A lambda_A^2 / (2 eps) (the penalty potential when the multipliers are 0).
   double potential() const;

@@ -1050,6 +1050,22 @@ int ContactSurfaces3::active_elements() const {
   return static_cast<int>(std::count(all.begin(), all.end(), 1));
 }
 
+int ContactSurfaces3::active_master_elements() const {
+  std::vector<int> off(master.n + 1, 0);
+  for (int f = 0; f < master.n; ++f) off[f + 1] = off[f] + master.f[f].sd.ne[0] * master.f[f].sd.ne[1];
+  const int ne = off[master.n];
+  auto mface = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.mface);
+  auto melem = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.melem);
+  auto valid = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.valid);
+  auto pr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.pressure);
+  std::vector<int> mine(ne, 0), all(ne, 0);
+  for (int i = p_begin; i < p_end; ++i)   // (this rank's points or slots, as in active_elements)
+    if (valid(i) && pr(i) > 0 && mface(i) >= 0 && mface(i) < master.n && melem(i) >= 0 && off[mface(i)] + melem(i) < off[mface(i) + 1])
+      mine[off[mface(i)] + melem(i)] = 1;
+  if (ne > 0) Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MAX, ne, mine.data(), all.data());
+  return static_cast<int>(std::count(all.begin(), all.end(), 1));
+}
+
 void ContactSurfaces3::state(ContactPointState& s, bool projected_only) const {
   const int n = num_points();
   auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.x);

@@ -39,6 +39,8 @@ class ContactSurfaces3 {
   double h_min() const { return h_min_; }
   /// Mortar: the slave elements with a slot under pressure, all ranks' (collective).
   int active_elements() const;
+  /// The master elements a point (slot) under pressure projects onto, all ranks' (collective).
+  int active_master_elements() const;
   /// Global control point ids of both surfaces (sorted, unique).
   std::vector<GO> surface_gids() const;
 

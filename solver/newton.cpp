@@ -707,10 +707,14 @@ bool NewtonCore::augment(int aug, std::vector<double>& gap_history, Outcome& out
        << " with the largest gap at " << worst
        << " times the slave element size; try more contact.augmentations, a larger contact penalty (faster "
           "multiplier convergence) or a looser contact.alm_tolerance";
-    // with friction the stall test above is off, so the limit is where a stall shows: count it
-    // as one (two in a row end the run: the cuts between them did not help, and each costs
-    // contact.augmentations solves).
-    if (friction_alm) out.stall = true;
+    // the limit counts as a stall (two in a load step end the run: the cuts between them did
+    // not help, and each costs contact.augmentations solves). With friction the stall test
+    // above is off, so the limit is where a stall shows; without, the rate test needs more
+    // than kWindow updates since the last penalty raise, so a small contact.augmentations
+    // reaches the limit first: with 2 the two-block press was cut into 256 increments, each
+    // a state written (a helper's problem wrote 932 MB in 215 cuts), where it now stops
+    // after one cut with this line.
+    out.stall = true;
     out.why = os.str();
   }
   return false;

@@ -54,6 +54,20 @@ stops pulled "$(dirname "$0")/../examples/wheel.yaml" \
   --set analysis.load_steps=1 --set "bodies.1.boundary.west={traction: [0.0, 2.0]}"
 echo "body held by contact alone, pulled away: $err"
 
+# An augmented Lagrangian given too few multiplier updates (contact.augmentations: 2, a
+# penalty of 1 E/h): the gaps are not closed within them at any increment the cuts try, and
+# before this the run went on cutting (the press in 256 increments, each a state written; a
+# helper's problem wrote 932 MB in 215 cuts). Reaching the limit is a stall: one that a cut
+# does not cure ends the run after that cut, and the line says what to raise.
+for m in mortar_alm kts_alm; do
+  stops "aug_$m" "$(dirname "$0")/../examples/two_blocks_middle.yaml" \
+    "stopped after 1 cut(s) of its increment: the augmented Lagrangian reached contact.augmentations = 2.*try more contact.augmentations" \
+    --set contact.0.method=$m --set contact.0.augmentations=2 --set contact.0.penalty=1e3
+  n=$(ls "$tmp/aug_$m" | grep -c '^result_.*\.vtu$')
+  [ "$n" -le 2 ] || { echo "FAIL: aug_$m: $n states written"; exit 1; }
+  echo "too few augmentations ($m): $err"
+done
+
 # A body held by contact alone whose slave side lies nowhere in front of its master (two half
 # cylinders set on opposite sides of the symmetry line, touching at one point, the upper one
 # pressed by a traction): the first tangent is singular, though MUMPS finds no exact null

@@ -131,6 +131,14 @@ for m in kts_alm mortar_penalty; do
   grep -q "^warning: .*contact\[0\] (wheel.north on block.north): the contact zone covers about 1 slave element(s).*not resolved" "$tmp/err" ||
     { echo "FAIL coarse wheel $m: no warning: $(cat "$tmp/err")"; exit 1; }
 done
+# A zone over three slave elements (the quarter wheel's half of it) but two of the coarser
+# master's (a press of 0.016): max_pressure +46 % of Hertz with mortar and no word before the
+# master's elements under pressure were counted too (2026-12-05)
+timeout 300 "$exe" run "$tmp/coarse.yaml" --output "$tmp/coarse_master" --quiet --set contact.0.method=mortar_penalty \
+  --set "bodies.1.boundary.west={displacement: {y: -0.016}}" 2>"$tmp/err"; rc=$?
+[ "$rc" = 0 ] || { echo "FAIL coarse master: exit $rc: $(cat "$tmp/err")"; exit 1; }
+grep -q "^warning: .*contact\[0\] (wheel.north on block.north): the contact zone covers about 3 slave element(s) (those with pressure) and 2 master element(s).*not resolved" "$tmp/err" ||
+  { echo "FAIL coarse master: no warning: $(cat "$tmp/err")"; exit 1; }
 timeout 300 "$exe" run "$(dirname "$2")/wheel.yaml" --output "$tmp/wheel" --quiet 2>"$tmp/err"; rc=$?
 [ "$rc" = 0 ] && [ ! -s "$tmp/err" ] || { echo "FAIL wheel: exit $rc or stderr: $(cat "$tmp/err")"; exit 1; }
 echo "a KTS zone narrower than two slave elements: warned; the example: not"
