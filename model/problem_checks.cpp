@@ -120,6 +120,52 @@ void check_problem(const Reader& R, const YAML::Node& root, Problem& P) {
                  "' is free to move as a rigid body (singular system): prescribe " +
                  std::string(P.dim() == 3 ? "x, y and z" : "x and y") + " displacements that fix translation and rotation");
   }
+
+  // Bodies joined by contact pairs move together as a rigid body along a direction none of
+  // them is held in: contact is internal to them, so the system is singular whatever the
+  // loads (a support block without boundary conditions under a block held in x only ran to
+  // MUMPS' null pivot, exit 3, 11 files written and no body named; found by a problem written
+  // from the docs). Translations only: a rotation can be held by contact against a supported
+  // body (a wheel on a block).
+  {
+    const int nb = static_cast<int>(P.bodies.size());
+    std::vector<int> root_of(nb);
+    for (int b = 0; b < nb; ++b) root_of[b] = b;
+    const auto find = [&](int b) {
+      while (root_of[b] != b) b = root_of[b] = root_of[root_of[b]];
+      return b;
+    };
+    for (const auto& c : P.contact) root_of[find(c.master.body)] = find(c.slave.body);
+    const char* axis = "xyz";
+    for (int r = 0; r < nb; ++r) {
+      if (find(r) != r) continue;
+      std::vector<int> members;
+      for (int b = 0; b < nb; ++b)
+        if (find(b) == r) members.push_back(b);
+      if (members.size() < 2) continue;   // (a body alone: the check above)
+      for (int c = 0; c < P.dim(); ++c) {
+        bool held = false;
+        for (int b : members) {
+          const Body& body = P.bodies[b];
+          for (size_t k = 0; k < body.patches.size() && !held; ++k) {
+            for (const SideCondition& sc : body.sides[k]) held = held || sc.fixed[c];
+            if (P.dim() == 2)
+              for (const SideCondition& sc : body.corners[k]) held = held || sc.fixed[c];
+          }
+        }
+        if (held) continue;
+        std::string names;
+        for (size_t i = 0; i < members.size(); ++i)
+          names += (i == 0 ? "'" : i + 1 == members.size() ? "' and '" : "', '") + P.bodies[members[i]].name;
+        names += "'";
+        const int first = members.front();
+        R.fail("bodies[" + std::to_string(first) + "].boundary", bodies[first]["boundary"],
+               "bodies " + names + ", joined by contact, have no displacement " + axis[c] +
+                   " prescribed on any side: together they are free to move along " + axis[c] +
+                   " (singular system); prescribe " + axis[c] + " on a side of one of them");
+      }
+    }
+  }
 }
 
 // MemAvailable of /proc/meminfo in bytes (0 where unknown), or less where the environment's

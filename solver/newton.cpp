@@ -458,6 +458,11 @@ std::string NewtonCore::held_apart() const {
     os << " (with " << contact_method_name(c.method)
        << " the gap of a slave control point is the mean over its support, so bodies touching at one point "
           "start apart by it: refine the slave where they touch, or take kts_penalty)";
+  else   // a cylinder pressed by a load onto a block it touches at one point, on 4 slave
+         // elements (found by a problem written from the docs: the smaller penalty the line
+         // advised then ended in the check's interpenetration, the points too sparse)
+    os << " (with kts_penalty the slave's quadrature points lie off the point where bodies touch, the farther "
+          "the coarser the slave: refine the slave where they touch)";
   return os.str();
 }
 

@@ -139,6 +139,27 @@ timeout 300 "$exe" run "$tmp/coarse.yaml" --output "$tmp/coarse_master" --quiet 
 [ "$rc" = 0 ] || { echo "FAIL coarse master: exit $rc: $(cat "$tmp/err")"; exit 1; }
 grep -q "^warning: .*contact\[0\] (wheel.north on block.north): the contact zone covers about 3 slave element(s) (those with pressure) and 2 master element(s).*not resolved" "$tmp/err" ||
   { echo "FAIL coarse master: no warning: $(cat "$tmp/err")"; exit 1; }
+# A pair that never touches (the upper block 0.3 above the lower, pressed 0.01): exit 0 with
+# every contact quantity 0, and since 2026-12-05 a line saying so (found by a problem written
+# from the docs: a mistyped origin gave a converged run and no word)
+cat > "$tmp/apart.yaml" <<'YAML'
+analysis: {type: plane_strain}
+bodies:
+  - name: lower
+    material: {youngs_modulus: 1000.0, poisson_ratio: 0.3}
+    geometry: {rectangle: {origin: [0.0, 0.0], size: [1.0, 0.5]}}
+    boundary: {south: {displacement: {x: 0.0, y: 0.0}}}
+  - name: upper
+    material: {youngs_modulus: 1000.0, poisson_ratio: 0.3}
+    geometry: {rectangle: {origin: [0.0, 0.8], size: [1.0, 0.5]}}
+    boundary: {north: {displacement: {x: 0.0, y: -0.01}}}
+contact:
+  - {master: {body: lower, side: north}, slave: {body: upper, side: south}, method: kts_penalty, penalty: 1.0e5}
+YAML
+timeout 300 "$exe" run "$tmp/apart.yaml" --output "$tmp/apart" --quiet 2>"$tmp/err"; rc=$?
+[ "$rc" = 0 ] || { echo "FAIL apart: exit $rc: $(cat "$tmp/err")"; exit 1; }
+grep -q "^warning: .*contact\[0\] (upper.south on lower.north) carried no force in any load step (its nearest slave point ended 0.29 from the master)" "$tmp/err" ||
+  { echo "FAIL apart: no warning: $(cat "$tmp/err")"; exit 1; }
 timeout 300 "$exe" run "$(dirname "$2")/wheel.yaml" --output "$tmp/wheel" --quiet 2>"$tmp/err"; rc=$?
 [ "$rc" = 0 ] && [ ! -s "$tmp/err" ] || { echo "FAIL wheel: exit $rc or stderr: $(cat "$tmp/err")"; exit 1; }
 echo "a KTS zone narrower than two slave elements: warned; the example: not"
