@@ -17,7 +17,7 @@
 //                                                augmented to the current one (ALM))
 //   stick   |tau_tr| <= mu p:  tau = tau_tr
 //   slip    otherwise:         tau = mu p sign(tau_tr)
-//   p the normal pressure (KTS: <lambda_N - eps g>, mortar: lambda_A). A point (control point)
+//   p the normal pressure (KTS: <-eps g>, mortar: lambda_A). A point (control point)
 //   that touches with p = 0 is active: at a zero trial traction it sticks, and its stick
 //   tangent holds a body that friction alone keeps in place from the first solve.
 // Weak form: the tangential virtual work is tau times the variation of the slip measure,
@@ -97,12 +97,12 @@ struct FrictionPointUpdate {
     fr.tangent(i, 1) = t[1] / len;
     if (fr.ref_valid(i)) fr.ds(i) = len * (sp.mxi(i) - fr.ref_mxi(i));
     if (mortar) return;
-    if (!kts_active(sp.lambda(i), eps, sp.gap(i), sp.touch)) {
+    if (!kts_active(sp.gap(i), sp.touch)) {
       fr.tau(i) = 0; fr.state(i) = 0; fr.slip(i) = fr.slip_c(i); return;
     }
     // touching (p = 0) counts: at a zero trial traction it is stick, whose tangent eps_T S S^T
     // holds a body that friction alone keeps in place from the first solve
-    const double pl = sp.lambda(i) - eps * sp.gap(i), pr = pl > 0 ? pl : 0.0;
+    const double pl = -eps * sp.gap(i), pr = pl > 0 ? pl : 0.0;
     double tau;
     fr.state(i) = coulomb(fr.lamT(i), fr.epsT, fr.ds(i), fr.mu, pr, tau);
     fr.tau(i) = tau;
@@ -309,8 +309,8 @@ struct AssembleFriction {
     if (mortar) {
       tau = F(fr.tau(i));
     } else {
-      // the state (FrictionPointUpdate) says active: p = <lambda - eps g>, 0 when touching
-      F p = sp.lambda(i) - eps * g;
+      // the state (FrictionPointUpdate) says active: p = <-eps g>, 0 when touching
+      F p = -eps * g;
       if (!(p.val() > 0)) p = F(0.0);
       const F tr = fr.lamT(i) - fr.epsT * ds;
       if (fr.state(i) == 1) tau = tr;

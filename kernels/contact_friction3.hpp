@@ -18,7 +18,7 @@
 //                                                      (penalty), augmented (ALM))
 //   |tr|^2  = tr^al tr^be (e_al . e_be)
 //   stick   |tr| <= mu p:  tau = tr
-//   slip    otherwise:     tau = mu p tr / |tr|,       p = <lambda - eps g> (contact_kts3.hpp)
+//   slip    otherwise:     tau = mu p tr / |tr|,       p = <-eps g> (contact_kts3.hpp)
 //   accumulated slip (a path length) += (|tr| - |tau|) / eps_T. A point touching with p = 0
 //   is active: at a zero trial traction it sticks (as in 2-D).
 // Weak form: the tangential virtual work is t . delta g_T,
@@ -162,7 +162,7 @@ struct UpdateFriction3 {
       for (int c = 0; c < 3; ++c) fr.gv(i, c) = d[1][c] * dxi[0] + d[2][c] * dxi[1];
       return;
     }
-    if (sp.face(i) < 0 || !sp.valid(i) || !kts_active(sp.lambda(i), eps, sp.gap(i), sp.touch)) return;
+    if (sp.face(i) < 0 || !sp.valid(i) || !kts_active(sp.gap(i), sp.touch)) return;
     const ContactFace& mf = m.f[sp.mface(i)];
     int ms[2];
     surface_element_spans(mf.sd, sp.melem(i), ms);
@@ -176,7 +176,7 @@ struct UpdateFriction3 {
     if (fr.ref_face(i) == sp.mface(i))
       for (int al = 0; al < 2; ++al) dxi[al] = sp.muv(i, al) - fr.ref_uv(i, al);
     const double lamT[2] = {fr.lamT(i, 0), fr.lamT(i, 1)};
-    const double pl = sp.lambda(i) - eps * sp.gap(i), p = pl > 0 ? pl : 0.0;
+    const double pl = -eps * sp.gap(i), p = pl > 0 ? pl : 0.0;
     double tr[2], tau[2], norm;
     // round-off: eps_T times the touch tolerance (1e-12 of the smallest slave element)
     const int st = coulomb3<double>(lamT, fr.epsT, fr.mu, p, len, dot3(e[0], e[1]), dxi, tr, tau, norm, 0, fr.epsT * sp.touch);
@@ -322,11 +322,11 @@ struct AssembleFriction3 {
         for (int c = 0; c < 3; ++c) e[al][c] = a[al][c] / len[al];
       }
       const F G01 = dot(e[0], e[1]);
-      // the pressure: <lambda - eps g>, g = d . n
+      // the pressure: <-eps g>, g = d . n
       F nrm[3] = {a[0][1] * a[1][2] - a[0][2] * a[1][1], a[0][2] * a[1][0] - a[0][0] * a[1][2], a[0][0] * a[1][1] - a[0][1] * a[1][0]};
       const F nl = sqrt(dot(nrm, nrm));
       F g = dot(d, nrm) * (mf.sign / nl);
-      F p = sp.lambda(i) - eps * g;
+      F p = -eps * g;
       if (!(p.val() > 0)) p = F(0.0);
       const double lamT[2] = {fr.lamT(i, 0), fr.lamT(i, 1)};
       F tr[2], tau[2], norm;

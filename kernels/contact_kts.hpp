@@ -10,14 +10,14 @@
 //                   f' = -t.t + (x_s - rho) . m                        (report eq. 7-8)
 //   gap             g = (x_s - rho(xi_c)) . n, n the master's outward unit normal
 // Potential and pressure
-//   Pi_c = sum_q w_q 1/2 eps <-g_q>^2 (penalty), p = max(0, lambda - eps g) with lambda = 0
-//   (kts_penalty; the ALM methods pass the mortar pressure field instead: `mortar` below).
+//   Pi_c = sum_q w_q 1/2 eps <-g_q>^2 (penalty), p = max(0, -eps g) (kts_penalty; the ALM
+//   methods, kts_alm included, pass the mortar pressure field instead: `mortar` below).
 // Variations, over the element dofs u_e = [slave a = 0..ps (x,y), master b = 0..pm (x,y)]
 //   N  = [N_a n ; -R_b n]    T = [N_a t ; -R_b t]    Nb = [0 ; R_b' n]
 //   delta g = N . delta u
 //   Delta delta g = G = -(n.m)/(a11 H) T T^T - (g/H) Nb Nb^T - (1/H)(T Nb^T + Nb T^T),
 //   a11 = t.t, H = a11 - g n.m            (moving projection point and normal included)
-// Contributions of an active point (lambda - eps g >= -eps touch: touching counts, and a gap
+// Contributions of an active point (g <= touch: touching counts, and a gap
 // within round-off of 0 (touch = 1e-12 of the smallest slave element) is touching, as in
 // mortar: bodies that touch exactly at the start are held by the first solve)
 //   f_c += -p w N,     K_c += w (eps N N^T - p G)   (p G times `geometric`: 0 while Newton is
@@ -59,7 +59,6 @@ struct CurrentCP {
 struct SlavePoints {
   Kokkos::View<double*, MemSpace> xi, weight;  // parameter, w = Gauss x |dX/dxi| x thickness
   Kokkos::View<int*, MemSpace> span;           // slave element span
-  Kokkos::View<double*, MemSpace> lambda;      // 0 (kts_penalty; the ALM methods are on the mortar path)
   // results
   Kokkos::View<int*, MemSpace> valid;          // 1: projection found on the master
   Kokkos::View<int*, MemSpace> mspan;          // master span of the projection
@@ -70,10 +69,10 @@ struct SlavePoints {
   double touch = 0;                            // gaps up to this count as closed (KTS)
 };
 
-/// KTS: a point with multiplier lambda and gap g is active when lambda - eps g >= -eps touch
-/// (touching counts; touch absorbs the round-off of an exactly closed gap).
-KOKKOS_INLINE_FUNCTION bool kts_active(double lambda, double eps, double g, double touch) {
-  return lambda - eps * g >= -eps * touch;
+/// KTS (penalty): a point with gap g is active when g <= touch (touching counts; touch absorbs
+/// the round-off of an exactly closed gap).
+KOKKOS_INLINE_FUNCTION bool kts_active(double g, double touch) {
+  return g <= touch;
 }
 
 /// Per pair: the contact force the assembly kernels put on the slave dofs, summed as it is
@@ -267,7 +266,7 @@ struct ProjectSlavePoints {
     sp.normal(i, 0) = n[0];
     sp.normal(i, 1) = n[1];
     sp.gap(i) = (sp.x(i, 0) - brho[0]) * n[0] + (sp.x(i, 1) - brho[1]) * n[1];
-    const double pr = sp.lambda(i) - eps * sp.gap(i);
+    const double pr = -eps * sp.gap(i);
     sp.pressure(i) = pr > 0 ? pr : 0.0;
   }
   double eps = 0;
@@ -299,8 +298,8 @@ struct AssembleKts {
     const int i = p_begin + k;
     if (!sp.valid(i)) return;
     const double g = sp.gap(i);
-    if (mortar ? !(sp.pressure(i) > 0) : !kts_active(sp.lambda(i), eps, g, sp.touch)) return;
-    const double pl = sp.lambda(i) - eps * g;
+    if (mortar ? !(sp.pressure(i) > 0) : !kts_active(g, sp.touch)) return;
+    const double pl = -eps * g;
     const double pr = mortar ? sp.pressure(i) : (pl > 0 ? pl : 0.0);
     const double epsN = mortar ? 0.0 : eps;
     const double w = sp.weight(i);

@@ -16,7 +16,7 @@
 //   delta xi = H^-1 (T + g Nb) . delta u,   H = a - g b
 //   Delta delta g = G = -T^T (A b H^-1) T - g Nb^T H^-1 Nb - (Nb^T H^-1 T + T^T H^-1 Nb)
 //   (the 2-D G of contact_kts.hpp with a11 -> the metric; symmetric, since A + g A b H^-1 = H^-1)
-// Contributions of an active point (lambda - eps g >= -eps touch), p = max(0, lambda - eps g):
+// Contributions of an active point (g <= touch), p = max(0, -eps g) (kts_penalty):
 //   f_c += -p w N,   K_c += w (eps N N^T - p G),   w = Gauss weights x |X_u x X_v| (reference)
 // The force on the slave body is -sum over the slave rows of f_c (a ForceSum: Fx, Fy, Fz, Fn).
 //
@@ -76,7 +76,7 @@ struct ContactFaces {
 struct SlavePoints3 {
   Kokkos::View<int*, MemSpace> face, elem;         // slave face and its element e0 + ne0 e1
   Kokkos::View<double* [2], MemSpace> uv;          // slave parameters
-  Kokkos::View<double*, MemSpace> weight, lambda;  // reference measure; 0 (kts_penalty: ALM is on the mortar path)
+  Kokkos::View<double*, MemSpace> weight;          // reference measure
   Kokkos::View<double* [3], MemSpace> X;           // reference slave point
   // results
   Kokkos::View<int*, MemSpace> valid, mface, melem;
@@ -245,7 +245,7 @@ struct ProjectSlavePoints3 {
     sp.muv(i, 1) = buv[1];
     for (int c = 0; c < 3; ++c) sp.normal(i, c) = n[c];
     sp.gap(i) = g;
-    const double pr = sp.lambda(i) - eps * g;
+    const double pr = -eps * g;
     sp.pressure(i) = pr > 0 ? pr : 0.0;
   }
 };
@@ -350,8 +350,8 @@ struct AssembleKts3 {
   KOKKOS_INLINE_FUNCTION bool slot(const int i, AddK&& addK, double fs[4]) const {
     if (sp.face(i) < 0 || !sp.valid(i)) return false;
     const double g = sp.gap(i);
-    if (mortar ? !(sp.pressure(i) > 0) : !kts_active(sp.lambda(i), eps, g, sp.touch)) return false;
-    const double pl = sp.lambda(i) - eps * g;
+    if (mortar ? !(sp.pressure(i) > 0) : !kts_active(g, sp.touch)) return false;
+    const double pl = -eps * g;
     const double pr = mortar ? sp.pressure(i) : (pl > 0 ? pl : 0.0);
     const double epsN = mortar ? 0.0 : eps;
     const double w = sp.weight(i);

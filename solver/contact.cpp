@@ -166,7 +166,6 @@ void ContactPairData::allocate_points(int n) {
     Kokkos::deep_copy(sp_.span, -1);
     cuts_ = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>("mortar_cuts", slave.ne, max_segments_ + 1);
   }
-  sp_.lambda = Kokkos::View<double*, MemSpace>("lambda", n);
   sp_.valid = Kokkos::View<int*, MemSpace>("valid", n);
   sp_.mspan = Kokkos::View<int*, MemSpace>("mspan", n);
   sp_.melem = Kokkos::View<int*, MemSpace>("melem", n);
@@ -191,7 +190,6 @@ void ContactPairData::allocate_points(int n) {
   state_prev_ = Kokkos::View<int*, MemSpace>("state_prev", n);
   if (mortar_) {
     ref_sp_ = sp_;
-    ref_sp_.lambda = Kokkos::View<double*, MemSpace>("ref_lambda", n);
     ref_sp_.mspan = Kokkos::View<int*, MemSpace>("ref_mspan", n);
     ref_sp_.melem = Kokkos::View<int*, MemSpace>("ref_melem", n);
     ref_sp_.mxi = fr_.ref_mxi;
@@ -386,7 +384,6 @@ void ContactPairData::commit() {
     s3_->commit();
     return;
   }
-  keep_copy(committed_.lambda, sp_.lambda);
   keep_copy(committed_.mxi, sp_.mxi);
   keep_copy(committed_.melem, sp_.melem);
   keep_copy(committed_.mspan, sp_.mspan);
@@ -415,11 +412,10 @@ void ContactPairData::restore() {
     s3_->restore();
     return;
   }
-  if (!committed_.lambda.data()) return;   // nothing committed yet: the initial state stands
+  if (!committed_.valid.data()) return;   // nothing committed yet: the initial state stands
   // mortar slots are segmented anew at every update (and may have grown since): their
   // per-slot state is not history; the multipliers per control point are
   if (!mortar_) {
-    Kokkos::deep_copy(sp_.lambda, committed_.lambda);
     Kokkos::deep_copy(sp_.mxi, committed_.mxi);
     Kokkos::deep_copy(sp_.melem, committed_.melem);
     Kokkos::deep_copy(sp_.mspan, committed_.mspan);
@@ -437,7 +433,6 @@ void ContactPairData::reset_multipliers() {
     Kokkos::deep_copy(ms_.lbar, 0.0);
     Kokkos::deep_copy(fr_.lamTA, 0.0);
   } else {
-    Kokkos::deep_copy(sp_.lambda, 0.0);
     Kokkos::deep_copy(fr_.lamT, 0.0);
   }
 }

@@ -105,7 +105,7 @@ class ContactPairData {
   int active_slave_elements() const;
   /// The master elements those points project onto (3-D: collective).
   int active_master_elements() const;
-  /// The contact potential at the last update: KTS sum_q w <lambda - eps g>^2 / (2 eps),
+  /// The contact potential at the last update: KTS sum_q w <-eps g>^2 / (2 eps),
   /// mortar sum_A w_A lambda_A^2 / (2 eps) (the penalty potential when the multipliers are 0).
   double potential() const;
   bool mortar() const { return mortar_; }

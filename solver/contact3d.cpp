@@ -378,7 +378,6 @@ SlavePoints3 make_slave_points(int n) {
   sp.elem = Kokkos::View<int*, MemSpace>("elem", n);
   sp.uv = Kokkos::View<double* [2], MemSpace>("uv", n);
   sp.weight = Kokkos::View<double*, MemSpace>("weight", n);
-  sp.lambda = Kokkos::View<double*, MemSpace>("lambda", n);
   sp.X = Kokkos::View<double* [3], MemSpace>("X", n);
   sp.valid = Kokkos::View<int*, MemSpace>("valid", n);
   sp.mface = Kokkos::View<int*, MemSpace>("mface", n);
@@ -742,7 +741,7 @@ void ContactSurfaces3::update_mortar_friction() {
 // traction and accumulated slip. Every rank copies every point: the others' entries are its own
 // zeros or stale values that its kernels never read (each rank updates only its own points).
 void ContactSurfaces3::commit() {
-  contact_detail::keep_copy(committed_.lambda, mortar ? ms.lbar : sp.lambda);
+  if (mortar) contact_detail::keep_copy(committed_.lambda, ms.lbar);   // (KTS: no multipliers)
   if (!friction) return;
   if (mortar) {
     Kokkos::deep_copy(fr.lamTA, fr.tauA);
@@ -781,10 +780,10 @@ void ContactSurfaces3::commit() {
 }
 
 void ContactSurfaces3::restore() {
-  if (!committed_.lambda.data()) return;   // nothing committed yet: the initial state stands
-  Kokkos::deep_copy(mortar ? ms.lbar : sp.lambda, committed_.lambda);
-  if (friction && mortar) Kokkos::deep_copy(fr.lamTA, committed_.lamTA);
-  else if (friction) Kokkos::deep_copy(fr.lamT, committed_.lamT);
+  // (nothing committed yet: the initial state stands)
+  if (mortar && committed_.lambda.data()) Kokkos::deep_copy(ms.lbar, committed_.lambda);
+  if (friction && mortar && committed_.lamTA.data()) Kokkos::deep_copy(fr.lamTA, committed_.lamTA);
+  else if (friction && !mortar && committed_.lamT.data()) Kokkos::deep_copy(fr.lamT, committed_.lamT);
 }
 
 // (ALM pairs only, which are all on the mortar path: mortar_alm and kts_alm)
@@ -795,7 +794,7 @@ void ContactSurfaces3::augment() {
 }
 
 void ContactSurfaces3::reset_multipliers() {
-  Kokkos::deep_copy(mortar ? ms.lbar : sp.lambda, 0.0);
+  if (mortar) Kokkos::deep_copy(ms.lbar, 0.0);
   if (friction && mortar) Kokkos::deep_copy(fr.lamTA, 0.0);
   else if (friction) Kokkos::deep_copy(fr.lamT, 0.0);
 }
@@ -958,7 +957,6 @@ std::vector<int> ContactSurfaces3::out_of_contact() const {
 void ContactSurfaces3::groups(std::vector<std::vector<GO>>& out, int& active) const {
   auto valid = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.valid);
   auto gap = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.gap);
-  auto lam = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.lambda);
   auto face = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.face);
   auto elem = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.elem);
   auto mface = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.mface);
@@ -975,7 +973,7 @@ void ContactSurfaces3::groups(std::vector<std::vector<GO>>& out, int& active) co
   auto pressure = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.pressure);
   for (int i = p_begin; i < p_end; ++i) {
     if (face(i) < 0 || !valid(i)) continue;
-    if (!mortar && kts_active(lam(i), pair.penalty, gap(i), sp.touch)) ++active;
+    if (!mortar && kts_active(gap(i), sp.touch)) ++active;
     if (!seen.insert({face(i), elem(i), mface(i), melem(i)}).second) continue;
     std::vector<GO> g;
     element_cps(hs_[face(i)], elem(i), 0, g);
@@ -1074,7 +1072,6 @@ void ContactSurfaces3::state(ContactPointState& s, bool projected_only) const {
   auto uv = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.uv);
   auto gap = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.gap);
   auto pr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.pressure);
-  auto lam = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.lambda);
   auto valid = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.valid);
   auto w = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.weight);
   auto face = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.face);
@@ -1091,7 +1088,6 @@ void ContactSurfaces3::state(ContactPointState& s, bool projected_only) const {
     sum(nrm);
     sum(gap);
     sum(pr);
-    sum(lam);
     sum(valid);
     if (mortar) {   // the slots themselves come from the segmentation
       sum(X);
@@ -1122,7 +1118,7 @@ void ContactSurfaces3::state(ContactPointState& s, bool projected_only) const {
     s.gap.push_back(valid(i) ? gap(i) : std::nan(""));
     s.pressure.push_back(pr(i));
     s.weight.push_back(w(i));
-    s.active.push_back(valid(i) && (mortar ? pr(i) > 0 : kts_active(lam(i), pair.penalty, gap(i), sp.touch)) ? 1 : 0);
+    s.active.push_back(valid(i) && (mortar ? pr(i) > 0 : kts_active(gap(i), sp.touch)) ? 1 : 0);
     const double t[3] = {trac(i, 0), trac(i, 1), trac(i, 2)};
     s.tangential.push_back(std::sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]));
     s.slip.push_back(slip(i));

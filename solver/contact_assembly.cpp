@@ -33,7 +33,6 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
     }
     auto valid = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.valid);
     auto gap = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.gap);
-    auto lam = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.lambda);
     auto sspan = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.span);
     auto mspan = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pd.sp_.mspan);
     const int nm = static_cast<int>(pd.master_gid.size());
@@ -49,7 +48,7 @@ ContactContribution assemble_contact(const System& sys, std::vector<ContactPairD
     };
     for (int i = pd.p_begin; i < pd.p_end; ++i) {
       if (sspan(i) < 0 || !valid(i)) continue;
-      if (!pd.mortar() && kts_active(lam(i), pd.pair().penalty, gap(i), pd.sp_.touch)) ++active;
+      if (!pd.mortar() && kts_active(gap(i), pd.sp_.touch)) ++active;
       groups.push_back(point_group(i));
     }
     if (pd.mortar()) {

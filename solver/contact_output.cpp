@@ -50,7 +50,6 @@ ContactPointState ContactPairData::state(bool projected_only) const {
   auto xi = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.xi);
   auto gap = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.gap);
   auto pr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.pressure);
-  auto lam = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.lambda);
   auto valid = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.valid);
   auto w = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.weight);
   auto span = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp_.span);
@@ -72,7 +71,7 @@ ContactPointState ContactPairData::state(bool projected_only) const {
     s.pressure.push_back(pr(i));
     s.weight.push_back(w(i));
     if (mortar_) s.active.push_back(valid(i) && pr(i) > 0 ? 1 : 0);
-    else s.active.push_back(valid(i) && kts_active(lam(i), pair_.penalty, gap(i), sp_.touch) ? 1 : 0);
+    else s.active.push_back(valid(i) && kts_active(gap(i), sp_.touch) ? 1 : 0);
     s.tangential.push_back(tau(i));
     s.slip.push_back(slip(i));
     s.state.push_back(fst(i));
