@@ -154,7 +154,15 @@ MultiPatch read_geopdes(const std::string& path) {
     const std::string pk = "patch " + std::to_string(k);
     s = in.need("the degrees of " + pk, line);
     const int start = line;
-    if (!numeric_line(s)) s = in.need("the degrees of " + pk, line);   // the optional name, e.g. "PATCH 1"
+    if (!numeric_line(s)) {   // the optional name, e.g. "PATCH 1"
+      // an INTERFACE or SUBDOMAIN block where a patch should begin: the header counts more
+      // patches than the file holds (it read the block's numbers as a patch and blamed them)
+      const auto t = split(s);
+      if (!t.empty() && (t[0] == "INTERFACE" || t[0] == "SUBDOMAIN"))
+        fail(in.at(line), "'" + s + "' where " + pk + " should begin: the header declares npatches = " + std::to_string(np) +
+                              " but the file holds " + std::to_string(k - 1));
+      s = in.need("the degrees of " + pk, line);
+    }
     Patch P;
     P.pdim = dim;
     const auto deg = line_ints(in, s, line, pk + " degrees", dim);

@@ -273,7 +273,12 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
       if (!known) b.interfaces.push_back(f);
     }
     const std::string nc = find_nonconforming(b.patches, b.interfaces, b.tolerance);
-    if (!nc.empty()) R.fail(path + ".geometry", g, "body '" + b.name + "': " + nc);
+    // (blamed on the file where one was given: a --set file was blamed on the problem file's
+    // line of the geometry it replaced)
+    if (!nc.empty()) {
+      if (g["file"]) R.fail(path + ".geometry.file", g["file"], "body '" + b.name + "': " + nc);
+      R.fail(path + ".geometry", g, "body '" + b.name + "': " + nc);
+    }
   }
 
   if (n["refine"]) {

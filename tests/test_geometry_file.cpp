@@ -503,6 +503,7 @@ TEST(GeometryFile, BadInputsGiveOneLineMessages) {
       {"geopdes_side.txt", "{dir}/geopdes_side.txt:23: interface 1 first side: side 5 is out of range 1..4 (u = 0, u = 1, v = 0, v = 1)"},
       {"geopdes_orientation.txt", "{dir}/geopdes_orientation.txt:25: interface 1: orientation 0 must be 1 (same direction) or -1 (reversed)"},
       {"geopdes_extra_interface.txt", "{dir}/geopdes_extra_interface.txt:22: \"INTERFACE 1\": more interface blocks than the header declares (ninterfaces = 0 at line 5)"},
+      {"geopdes_more_patches.txt", "{dir}/geopdes_more_patches.txt:35: 'INTERFACE 1' where patch 5 should begin: the header declares npatches = 5 but the file holds 4"},
       {"geopdes_boundary_patch.txt", "{dir}/geopdes_boundary_patch.txt:29: boundary 1 side 2: patch 4 does not exist (patches 1..2)"},
       // clang-format on
   };
