@@ -373,6 +373,12 @@ std::string check_interface(const std::vector<Patch>& patches, const Interface& 
   return "";
 }
 
+bool geometric_reversal(const std::vector<Patch>& patches, const Interface& f) {
+  const auto ia = patches[f.a.patch].side_indices(f.a.side), ib = patches[f.b.patch].side_indices(f.b.side);
+  return dist(patches[f.a.patch].cp[ia.front()], patches[f.b.patch].cp[ib.front()]) >
+         dist(patches[f.a.patch].cp[ia.front()], patches[f.b.patch].cp[ib.back()]);
+}
+
 std::vector<std::vector<int>> merge_control_points(const std::vector<Patch>& patches,
                                                    const std::vector<Interface>& interfaces, int& n, double tol) {
   std::vector<size_t> offset(patches.size() + 1, 0);
@@ -408,9 +414,8 @@ std::vector<std::vector<int>> merge_control_points(const std::vector<Patch>& pat
         }
       continue;
     }
-    // the geometry decides the direction (a wrong flag in a file is harmless)
-    const bool rev = dist(patches[f.a.patch].cp[ia.front()], patches[f.b.patch].cp[ib.front()]) >
-                     dist(patches[f.a.patch].cp[ia.front()], patches[f.b.patch].cp[ib.back()]);
+    // the geometry decides the direction (a wrong flag in a file is harmless; the loader warns)
+    const bool rev = geometric_reversal(patches, f);
     for (size_t k = 0; k < ia.size() && k < ib.size(); ++k) {
       const size_t x = find(offset[f.a.patch] + ia[k]), y = find(offset[f.b.patch] + ib[rev ? ib.size() - 1 - k : k]);
       if (x != y) parent[std::max(x, y)] = std::min(x, y);   // the root: the first appearance

@@ -81,6 +81,9 @@ std::string find_nonconforming(const std::vector<Patch>& patches, const std::vec
 /// Checks that an interface is conforming (same number of control points, coincident within
 /// tol in its orientation); returns "" or what is wrong, naming both sides.
 std::string check_interface(const std::vector<Patch>& patches, const Interface& f, double tol);
+/// 2-D: whether the sides of interface f run opposite ways (their first control points apart);
+/// the geometry decides the merge whatever f.reversed says.
+bool geometric_reversal(const std::vector<Patch>& patches, const Interface& f);
 /// Merges the control points of conforming interfaces: per patch, control point -> merged
 /// index (numbered in patch order, first appearance); n: how many there are. 3-D: faces, in
 /// the orientation (of those with matching counts) in which the control points lie closest,

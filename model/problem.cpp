@@ -136,6 +136,8 @@ Problem build(Reader& R, const YAML::Node& root) {
     P.bodies.push_back(std::move(b));
   }
 
+  for (std::string& w : R.warnings) P.warnings.push_back(std::move(w));   // (the bodies' geometry files)
+  R.warnings.clear();
   read_contact_pairs(R, root, P);
 
   read_solver(R, root, P);

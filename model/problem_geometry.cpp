@@ -265,6 +265,17 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
     for (const Interface& f : declared) {
       const std::string err = check_interface(b.patches, f, b.tolerance);
       if (!err.empty()) R.fail(path + ".geometry.file", g["file"], "body '" + b.name + "': " + err);
+      // 2-D: a declared direction the geometry contradicts (the geometry decides, so the
+      // answer is right, but the file is inconsistent; found by a problem written from the
+      // docs: a G+Smo orientation 0 and a GeoPDEs 1 on sides running the same way)
+      if (b.patches[f.a.patch].dim() == 2 && b.patches[f.b.patch].dim() == 2) {
+        const bool rev = geometric_reversal(b.patches, f);
+        if (rev != f.reversed)
+          R.warnings.push_back(R.file + ": " + path + ".geometry.file: body '" + b.name + "': the interface " +
+                               patch_side_name(f.a) + " / " + patch_side_name(f.b) + " is declared " +
+                               (f.reversed ? "reversed" : "in the same direction") + " but its sides run " +
+                               (rev ? "opposite ways" : "the same way") + "; the geometry is used (check the file)");
+      }
     }
     b.interfaces = declared;
     for (const Interface& f : find_interfaces(b.patches, b.tolerance)) {

@@ -51,6 +51,7 @@ struct Reader {
   int samples_per_element = 4;   // output.samples_per_element, read before the bodies
   int stages = 1;                // analysis.stages, read before the bodies
   int dim = 2;                   // analysis.type (solid: 3), read before the bodies
+  mutable std::vector<std::string> warnings;   // warning lines found while reading (Problem::warnings)
 
   // output.samples_per_element: 1..64, or auto (0)
   int samples(const YAML::Node& n) const {

@@ -34,5 +34,20 @@ esac
 "$exe" run 2>/dev/null; [ $? = 2 ] || { echo "FAIL: no file should exit 2"; fail=1; }
 "$exe" run x.yaml --bogus 2>/dev/null; [ $? = 2 ] || { echo "FAIL: unknown option should exit 2"; fail=1; }
 "$exe" run "$ok" --output '' --quiet 2>/dev/null; [ $? = 2 ] || { echo "FAIL: an empty --output should exit 2"; fail=1; }
+# a GeoPDEs interface declared in the same direction whose sides run opposite ways: accepted
+# (the geometry decides), with one warning naming it (it was silent; found by a problem
+# written from the docs)
+cat > "$tmp/orient.yaml" <<YAML
+analysis: {type: plane_strain}
+bodies:
+  - name: sq
+    material: {youngs_modulus: 1000.0, poisson_ratio: 0.3}
+    geometry: {file: $(cd "$dir/../geometry_files" && pwd)/orientation_contradicts.txt}
+    boundary: {patch0.west: {displacement: {x: 0.0, y: 0.0}}}
+YAML
+err=$("$exe" check "$tmp/orient.yaml" 2>&1 >/dev/null); rc=$?
+[ "$rc" = 0 ] || { echo "FAIL orientation: exit $rc: $err"; fail=1; }
+echo "$err" | grep -q "^warning: .*body 'sq': the interface patch1.north / patch3.south is declared in the same direction but its sides run opposite ways; the geometry is used" ||
+  { echo "FAIL orientation: no warning: $err"; fail=1; }
 echo "$n bad inputs checked"
 exit $fail
