@@ -68,6 +68,36 @@ for m in mortar_alm kts_alm; do
   echo "too few augmentations ($m): $err"
 done
 
+# A neo-Hookean block (E = 1) pressed and slid over a base of E = 1e9 at finite strain: Newton
+# stalls at relative residual 1e-3 (round-off of the stiff base in the tangent); E = 1e8 or 1e4
+# converge in 3 iterations a step. The line names the moduli's ratio and what to give the
+# stiff body (it named only load steps, the penalty and max_iterations; found by a problem
+# written from the docs)
+cat > "$tmp/stiff_base.yaml" <<'YAML'
+analysis: {type: plane_strain, kinematics: finite, stages: [5, 10]}
+bodies:
+  - name: base
+    material: {youngs_modulus: 1.0e9, poisson_ratio: 0.3}
+    geometry: {rectangle: {origin: [-1.0, -0.5], size: [5.0, 0.5]}}
+    refine: {degree_elevate: 1, subdivide: [10, 1]}
+    boundary:
+      south: {displacement: {x: 0.0, y: 0.0}}
+  - name: blk
+    material: {model: neo_hookean, youngs_modulus: 1.0, poisson_ratio: 0.3}
+    geometry: {rectangle: {origin: [0.0, 0.0], size: [1.0, 1.0]}}
+    refine: {degree_elevate: 1, subdivide: [3, 3]}
+    boundary:
+      north: {displacement: {y: [-0.3, -0.3]}}
+      north_west: {displacement: {x: [0.0, 2.0]}}
+contact:
+  - master: {body: base, side: north}
+    slave: {body: blk, side: south}
+    method: kts_penalty
+    penalty: 1.0e4
+YAML
+stops stiff_base "$tmp/stiff_base.yaml" "base's Young's modulus is 1e+09 times blk's: give it 1e3-1e4 times"
+echo "a base 1e9 times stiffer: $err"
+
 # A body held by contact alone whose slave side lies nowhere in front of its master (two half
 # cylinders set on opposite sides of the symmetry line, touching at one point, the upper one
 # pressed by a traction): the first tangent is singular, though MUMPS finds no exact null
