@@ -339,11 +339,9 @@ int run(int argc, char** argv, Teuchos::RCP<const iga::Comm> comm) {
     const iga::ContactPointState st = res.contact[k].state(true);   // (collective in 3-D)
     double g = std::numeric_limits<double>::infinity();
     for (double x : st.gap) g = std::min(g, x);
-    const iga::ContactPair& c = P.contact[k];
     std::ostringstream os;
     os.precision(3);
-    os << "contact[" << k << "] (" << P.bodies[c.slave.body].name << "." << c.slave.label << " on "
-       << P.bodies[c.master.body].name << "." << c.master.label << ") carried no force in any load step";
+    os << res.contact[k].pair_text(static_cast<int>(k), P) << " carried no force in any load step";
     if (std::isfinite(g)) os << " (its nearest slave point ended " << g << " from the master)";
     os << ": check the bodies' positions and the loads or prescribed displacements that should bring them together";
     return os.str();

@@ -101,6 +101,8 @@ class ContactPairData {
   /// element), mortar the slave elements with pressure; on the master, the elements those
   /// points project onto. Collective in 3-D.
   std::string unresolved_zone(int index, const Problem& P) const;
+  /// "contact[index] (slave.side on master.side)": how warnings name the pair.
+  std::string pair_text(int index, const Problem& P) const;
   /// The slave elements with a point (slot) under pressure (3-D: all ranks', collective).
   int active_slave_elements() const;
   /// The master elements those points project onto (3-D: collective).

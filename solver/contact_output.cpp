@@ -135,6 +135,11 @@ int ContactPairData::active_master_elements() const {
   return s3_ ? s3_->active_master_elements() : distinct_under_pressure(sp_.melem, sp_);
 }
 
+std::string ContactPairData::pair_text(int index, const Problem& P) const {
+  return "contact[" + std::to_string(index) + "] (" + P.bodies[pair_.slave.body].name + "." + pair_.slave.label + " on " +
+         P.bodies[pair_.master.body].name + "." + pair_.master.label + ")";
+}
+
 std::string ContactPairData::unresolved_zone(int index, const Problem& P) const {
   const bool solid = s3_ != nullptr;
   // (2-D: a zone of two slave elements gave max_pressure -43 % of Hertz with kts_alm, one of
@@ -142,8 +147,7 @@ std::string ContactPairData::unresolved_zone(int index, const Problem& P) const 
   const int need_elements = solid ? 4 : 3;
   std::ostringstream os;
   os.precision(2);
-  os << "contact[" << index << "] (" << P.bodies[pair_.slave.body].name << "." << pair_.slave.label << " on "
-     << P.bodies[pair_.master.body].name << "." << pair_.master.label << "): the contact zone covers about ";
+  os << pair_text(index, P) << ": the contact zone covers about ";
   const char* advice = ": max_pressure and the pressure's shape are not resolved there (the forces are); refine "
                        "both bodies where they touch";
   // the master elements under the points with pressure (a coarse master under a fine slave:
