@@ -170,7 +170,11 @@ void describe(const iga::Problem& P, int ranks, std::ostream& os) {
   if (Kokkos::is_initialized()) os << " x " << iga::ExecSpace::concurrency() << " " << iga::ExecSpace::name() << " thread(s)";
   else os << " (" << iga::ExecSpace::name() << ")";
   os << "; linear solver " << iga::linear_method_name(P.linear.method);
-  if (P.linear.method == iga::LinearMethod::Direct) os << " (MUMPS " << (P.linear.symmetric ? "LDLT" : "LU") << ")";
+  if (P.linear.method == iga::LinearMethod::Direct) {
+    os << " (MUMPS " << (P.linear.symmetric ? "LDLT" : "LU");
+    if (P.condensed_contact()) os << ", condensed onto the contact sides: at most " << P.contact_side_dofs() << " dofs";
+    os << ")";
+  }
   else os << " + " << iga::preconditioner_name(P.linear.preconditioner)
           << (iga::eisenstat_walker_forcing(P) ? ", Eisenstat-Walker forcing" : "");
   if (P.linear.automatic)

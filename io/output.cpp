@@ -43,6 +43,14 @@ nlohmann::json linear_solver_json(const Problem& P, const DirectSolverStats& ds,
     j["factor_entries"] = ds.factor_entries;
     j["factor_memory_bytes"] = ds.factor_bytes;
     j["factor_memory_bytes_per_dof"] = dofs > 0 ? ds.factor_bytes / static_cast<double>(dofs) : 0.0;
+    // solves condensed onto the contact sides (small strain): the set's size, the solves by
+    // the updated Schur complement, the most dofs an update touched, the columns of S^-1 made
+    nlohmann::json c;
+    c["dofs"] = ds.condensed_size;
+    c["solves"] = ds.condensed_solves;
+    c["update_rank_max"] = ds.condensed_rank;
+    c["inverse_columns"] = ds.condensed_columns;
+    j["condensed"] = c;
   } else {
     j["preconditioner"] = preconditioner_name(opt.preconditioner);
   }

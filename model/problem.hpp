@@ -144,6 +144,11 @@ struct LinearOptions {
   /// control_net with contact pairs: the iterations a fresh preconditioner gets before the
   /// solve is taken up with BoomerAMG of the tangent (solver/linear_solver.cpp; API only)
   int control_net_contact_limit = 200;
+  /// solver.linear.condense: direct at small strain with contact pairs: each solve condensed
+  /// onto the contact sides' dofs (DirectSolver's "Condensed solves"; 0 off, 1 auto)
+  int condense = 1;
+  /// the most dofs auto condenses onto (the Schur complement is dense on rank 0: m^2 doubles)
+  static constexpr long long kCondenseMaxDofs = 4000;
 };
 
 struct Probe {
@@ -206,6 +211,12 @@ struct Problem {
   bool has_friction() const;
   /// the size up to which solver.linear.method: auto takes the direct solver
   long long auto_direct_max_dofs() const;
+  /// dofs of the contact pairs' sides' control points (an upper bound: shared points counted
+  /// per side): the set a direct solve at small strain condenses onto
+  long long contact_side_dofs() const;
+  /// a direct solve condenses onto the contact sides (small strain, contact pairs, the set
+  /// within LinearOptions::kCondenseMaxDofs, solver.linear.condense not false)
+  bool condensed_contact() const;
 };
 
 /// Limits on what a problem file may ask for (docs/problem-file.md).
@@ -215,6 +226,12 @@ constexpr double kMaxDofs = 1e9;                      // besides the machine's m
 /// Krylov solves keep the fixed tolerance there, no inexact Newton, and MUMPS was still 2x
 /// faster at 55,272 dofs); without, Problem::auto_direct_max_dofs' table per degree.
 constexpr long long kAutoDirectMaxDofsFriction = 200000;
+/// solver.linear.method: auto takes the direct solver up to this many dofs (2-D, 3-D at p <= 2)
+/// where its solves are condensed onto the contact sides (Problem::condensed_contact): the
+/// 77,380-dof wheel 1.5x and a 171,356-dof one 1.9x faster than GMRES + BoomerAMG, the
+/// 34,992-dof Hertz ball 1.3x faster than GMRES + control_net (docs/performance.md, "Solves
+/// condensed onto the contact sides")
+constexpr long long kAutoDirectMaxDofsCondensed[2] = {200000, 40000};
 constexpr size_t kMaxInsertedKnots = 1000;            // per direction; subdivide refines uniformly
 constexpr int kMaxLoadSteps = 10000;
 constexpr int kMaxContactQuadrature = 12;             // contact quadrature points per slave span

@@ -437,4 +437,12 @@ void ContactPairData::reset_multipliers() {
   }
 }
 
+std::vector<GO> ContactPairData::side_dofs() const {
+  const RCP<const Map>& m = s3_ ? s3_->surface_dofs() : replicated_;
+  const auto list = m->getNodeElementList();
+  std::vector<GO> dofs(list.begin(), list.end());
+  std::sort(dofs.begin(), dofs.end());
+  return dofs;
+}
+
 }  // namespace iga

@@ -62,6 +62,9 @@ class ContactPairData {
   /// The slave surface as one curve: its parameter is the xi of the slave points.
   const SurfaceChain& slave_chain() const { return slave_chain_; }
   int num_points() const { return s3_ ? s3_->num_points() : static_cast<int>(sp_.xi.extent(0)); }
+  /// The global dofs of both sides' control points (sorted, the same on every rank): the rows
+  /// and columns where the pair's K_c has entries.
+  std::vector<GO> side_dofs() const;
   /// Current displacements of the two curves from the owned solution, then search + projection.
   void update(const Vector& u);
   /// ALM (mortar_alm and kts_alm, both on the mortar path): the multipliers' update (lbar <-

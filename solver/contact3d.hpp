@@ -95,6 +95,8 @@ class ContactSurfaces3 {
   void restore();
   void augment();
   void reset_multipliers();
+  /// the dofs of both surfaces' control points (replicated on every rank)
+  const RCP<const Map>& surface_dofs() const { return replicated_; }
 
  private:
   void allocate_points(int n);

@@ -3,7 +3,9 @@
 #include <dmumps_c.h>
 #include <mpi.h>
 
+#include <Teuchos_BLAS.hpp>
 #include <Teuchos_DefaultMpiComm.hpp>
+#include <Teuchos_LAPACK.hpp>
 #include <Teuchos_TimeMonitor.hpp>
 
 #include <algorithm>
@@ -17,6 +19,9 @@
 #include "solver/linear_solver.hpp"
 
 namespace iga {
+
+// below this estimate of 1 / cond_1(S) the Schur complement counts as singular
+constexpr double kSchurMinRcond = 1e-13;
 
 static_assert(std::is_same<MUMPS_INT, int>::value, "igacontact expects MUMPS with 32-bit indices (Debian's)");
 
@@ -57,6 +62,26 @@ struct DirectSolver::Impl {
   std::vector<double> a;
   std::vector<int> counts, displs;   // rows per rank and their first global index (rank 0 only)
   std::vector<double> rhs;           // the gathered right-hand side / solution (rank 0)
+  // condensed solves (the header's "Condensed solves")
+  std::vector<GO> cset;              // the set, sorted global indices (every rank)
+  std::vector<int> cpos;             // global index -> position in cset, or -1 (every rank)
+  std::vector<MUMPS_INT> listvar;    // cset 1-based (rank 0)
+  bool schur_ok = false;             // the last factorisation has a factorised Schur complement
+  bool own_order = false;            // the ordering of the whole matrix with the set last, not AMD's
+  std::vector<double> S;             // rank 0: S (m x m, by columns), then its LU factors
+  std::vector<int> ipiv;
+  std::vector<long long> k0;         // rank 0: the factorised matrix's C x C block: i + m j of
+  std::vector<double> v0;            // each entry (the upper triangle if symmetric), its value
+  std::vector<int> slot;             // rank 0: position in C -> column of G, or -1
+  std::vector<double> G;             // rank 0: the columns of S^-1 computed so far (m each)
+  std::vector<double> redrhs;        // rank 0: the reduced right-hand side / the set's solution
+  std::vector<MUMPS_INT> oi, oj;     // this rank's entries outside the C x C block at the
+  std::vector<double> oa;            // factorisation, in for_each_entry's order
+  double rcond = 0;                  // rank 0: LAPACK's estimate of 1 / cond_1(S)
+  int m() const { return static_cast<int>(cset.size()); }
+  bool in_set(MUMPS_INT one_based) const { return cpos[one_based - 1] >= 0; }
+  void gather_rhs(const Vector& b);
+  void scatter_solution(Vector& x);
 
   void call(int job) {
     id.job = job;
@@ -76,6 +101,20 @@ DirectSolver::DirectSolver(const RCP<const Comm>& comm) : d_(new Impl) {
 DirectSolver::~DirectSolver() = default;
 
 bool DirectSolver::factorised() const { return d_->factorised; }
+
+void DirectSolver::set_condensed(const std::vector<GO>& dofs, bool own_order) {
+  Impl& d = *d_;
+  if (dofs == d.cset && own_order == d.own_order) return;
+  d.cset = dofs;
+  d.own_order = own_order;
+  d.cpos.clear();
+  d.listvar.clear();
+  d.schur_ok = false;
+  d.analysed = d.factorised = false;   // MUMPS takes the Schur variables at the analysis
+  stats_.condensed_size = static_cast<int>(dofs.size());
+}
+
+const std::vector<GO>& DirectSolver::condensed() const { return d_->cset; }
 
 namespace {
 
@@ -97,6 +136,25 @@ bool for_each_entry(const Matrix& A, bool symmetric, const F& f) {
     }
   }
   return true;
+}
+
+// f(row, column, value) for this rank's entries in the rows whose position in the condensed
+// set cpos is not -1 (global 1-based indices; the upper triangle if upper, else every entry)
+template <class F>
+void for_each_entry_in_set_rows(const Matrix& A, const std::vector<int>& cpos, bool upper, const F& f) {
+  auto lcl = A.getLocalMatrixHost();
+  auto colmap = A.getColMap()->getLocalMap();
+  auto lrow = A.getRowMap()->getLocalMap();
+  for (LO r = 0; r < static_cast<LO>(lcl.numRows()); ++r) {
+    const GO gr = lrow.getGlobalElement(r);
+    if (cpos[static_cast<size_t>(gr)] < 0) continue;
+    auto row = lcl.row(r);
+    for (int k = 0; k < row.length; ++k) {
+      const GO gc = colmap.getGlobalElement(row.colidx(k));
+      if (upper && gc < gr) continue;
+      f(static_cast<MUMPS_INT>(gr + 1), static_cast<MUMPS_INT>(gc + 1), row.value(k));
+    }
+  }
 }
 
 }  // namespace
@@ -211,8 +269,23 @@ LinearSolveResult DirectSolver::factorise(const Matrix& A, bool symmetric) {
     return os.str();
   };
 
+  const bool condense = !d.cset.empty();
+  if (condense && d.cpos.size() != static_cast<size_t>(nglobal)) {
+    d.cpos.assign(static_cast<size_t>(nglobal), -1);
+    d.listvar.clear();
+    for (size_t k = 0; k < d.cset.size(); ++k) {
+      d.cpos[static_cast<size_t>(d.cset[k])] = static_cast<int>(k);
+      d.listvar.push_back(static_cast<MUMPS_INT>(d.cset[k] + 1));
+    }
+  }
   if (analyse) {
     Teuchos::TimeMonitor t(*timer("4a) Direct: entries and analysis"));
+    ICNTL(d.id, 19) = 0;
+    ICNTL(d.id, 7) = 7;
+    d.id.size_schur = 0;
+    d.id.listvar_schur = nullptr;
+    d.id.perm_in = nullptr;
+    d.schur_ok = false;
     d.irn = std::move(irn);
     d.jcn = std::move(jcn);
     d.n = static_cast<MUMPS_INT>(nglobal);
@@ -220,7 +293,40 @@ LinearSolveResult DirectSolver::factorise(const Matrix& A, bool symmetric) {
     d.id.nnz_loc = static_cast<MUMPS_INT8>(d.irn.size());
     d.id.irn_loc = d.irn.data();
     d.id.jcn_loc = d.jcn.data();
+    // the Schur complement of the set (whole, ICNTL(19) = 3) on a 1 x 1 process grid (rank 0),
+    // by columns, leading dimension m; MUMPS orders such an analysis by AMD
+    auto ask_schur = [&] {
+      ICNTL(d.id, 19) = 3;
+      d.id.size_schur = d.m();
+      d.id.listvar_schur = d.listvar.data();
+      d.id.nprow = d.id.npcol = 1;
+      d.id.mblock = d.id.nblock = std::max(1, d.m());
+    };
+    if (condense && !d.own_order) ask_schur();
     d.call(1);
+    if (condense && d.own_order && INFOG(d.id, 1) >= 0) {
+      // AMD, which MUMPS takes for a Schur analysis, fills far more in 3-D (the Hertz ball:
+      // 71e6 entries in the factors, against 57e6 so): MUMPS' own choice for the whole matrix
+      // (METIS, SCOTCH or PORD) with the set moved last is given instead (ICNTL(7) = 1)
+      std::vector<MUMPS_INT> perm;
+      if (d.rank == 0) {
+        std::vector<std::pair<MUMPS_INT, MUMPS_INT>> order;   // (position, variable) outside the set
+        order.reserve(static_cast<size_t>(d.n));
+        for (MUMPS_INT v = 0; v < d.n; ++v)
+          if (d.cpos[static_cast<size_t>(v)] < 0) order.emplace_back(d.id.sym_perm[v], v);
+        std::sort(order.begin(), order.end());
+        perm.assign(static_cast<size_t>(d.n), 0);
+        MUMPS_INT next = 1;
+        for (const auto& o : order) perm[static_cast<size_t>(o.second)] = next++;
+        for (GO g : d.cset) perm[static_cast<size_t>(g)] = next++;
+      }
+      stats_.ordering = ordering_name(INFOG(d.id, 7));
+      ICNTL(d.id, 7) = 1;
+      d.id.perm_in = d.rank == 0 ? perm.data() : nullptr;
+      ask_schur();
+      d.call(1);
+      d.id.perm_in = nullptr;
+    }
     if (INFOG(d.id, 1) < 0) {
       d.analysed = false;
       res.message = mumps_message("analysis");
@@ -229,7 +335,7 @@ LinearSolveResult DirectSolver::factorise(const Matrix& A, bool symmetric) {
     d.analysed = true;
     d.factorised = false;
     ++stats_.analyses;
-    stats_.ordering = ordering_name(INFOG(d.id, 7));
+    if (!condense || !d.own_order) stats_.ordering = ordering_name(INFOG(d.id, 7));
   }
   if (factorise) {
     Teuchos::TimeMonitor t(*timer("4b) Direct: factorisation"));
@@ -237,6 +343,12 @@ LinearSolveResult DirectSolver::factorise(const Matrix& A, bool symmetric) {
     d.a = std::move(a);
     d.id.a_loc = d.a.data();
     d.factorised = false;
+    d.schur_ok = false;
+    if (condense) {
+      if (d.rank == 0) d.S.assign(static_cast<size_t>(d.m()) * d.m(), 0.0);
+      d.id.schur = d.rank == 0 ? d.S.data() : nullptr;
+      d.id.schur_lld = d.m();
+    }
     for (int attempt = 0;; ++attempt) {
       d.call(2);
       const int e = INFOG(d.id, 1);
@@ -268,44 +380,91 @@ LinearSolveResult DirectSolver::factorise(const Matrix& A, bool symmetric) {
     stats_.factor_bytes = 1e6 * INFOG(d.id, 22);   // MB, all ranks, during the factorisation
     stats_.factor_entries = INFOG(d.id, 29) >= 0 ? INFOG(d.id, 29) : -1000000LL * INFOG(d.id, 29);
     stats_.factor_flops = d.id.rinfog[2];   // RINFOG(3): the same number on every rank
+    if (condense) {
+      Teuchos::TimeMonitor t2(*timer("4c) Direct: Schur complement"));
+      // the set's rows' entries in the other columns (A_CI), which a later matrix must repeat:
+      // K_c has its entries in the set's rows and columns only, and the other rows are the
+      // elastic stiffness's, constant at small strain (the caller's condition for a set)
+      d.oi.clear(); d.oj.clear(); d.oa.clear();
+      for_each_entry_in_set_rows(A, d.cpos, false, [&](MUMPS_INT i, MUMPS_INT j, double v) {
+        if (d.in_set(j)) return;
+        d.oi.push_back(i);
+        d.oj.push_back(j);
+        d.oa.push_back(v);
+      });
+      gather_block(A, symmetric, d.k0, d.v0);
+      int info = 0;
+      if (d.rank == 0) {
+        if (d.id.schur_mloc != d.m() || d.id.schur_nloc != d.m()) throw std::logic_error("DirectSolver: MUMPS' Schur complement is not whole on rank 0");
+        d.ipiv.assign(static_cast<size_t>(d.m()), 0);
+        Teuchos::LAPACK<int, double> lapack;
+        std::vector<double> work(4 * static_cast<size_t>(d.m()));
+        std::vector<int> iwork(static_cast<size_t>(d.m()));
+        double norm = 0;   // the 1-norm: the largest column sum of |S|
+        for (size_t j = 0; j < static_cast<size_t>(d.m()); ++j) {
+          double col = 0;
+          for (size_t i = 0; i < static_cast<size_t>(d.m()); ++i) col += std::abs(d.S[i + j * static_cast<size_t>(d.m())]);
+          norm = std::max(norm, col);
+        }
+        lapack.GETRF(d.m(), d.m(), d.S.data(), d.m(), d.ipiv.data(), &info);
+        // a Schur complement singular to round-off (a body held by contact alone: its rigid
+        // motions live in the set) is no use: the ordinary path then says the matrix is singular
+        if (info == 0) {
+          double rcond = 0;
+          lapack.GECON('1', d.m(), d.S.data(), d.m(), norm, &rcond, work.data(), iwork.data(), &info);
+          d.rcond = rcond;
+          if (info == 0 && !(rcond > kSchurMinRcond)) info = 1;
+        }
+        d.slot.assign(static_cast<size_t>(d.m()), -1);
+        d.G.clear();
+      }
+      MPI_Bcast(&info, 1, MPI_INT, 0, d.comm);
+      d.schur_ok = info == 0;
+      stats_.condensed_columns = 0;
+    }
   }
 
   res.converged = true;
   return res;
 }
 
+// b gathered on rank 0 into MUMPS' right-hand side (the row map's contiguous blocks)
+void DirectSolver::Impl::gather_rhs(const Vector& b) {
+  Impl& d = *this;
+  const auto rowmap = b.getMap();
+  const int nloc = static_cast<int>(rowmap->getNodeNumElements());
+  const int first = nloc > 0 ? static_cast<int>(rowmap->getGlobalElement(0)) : 0;
+  if (d.rank == 0) {
+    d.counts.assign(d.size, 0);
+    d.displs.assign(d.size, 0);
+    d.rhs.assign(d.n, 0.0);
+  }
+  MPI_Gather(&nloc, 1, MPI_INT, d.counts.data(), 1, MPI_INT, 0, d.comm);
+  MPI_Gather(&first, 1, MPI_INT, d.displs.data(), 1, MPI_INT, 0, d.comm);
+  auto bv = b.getLocalViewHost(Tpetra::Access::ReadOnly);
+  MPI_Gatherv(bv.data(), nloc, MPI_DOUBLE, d.rhs.data(), d.counts.data(), d.displs.data(), MPI_DOUBLE, 0, d.comm);
+  d.id.rhs = d.rank == 0 ? d.rhs.data() : nullptr;
+  d.id.nrhs = 1;
+  d.id.lrhs = d.n;
+}
+
+// MUMPS' solution on rank 0 scattered back onto x's map
+void DirectSolver::Impl::scatter_solution(Vector& x) {
+  Impl& d = *this;
+  const int nloc = static_cast<int>(x.getMap()->getNodeNumElements());
+  auto xv = x.getLocalViewHost(Tpetra::Access::OverwriteAll);
+  MPI_Scatterv(d.rhs.data(), d.counts.data(), d.displs.data(), MPI_DOUBLE, xv.data(), nloc, MPI_DOUBLE, 0, d.comm);
+}
+
 bool DirectSolver::apply(const Vector& b, Vector& x) {
   Impl& d = *d_;
-  const auto rowmap = b.getMap();
-  // b gathered on rank 0, the solution scattered back
-  {
-    const int nloc = static_cast<int>(rowmap->getNodeNumElements());
-    const int first = nloc > 0 ? static_cast<int>(rowmap->getGlobalElement(0)) : 0;
-    if (d.rank == 0) {
-      d.counts.assign(d.size, 0);
-      d.displs.assign(d.size, 0);
-      d.rhs.assign(d.n, 0.0);
-    }
-    MPI_Gather(&nloc, 1, MPI_INT, d.counts.data(), 1, MPI_INT, 0, d.comm);
-    MPI_Gather(&first, 1, MPI_INT, d.displs.data(), 1, MPI_INT, 0, d.comm);
-    {
-      auto bv = b.getLocalViewHost(Tpetra::Access::ReadOnly);
-      MPI_Gatherv(bv.data(), nloc, MPI_DOUBLE, d.rhs.data(), d.counts.data(), d.displs.data(), MPI_DOUBLE, 0,
-                  d.comm);
-    }
-    d.id.rhs = d.rank == 0 ? d.rhs.data() : nullptr;
-    d.id.nrhs = 1;
-    d.id.lrhs = d.n;
-    d.call(3);
-    // every rank learns the outcome (INFOG is global)
-    if (INFOG(d.id, 1) < 0) return false;
-    {
-      auto xv = x.getLocalViewHost(Tpetra::Access::OverwriteAll);
-      MPI_Scatterv(d.rhs.data(), d.counts.data(), d.displs.data(), MPI_DOUBLE, xv.data(), nloc, MPI_DOUBLE, 0,
-                   d.comm);
-    }
-    ++stats_.solves;
-  }
+  if (!d.cset.empty()) return false;   // the factors are A_II's only: solve_condensed
+  d.gather_rhs(b);
+  d.call(3);
+  // every rank learns the outcome (INFOG is global)
+  if (INFOG(d.id, 1) < 0) return false;
+  d.scatter_solution(x);
+  ++stats_.solves;
   return true;
 }
 
@@ -324,8 +483,13 @@ LinearSolveResult DirectSolver::solve(const Matrix& A, Vector& x, const Vector& 
     }
   }
 
-  // the true relative residual decides (a nearly singular matrix gives a solution that
-  // does not solve the system)
+  return check_residual(A, x, b, res);
+}
+
+// the true relative residual decides (a nearly singular matrix gives a solution that does not
+// solve the system)
+LinearSolveResult DirectSolver::check_residual(const Matrix& A, const Vector& x, const Vector& b,
+                                               LinearSolveResult res) const {
   Vector r(b.getMap());
   A.apply(x, r);
   r.update(1.0, b, -1.0);
@@ -346,6 +510,192 @@ LinearSolveResult DirectSolver::solve(const Matrix& A, Vector& x, const Vector& 
   }
   res.converged = true;
   return res;
+}
+
+// A's entries in the condensed set's rows and columns (the upper triangle if symmetric) on
+// rank 0: key i + m j of positions in the set, and value, in the ranks' row order (collective)
+void DirectSolver::gather_block(const Matrix& A, bool symmetric, std::vector<long long>& keys,
+                                std::vector<double>& values) const {
+  const Impl& d = *d_;
+  const long long m = d.m();
+  std::vector<double> mine;   // (key, value) pairs; keys below 2^53 (m <= kCondenseMaxDofs)
+  for_each_entry_in_set_rows(A, d.cpos, symmetric, [&](MUMPS_INT i, MUMPS_INT j, double v) {
+    const int pj = d.cpos[j - 1];
+    if (pj >= 0) {
+      mine.push_back(static_cast<double>(d.cpos[i - 1] + m * pj));
+      mine.push_back(v);
+    }
+  });
+  const int count = static_cast<int>(mine.size());
+  std::vector<int> counts(d.rank == 0 ? d.size : 0), displs(d.rank == 0 ? d.size : 0);
+  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, d.comm);
+  std::vector<double> all;
+  if (d.rank == 0) {
+    int total = 0;
+    for (int r = 0; r < d.size; ++r) {
+      displs[r] = total;
+      total += counts[r];
+    }
+    all.resize(static_cast<size_t>(total));
+  }
+  MPI_Gatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, 0, d.comm);
+  if (d.rank != 0) return;
+  keys.resize(all.size() / 2);
+  values.resize(all.size() / 2);
+  for (size_t k = 0; k < keys.size(); ++k) {
+    keys[k] = static_cast<long long>(all[2 * k]);
+    values[k] = all[2 * k + 1];
+  }
+}
+
+bool DirectSolver::condensed_ready(const Matrix& A, bool symmetric) const {
+  const Impl& d = *d_;
+  Teuchos::TimeMonitor t(*Teuchos::TimeMonitor::getNewTimer("4d) Direct: unchanged outside the contact sides"));
+  int local = !d.schur_ok || !d.factorised || symmetric != d.symmetric || d.cset.empty() ? 1 : 0;
+  if (!local) {
+    size_t k = 0;
+    const size_t n = d.oa.size();
+    bool same = true;
+    for_each_entry_in_set_rows(A, d.cpos, false, [&](MUMPS_INT i, MUMPS_INT j, double v) {
+      if (!same || d.in_set(j)) return;
+      if (k == n || d.oi[k] != i || d.oj[k] != j || d.oa[k] != v) same = false;
+      ++k;
+    });
+    local = same && k == n ? 0 : 1;
+  }
+  int any = 0;
+  MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, d.comm);
+  return any == 0;
+}
+
+LinearSolveResult DirectSolver::solve_condensed(const Matrix& A, Vector& x, const Vector& b, bool symmetric) {
+  Impl& d = *d_;
+  LinearSolveResult res;
+  res.iterations = 1;
+  std::vector<long long> keys;
+  std::vector<double> values;
+  Teuchos::TimeMonitor t(*Teuchos::TimeMonitor::getNewTimer("5) Linear solve"));
+  {
+    Teuchos::TimeMonitor tq(*Teuchos::TimeMonitor::getNewTimer("5.2) Linear solve: condensed, Schur update"));
+    gather_block(A, symmetric, keys, values);
+  }
+  const int m = d.m();
+  auto failed = [&](const std::string& what) {
+    res.message = "the direct solver (MUMPS, condensed onto the contact sides) failed in the " + what;
+    return res;
+  };
+  // reduction: the Schur system's right-hand side y = b_C - A_CI A_II^-1 b_I
+  d.gather_rhs(b);
+  if (d.rank == 0) d.redrhs.assign(static_cast<size_t>(m), 0.0);
+  d.id.redrhs = d.rank == 0 ? d.redrhs.data() : nullptr;
+  d.id.lredrhs = m;
+  ICNTL(d.id, 26) = 1;
+  { Teuchos::TimeMonitor tq(*Teuchos::TimeMonitor::getNewTimer("5.1) Linear solve: condensed, reduction")); d.call(3); }
+  ICNTL(d.id, 26) = 0;
+  if (INFOG(d.id, 1) < 0) return failed("reduction: INFOG(1) = " + std::to_string(INFOG(d.id, 1)));
+  int info = 0, rank_d = 0, fresh_columns = 0;
+  auto tq = Teuchos::rcp(new Teuchos::TimeMonitor(*Teuchos::TimeMonitor::getNewTimer("5.2) Linear solve: condensed, Schur update")));
+  if (d.rank == 0) {
+    Teuchos::LAPACK<int, double> lapack;
+    Teuchos::BLAS<int, double> blas;
+    const size_t M = static_cast<size_t>(m);
+    // the update D = A_CC - A0_CC, entry by entry (the same pattern as at the factorisation
+    // unless the tangent's graph was rebuilt since: then matched by key)
+    std::vector<std::pair<long long, double>> D;
+    if (keys == d.k0) {
+      for (size_t k = 0; k < keys.size(); ++k)
+        if (values[k] != d.v0[k]) D.emplace_back(keys[k], values[k] - d.v0[k]);
+    } else {
+      std::vector<std::pair<long long, double>> now, then;
+      for (size_t k = 0; k < keys.size(); ++k) now.emplace_back(keys[k], values[k]);
+      for (size_t k = 0; k < d.k0.size(); ++k) then.emplace_back(d.k0[k], -d.v0[k]);
+      now.insert(now.end(), then.begin(), then.end());
+      std::sort(now.begin(), now.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+      for (size_t k = 0; k < now.size();) {
+        double sum = 0;
+        size_t e = k;
+        for (; e < now.size() && now[e].first == now[k].first; ++e) sum += now[e].second;
+        if (sum != 0) D.emplace_back(now[k].first, sum);
+        k = e;
+      }
+    }
+    // the dofs whose rows or columns D touches, and their place among them
+    std::vector<int> place(M, -1), act;
+    for (const auto& e : D)
+      for (long long p : {e.first % m, e.first / m})
+        if (place[static_cast<size_t>(p)] < 0) {
+          place[static_cast<size_t>(p)] = 0;
+          act.push_back(static_cast<int>(p));
+        }
+    std::sort(act.begin(), act.end());
+    for (size_t k = 0; k < act.size(); ++k) place[static_cast<size_t>(act[k])] = static_cast<int>(k);
+    const int a = static_cast<int>(act.size());
+    rank_d = a;
+    // z = S^-1 y
+    lapack.GETRS('N', m, 1, d.S.data(), m, d.ipiv.data(), d.redrhs.data(), m, &info);
+    if (info == 0 && a > 0) {
+      // the columns of S^-1 of the touched dofs not computed yet
+      std::vector<int> fresh;
+      for (int p : act)
+        if (d.slot[static_cast<size_t>(p)] < 0) fresh.push_back(p);
+      if (!fresh.empty()) {
+        const size_t old = d.G.size();
+        const int first = static_cast<int>(old / M);
+        d.G.resize(old + fresh.size() * M, 0.0);
+        for (size_t k = 0; k < fresh.size(); ++k) {
+          d.G[old + k * M + static_cast<size_t>(fresh[k])] = 1.0;
+          d.slot[static_cast<size_t>(fresh[k])] = first + static_cast<int>(k);
+        }
+        lapack.GETRS('N', m, static_cast<int>(fresh.size()), d.S.data(), m, d.ipiv.data(), d.G.data() + old, m, &info);
+        fresh_columns = static_cast<int>(fresh.size());
+      }
+      if (info == 0) {
+        // W = I + D_AA G_AA, w = D_AA z_A; solve W w' = w; x_C = z - G_A w'
+        const size_t A_ = static_cast<size_t>(a);
+        std::vector<double> Daa(A_ * A_, 0.0), Gaa(A_ * A_), W(A_ * A_, 0.0), w(A_, 0.0);
+        for (const auto& e : D) {
+          const size_t r = static_cast<size_t>(place[static_cast<size_t>(e.first % m)]);
+          const size_t c = static_cast<size_t>(place[static_cast<size_t>(e.first / m)]);
+          Daa[r + c * A_] = e.second;
+          if (symmetric) Daa[c + r * A_] = e.second;   // (the upper triangle was gathered)
+        }
+        for (size_t c = 0; c < A_; ++c) {
+          const double* gcol = d.G.data() + static_cast<size_t>(d.slot[static_cast<size_t>(act[c])]) * M;
+          for (size_t r = 0; r < A_; ++r) Gaa[r + c * A_] = gcol[static_cast<size_t>(act[r])];
+          W[c + c * A_] = 1.0;
+        }
+        blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, a, a, a, 1.0, Daa.data(), a, Gaa.data(), a, 1.0, W.data(), a);
+        std::vector<double> zA(A_);
+        for (size_t r = 0; r < A_; ++r) zA[r] = d.redrhs[static_cast<size_t>(act[r])];
+        blas.GEMV(Teuchos::NO_TRANS, a, a, 1.0, Daa.data(), a, zA.data(), 1, 0.0, w.data(), 1);
+        std::vector<int> piv(A_);
+        lapack.GESV(a, 1, W.data(), a, piv.data(), w.data(), a, &info);
+        if (info == 0)
+          for (size_t c = 0; c < A_; ++c)
+            blas.AXPY(m, -w[c], d.G.data() + static_cast<size_t>(d.slot[static_cast<size_t>(act[c])]) * M, 1,
+                      d.redrhs.data(), 1);
+      }
+    }
+  }
+  tq = Teuchos::null;
+  {
+    int out[3] = {info, rank_d, fresh_columns};   // every rank learns the outcome and the counts
+    MPI_Bcast(out, 3, MPI_INT, 0, d.comm);
+    info = out[0], rank_d = out[1], fresh_columns = out[2];
+  }
+  if (info != 0) return failed("update of the Schur complement: LAPACK info = " + std::to_string(info));
+  stats_.condensed_rank = std::max(stats_.condensed_rank, rank_d);
+  stats_.condensed_columns += fresh_columns;
+  // expansion: x_I = A_II^-1 (b_I - A_IC x_C), the whole solution on rank 0
+  ICNTL(d.id, 26) = 2;
+  { Teuchos::TimeMonitor tq(*Teuchos::TimeMonitor::getNewTimer("5.3) Linear solve: condensed, expansion")); d.call(3); }
+  ICNTL(d.id, 26) = 0;
+  if (INFOG(d.id, 1) < 0) return failed("expansion: INFOG(1) = " + std::to_string(INFOG(d.id, 1)));
+  d.scatter_solution(x);
+  ++stats_.solves;
+  ++stats_.condensed_solves;
+  Teuchos::TimeMonitor tq4(*Teuchos::TimeMonitor::getNewTimer("5.4) Linear solve: condensed, true residual"));
+  return check_residual(A, x, b, res);
 }
 
 }  // namespace iga

@@ -205,6 +205,23 @@ LinearSolveResult direct_solve(const LinearOptions& opt, const RCP<Matrix>& A, c
                                const RCP<Vector>& b, PreconditionerCache& cache) {
   if (!cache.direct) cache.direct = std::make_shared<DirectSolver>(A->getComm());
   DirectSolver& ds = *cache.direct;
+  if (!cache.condensed.empty()) {
+    // condensed onto the contact sides: factorised when A changed outside their block, and
+    // every solve by the updated Schur complement
+    ds.set_condensed(cache.condensed, cache.condensed_own_order);
+    if (!ds.condensed_ready(*A, opt.symmetric)) {
+      LinearSolveResult f = ds.factorise(*A, opt.symmetric);
+      if (!f.converged && !f.singular) return f;
+    }
+    if (ds.condensed_ready(*A, opt.symmetric)) {
+      LinearSolveResult res = ds.solve_condensed(*A, *x, *b, opt.symmetric);
+      if (res.converged) return res;
+    }
+    // no usable Schur complement (a body held by contact alone leaves S singular), or an
+    // inaccurate update: the ordinary factorisation from here on
+    cache.condensed.clear();
+    ds.set_condensed({});
+  }
   int spent = 0;
   // the matrix of the factors (elasticity over load steps): solved directly, no GMRES
   if (ds.factorised() && ds.unchanged(*A, opt.symmetric)) return ds.solve(*A, *x, *b, opt.symmetric);

@@ -5,6 +5,7 @@
 // any number of ranks.
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "model/problem.hpp"
 #include "solver/direct_solver.hpp"
@@ -45,6 +46,12 @@ struct PreconditionerCache {
   /// LinearOptions::control_net_contact_limit iterations, so BoomerAMG of the tangent itself is built instead
   /// (until the caller resets it: the Newton core at each increment; clear() keeps it)
   bool tangent_amg = false;
+  /// direct: the dofs a condensed solve keeps (DirectSolver::set_condensed; set by the caller:
+  /// the contact sides' dofs at small strain), empty for none; cleared here for the rest of the
+  /// run when the condensed factorisation fails (a singular interior block or Schur complement:
+  /// a body held by contact alone), the ordinary factorisation then serving
+  std::vector<GO> condensed;
+  bool condensed_own_order = false;   // DirectSolver::set_condensed's own_order (3-D)
   void clear() { M = Teuchos::null; }
 };
 

@@ -167,6 +167,19 @@ NewtonCore::NewtonCore(const System& sys, const std::function<void(const Iterati
   f_ = rcp(new Vector(sys_.owned_map()));
   f_int_ = rcp(new Vector(sys_.owned_map()));
   constant_K_ = sys_.constant_tangent();
+  if (P_.linear.method == LinearMethod::Direct && P_.condensed_contact() && constant_K_) {
+    // small strain, linear materials: the tangent changes only where K_c lives, in the rows
+    // and columns of the contact sides' control points; each solve condensed onto them
+    std::vector<GO> dofs;
+    for (const auto& c : res_.contact) {
+      const auto d = c.side_dofs();
+      dofs.insert(dofs.end(), d.begin(), d.end());
+    }
+    std::sort(dofs.begin(), dofs.end());
+    dofs.erase(std::unique(dofs.begin(), dofs.end()), dofs.end());
+    if (static_cast<long long>(dofs.size()) <= LinearOptions::kCondenseMaxDofs) prec_.condensed = std::move(dofs);
+    prec_.condensed_own_order = P_.dim() == 3;
+  }
   eisenstat_walker_ = eisenstat_walker_forcing(P_);
   // (every ContactPairData starts committed: its state at u = 0, the friction references)
   t0_ = std::chrono::steady_clock::now();

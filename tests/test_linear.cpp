@@ -162,8 +162,9 @@ TEST(DirectSolver, ReusesAnalysisAndFactors) {
 // example keeps factors across Newton iterations and refactorises some of the time.
 TEST(DirectSolver, KeptFactorsRepeatExactly) {
   const std::string yaml = read(IGACONTACT_SOURCE_DIR "/examples/cattaneo_mindlin.yaml");
-  const Solved a = solve_text(yaml, Tpetra::getDefaultComm(), {}, {"solver.linear.method=direct"});
-  const Solved b = solve_text(yaml, Tpetra::getDefaultComm(), {}, {"solver.linear.method=direct"});
+  const std::vector<std::string> sets = {"solver.linear.method=direct", "solver.linear.condense=false"};
+  const Solved a = solve_text(yaml, Tpetra::getDefaultComm(), {}, sets);
+  const Solved b = solve_text(yaml, Tpetra::getDefaultComm(), {}, sets);
   ASSERT_TRUE(a.res.converged && b.res.converged);
   EXPECT_GT(a.res.direct.factorisations, 1);
   EXPECT_LT(a.res.direct.factorisations, a.res.direct.solves);   // factors were kept for some solves
@@ -174,6 +175,98 @@ TEST(DirectSolver, KeptFactorsRepeatExactly) {
   } else if (Tpetra::getDefaultComm()->getRank() == 0) {
     // several ranks: the same path, and MUMPS' parallel scheduling adds round-off only
     EXPECT_LT(relative_difference(a, b), 1e-12);
+  }
+}
+
+// Solves condensed onto the contact sides (small strain: the tangent changes only in their
+// rows and columns, solved by the Schur complement of one factorisation updated per Newton
+// iteration) give the ordinary factorisation's answer: the same Newton path and displacements
+// to round-off, for every contact method, with friction (L U) too; one analysis and one
+// factorisation for the whole run, every solve condensed.
+TEST(DirectSolver, CondensedSolvesMatchFactorisedOnes) {
+  std::vector<std::pair<std::string, std::vector<std::string>>> runs;
+  for (const char* m : {"kts_penalty", "mortar_penalty", "mortar_alm"}) {
+    RingAndBlock rb;
+    rb.method = m;
+    runs.push_back({rb.yaml(), {}});
+  }
+  runs.push_back({read(IGACONTACT_SOURCE_DIR "/examples/sliding_block.yaml"), {}});
+  runs.push_back({read(IGACONTACT_SOURCE_DIR "/examples/wheel.yaml"), {"contact.0.friction=0.3"}});
+  for (auto& [yaml, sets] : runs) {
+    sets.push_back("solver.linear.method=direct");
+    const Problem P = parse_problem(yaml, "test.yaml", sets);
+    ASSERT_TRUE(P.condensed_contact());
+    const Solved c = solve_problem(P);
+    std::vector<std::string> plain = sets;
+    plain.push_back("solver.linear.condense=false");
+    const Solved f = solve_problem(parse_problem(yaml, "test.yaml", plain));
+    ASSERT_TRUE(c.res.converged && f.res.converged) << c.res.message << f.res.message;
+    EXPECT_EQ(c.res.newton_iterations, f.res.newton_iterations) << sets[0];
+    EXPECT_EQ(c.res.direct.analyses, 1);
+    EXPECT_EQ(c.res.direct.factorisations, 1);
+    EXPECT_EQ(c.res.direct.condensed_solves, newton_total(c));
+    EXPECT_GT(c.res.direct.condensed_rank, 0);   // the contact tangent did change
+    EXPECT_EQ(f.res.direct.condensed_solves, 0);
+    if (Tpetra::getDefaultComm()->getRank() == 0) EXPECT_LT(relative_difference(c, f), 1e-9) << sets[0];
+  }
+}
+
+// The condensed solve on a matrix of its own: a 1-D Laplacian (L D L^T and L U) whose last
+// 12 rows and columns change after the factorisation (a dense update, non-symmetric for L U): the
+// solution equals a fresh factorisation's; a change in the set's coupling to the other dofs is
+// noticed (the other rows are the caller's to keep: the elastic stiffness at small strain).
+TEST(DirectSolver, CondensedSolveOfAChangedBlock) {
+  const auto comm = Tpetra::getDefaultComm();
+  const GO n = 300, m = 12;
+  const RCP<const Map> map = rcp(new Map(static_cast<Tpetra::global_size_t>(n), 0, comm));
+  auto make = [&](double block, double outside, bool symmetric) {
+    RCP<Matrix> A = rcp(new Matrix(map, 3 + m));
+    for (LO l = 0; l < static_cast<LO>(map->getNodeNumElements()); ++l) {
+      const GO i = map->getGlobalElement(l);
+      std::vector<GO> cols;
+      std::vector<double> vals;
+      cols.push_back(i);
+      vals.push_back(2.0);
+      // the coupling of the set's first dof with the dof before it: `outside` changes it
+      if (i > 0) { cols.push_back(i - 1); vals.push_back(-1.0 + (i == n - m ? outside : 0.0)); }
+      if (i + 1 < n) { cols.push_back(i + 1); vals.push_back(-1.0 + (i + 1 == n - m ? outside : 0.0)); }
+      if (i >= n - m)
+        for (GO j = n - m; j < n; ++j)
+          if (std::abs(j - i) > 1 || j == i) {
+            const double v = block * (symmetric ? std::sin(1.0 + 0.37 * static_cast<double>(i + j) + 0.11 * static_cast<double>(i * j))
+                                                : std::sin(1.0 + 0.37 * static_cast<double>(i) + 0.11 * static_cast<double>(j * j)));
+            if (j == i) vals[0] += std::abs(block) * 3;
+            else { cols.push_back(j); vals.push_back(v); }
+          }
+      A->insertGlobalValues(i, Teuchos::ArrayView<const GO>(cols), Teuchos::ArrayView<const double>(vals));
+    }
+    A->fillComplete();
+    return A;
+  };
+  std::vector<GO> set;
+  for (GO j = n - m; j < n; ++j) set.push_back(j);
+  Vector b(map);
+  b.randomize();
+  for (bool symmetric : {true, false}) {
+    DirectSolver ds(comm);
+    ds.set_condensed(set);
+    const RCP<Matrix> A0 = make(0.0, 0.0, symmetric);
+    ASSERT_TRUE(ds.factorise(*A0, symmetric).converged);
+    ASSERT_TRUE(ds.condensed_ready(*A0, symmetric));
+    // the changed block: symmetric for L D L^T (which reads the upper triangle), not for L U
+    const RCP<Matrix> A1 = make(0.3, 0.0, symmetric);
+    ASSERT_TRUE(ds.condensed_ready(*A1, symmetric));
+    Vector x(map), y(map);
+    const LinearSolveResult r = ds.solve_condensed(*A1, x, b, symmetric);
+    ASSERT_TRUE(r.converged) << r.message;
+    DirectSolver fresh(comm);
+    ASSERT_TRUE(fresh.solve(*A1, y, b, symmetric).converged);
+    y.update(-1.0, x, 1.0);
+    EXPECT_LT(y.normInf() / x.normInf(), 1e-12) << symmetric;
+    EXPECT_EQ(ds.stats().factorisations, 1);
+    EXPECT_EQ(ds.stats().condensed_rank, static_cast<int>(m));
+    // a change outside the block (the set's coupling to the other dofs, A_CI): not condensable
+    EXPECT_FALSE(ds.condensed_ready(*make(0.3, 0.5, symmetric), symmetric));
   }
 }
 
@@ -210,6 +303,17 @@ TEST(LinearMethod, AutoChoosesBySize) {
   Problem given = parse_problem(lame, "test.yaml", {"solver.linear.method=gmres"});
   EXPECT_FALSE(given.linear.automatic);
   EXPECT_EQ(given.linear.method, LinearMethod::GMRES);
+  // contact at small strain: direct, condensed onto the contact sides, up to 2e5 dofs in 2-D
+  // (the 77,380-dof wheel: 1,546 side dofs); without condensation, or at finite strain, GMRES
+  const std::string wheel = read(IGACONTACT_SOURCE_DIR "/examples/wheel_scaling.yaml");
+  Problem w = parse_problem(wheel, "test.yaml", {});
+  EXPECT_TRUE(w.condensed_contact());
+  EXPECT_EQ(w.contact_side_dofs(), 2 * (515 + 258));
+  EXPECT_EQ(w.linear.method, LinearMethod::Direct);
+  EXPECT_EQ(parse_problem(wheel, "test.yaml", {"solver.linear.condense=false"}).linear.method, LinearMethod::GMRES);
+  EXPECT_EQ(parse_problem(wheel, "test.yaml", {"analysis.kinematics=finite"}).linear.method, LinearMethod::GMRES);
+  EXPECT_EQ(parse_problem(wheel, "test.yaml", {"bodies.0.refine.subdivide=[512,256]"}).linear.method,
+            LinearMethod::GMRES);
 }
 
 // A linear problem (small strain, no contact) is solved once: auto forcing keeps the fixed
