@@ -373,6 +373,12 @@ std::string check_interface(const std::vector<Patch>& patches, const Interface& 
   return "";
 }
 
+bool declared_orientation_holds(const std::vector<Patch>& patches, const Interface& f, double tol) {
+  if (!is_3d_pair(patches, f.a, f.b)) return geometric_reversal(patches, f) == f.reversed;
+  const auto na = face_counts(patches[f.a.patch], f.a.side), nb = face_counts(patches[f.b.patch], f.b.side);
+  return counts_fit(f, na, nb) && face_gap(patches, f, tol) <= tol;
+}
+
 bool geometric_reversal(const std::vector<Patch>& patches, const Interface& f) {
   const auto ia = patches[f.a.patch].side_indices(f.a.side), ib = patches[f.b.patch].side_indices(f.b.side);
   return dist(patches[f.a.patch].cp[ia.front()], patches[f.b.patch].cp[ib.front()]) >

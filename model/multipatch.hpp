@@ -84,6 +84,9 @@ std::string check_interface(const std::vector<Patch>& patches, const Interface& 
 /// 2-D: whether the sides of interface f run opposite ways (their first control points apart);
 /// the geometry decides the merge whatever f.reversed says.
 bool geometric_reversal(const std::vector<Patch>& patches, const Interface& f);
+/// The orientation f declares is the geometry's: 2-D, the sides run as f.reversed says; 3-D,
+/// the faces' control points coincide within tol under f's face_map and face_flip.
+bool declared_orientation_holds(const std::vector<Patch>& patches, const Interface& f, double tol);
 /// Merges the control points of conforming interfaces: per patch, control point -> merged
 /// index (numbered in patch order, first appearance); n: how many there are. 3-D: faces, in
 /// the orientation (of those with matching counts) in which the control points lie closest,

@@ -268,13 +268,20 @@ Body read_body(const Reader& R, const YAML::Node& n, const std::string& path) {
       // 2-D: a declared direction the geometry contradicts (the geometry decides, so the
       // answer is right, but the file is inconsistent; found by a problem written from the
       // docs: a G+Smo orientation 0 and a GeoPDEs 1 on sides running the same way)
-      if (b.patches[f.a.patch].dim() == 2 && b.patches[f.b.patch].dim() == 2) {
-        const bool rev = geometric_reversal(b.patches, f);
-        if (rev != f.reversed)
-          R.warnings.push_back(R.file + ": " + path + ".geometry.file: body '" + b.name + "': the interface " +
-                               patch_side_name(f.a) + " / " + patch_side_name(f.b) + " is declared " +
-                               (f.reversed ? "reversed" : "in the same direction") + " but its sides run " +
+      if (!declared_orientation_holds(b.patches, f, b.tolerance)) {
+        const std::string where = R.file + ": " + path + ".geometry.file: body '" + b.name + "': the interface " +
+                                  patch_side_name(f.a) + " / " + patch_side_name(f.b) + " is declared ";
+        if (b.patches[f.a.patch].dim() == 2) {
+          const bool rev = geometric_reversal(b.patches, f);
+          R.warnings.push_back(where + (f.reversed ? "reversed" : "in the same direction") + " but its sides run " +
                                (rev ? "opposite ways" : "the same way") + "; the geometry is used (check the file)");
+        } else {
+          // 3-D: the faces coincide in another of the 8 orientations (check_interface found one)
+          R.warnings.push_back(where + "in an orientation in which its faces' control points do not coincide (face "
+                               "directions " + std::to_string(f.face_map[0]) + " " + std::to_string(f.face_map[1]) +
+                               ", flipped " + std::to_string(f.face_flip[0]) + " " + std::to_string(f.face_flip[1]) +
+                               " in face " + patch_side_name(f.b) + "'s terms); the geometry is used (check the file)");
+        }
       }
     }
     b.interfaces = declared;

@@ -49,5 +49,19 @@ err=$("$exe" check "$tmp/orient.yaml" 2>&1 >/dev/null); rc=$?
 [ "$rc" = 0 ] || { echo "FAIL orientation: exit $rc: $err"; fail=1; }
 echo "$err" | grep -q "^warning: .*body 'sq': the interface patch1.north / patch3.south is declared in the same direction but its sides run opposite ways; the geometry is used" ||
   { echo "FAIL orientation: no warning: $err"; fail=1; }
+# 3-D: a face interface declared in an orientation its control points do not have (a G+Smo
+# flag flipped in examples/geometry/sphere_octant2.xml): one warning, the geometry used
+cat > "$tmp/orient3.yaml" <<YAML
+analysis: {type: solid}
+bodies:
+  - name: shell
+    material: {youngs_modulus: 1000.0, poisson_ratio: 0.3}
+    geometry: {file: $(cd "$dir/../geometry_files" && pwd)/orientation_contradicts_3d.xml}
+    boundary: {inner: {pressure: 1.0}, x0: {displacement: {x: 0.0}}, y0: {displacement: {y: 0.0}}, z0: {displacement: {z: 0.0}}}
+YAML
+err=$("$exe" check "$tmp/orient3.yaml" 2>&1 >/dev/null); rc=$?
+[ "$rc" = 0 ] || { echo "FAIL orientation 3-D: exit $rc: $err"; fail=1; }
+echo "$err" | grep -q "^warning: .*body 'shell': the interface patch0.east / patch1.south is declared in an orientation in which its faces' control points do not coincide" ||
+  { echo "FAIL orientation 3-D: no warning: $err"; fail=1; }
 echo "$n bad inputs checked"
 exit $fail
