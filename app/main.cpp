@@ -172,7 +172,9 @@ void describe(const iga::Problem& P, int ranks, std::ostream& os) {
   os << "; linear solver " << iga::linear_method_name(P.linear.method);
   if (P.linear.method == iga::LinearMethod::Direct) {
     os << " (MUMPS " << (P.linear.symmetric ? "LDLT" : "LU");
-    if (P.condensed_contact()) os << ", condensed onto the contact sides: at most " << P.contact_side_dofs() << " dofs";
+    const std::string why = P.not_condensed_reason();
+    if (why.empty()) os << ", condensed onto the contact sides: at most " << P.contact_side_dofs() << " dofs";
+    else if (!P.contact.empty() && P.kinematics == iga::Kinematics::Small) os << ", not condensed: " << why;
     os << ")";
   }
   else os << " + " << iga::preconditioner_name(P.linear.preconditioner)

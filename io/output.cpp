@@ -50,6 +50,7 @@ nlohmann::json linear_solver_json(const Problem& P, const DirectSolverStats& ds,
     c["solves"] = ds.condensed_solves;
     c["update_rank_max"] = ds.condensed_rank;
     c["inverse_columns"] = ds.condensed_columns;
+    c["fell_back"] = ds.condensed_fell_back;
     j["condensed"] = c;
   } else {
     j["preconditioner"] = preconditioner_name(opt.preconditioner);

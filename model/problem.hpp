@@ -145,10 +145,16 @@ struct LinearOptions {
   /// solve is taken up with BoomerAMG of the tangent (solver/linear_solver.cpp; API only)
   int control_net_contact_limit = 200;
   /// solver.linear.condense: direct at small strain with contact pairs: each solve condensed
-  /// onto the contact sides' dofs (DirectSolver's "Condensed solves"; 0 off, 1 auto)
+  /// onto the contact sides' dofs (DirectSolver's "Condensed solves"; 0 false, 1 auto, 2 true:
+  /// also where the sides hold more than 1 / kCondenseDofsPerSideDof of the dofs)
   int condense = 1;
-  /// the most dofs auto condenses onto (the Schur complement is dense on rank 0: m^2 doubles)
-  static constexpr long long kCondenseMaxDofs = 4000;
+  /// the most dofs a solve is condensed onto (the Schur complement is dense on rank 0: its LU
+  /// and the columns of its inverse cost up to m^3), and the least share of all dofs for one
+  /// contact-side dof: sides with a quarter of a problem's dofs (a long strip, thin plates)
+  /// made it 3-21x slower than the ordinary factorisation (3,968 side dofs of 15,872: 29.7
+  /// against 1.4 s), sides with 2-6 % of them (the wheel, the Hertz ball) faster
+  static constexpr long long kCondenseMaxDofs = 2500;
+  static constexpr long long kCondenseDofsPerSideDof = 12;
 };
 
 struct Probe {
@@ -215,8 +221,11 @@ struct Problem {
   /// per side): the set a direct solve at small strain condenses onto
   long long contact_side_dofs() const;
   /// a direct solve condenses onto the contact sides (small strain, contact pairs, the set
-  /// within LinearOptions::kCondenseMaxDofs, solver.linear.condense not false)
+  /// within LinearOptions::kCondenseMaxDofs and at most 1 / kCondenseDofsPerSideDof of the
+  /// dofs, solver.linear.condense not false)
   bool condensed_contact() const;
+  /// why a direct solve at small strain with contact pairs is not condensed ("" where it is)
+  std::string not_condensed_reason() const;
 };
 
 /// Limits on what a problem file may ask for (docs/problem-file.md).

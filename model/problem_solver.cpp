@@ -57,10 +57,15 @@ bool Problem::has_friction() const {
 // p = 4, 5. With friction the Krylov solves keep the fixed tolerance and MUMPS was 2x faster
 // at 55,272 dofs: kAutoDirectMaxDofsFriction.
 long long Problem::contact_side_dofs() const {
+  // each patch side once (a master shared by two pairs too)
+  std::vector<std::array<int, 3>> seen;
   long long n = 0;
   for (const ContactPair& c : contact)
     for (const ContactSurface* s : {&c.master, &c.slave})
       for (const PatchSide& ps : s->sides) {
+        const std::array<int, 3> key{s->body, ps.patch, static_cast<int>(ps.side)};
+        if (std::find(seen.begin(), seen.end(), key) != seen.end()) continue;
+        seen.push_back(key);
         const Patch& pt = bodies[s->body].patches[ps.patch];
         long long cps = 1;
         for (int d = 0; d < pt.dim(); ++d)
@@ -70,10 +75,22 @@ long long Problem::contact_side_dofs() const {
   return n;
 }
 
-bool Problem::condensed_contact() const {
-  return linear.condense != 0 && !contact.empty() && kinematics == Kinematics::Small &&
-         contact_side_dofs() <= LinearOptions::kCondenseMaxDofs;
+std::string Problem::not_condensed_reason() const {
+  if (contact.empty() || kinematics != Kinematics::Small) return "not small strain with contact";
+  if (linear.condense == 0) return "solver.linear.condense: false";
+  long long dofs = 0;
+  for (const Body& b : bodies) dofs += static_cast<long long>(dim()) * b.num_cps;
+  const long long m = contact_side_dofs();
+  if (m > LinearOptions::kCondenseMaxDofs)
+    return "the contact sides hold " + std::to_string(m) + " dofs, more than " +
+           std::to_string(LinearOptions::kCondenseMaxDofs);
+  if (linear.condense == 1 && m * LinearOptions::kCondenseDofsPerSideDof > dofs)
+    return "the contact sides hold " + std::to_string(m) + " of the " + std::to_string(dofs) + " dofs, more than 1/" +
+           std::to_string(LinearOptions::kCondenseDofsPerSideDof);
+  return "";
 }
+
+bool Problem::condensed_contact() const { return not_condensed_reason().empty(); }
 
 long long Problem::auto_direct_max_dofs() const {
   int p = 1;
@@ -219,7 +236,8 @@ void read_solver(const Reader& R, const YAML::Node& root, Problem& P) {
       if (l["condense"]) {
         const std::string m = R.string(l["condense"], "solver.linear.condense");
         if (m == "false") P.linear.condense = 0;
-        else if (m != "auto") R.fail("solver.linear.condense", l["condense"], "expected auto or false");
+        else if (m == "true") P.linear.condense = 2;
+        else if (m != "auto") R.fail("solver.linear.condense", l["condense"], "expected auto, true or false");
       }
       if (l["forcing"]) {
         const std::string m = R.string(l["forcing"], "solver.linear.forcing");

@@ -105,13 +105,15 @@ bool DirectSolver::factorised() const { return d_->factorised; }
 void DirectSolver::set_condensed(const std::vector<GO>& dofs, bool own_order) {
   Impl& d = *d_;
   if (dofs == d.cset && own_order == d.own_order) return;
+  // given up (a singular Schur complement): the set's size stays in the statistics
+  if (dofs.empty() && !d.cset.empty()) stats_.condensed_fell_back = true;
   d.cset = dofs;
   d.own_order = own_order;
   d.cpos.clear();
   d.listvar.clear();
   d.schur_ok = false;
   d.analysed = d.factorised = false;   // MUMPS takes the Schur variables at the analysis
-  stats_.condensed_size = static_cast<int>(dofs.size());
+  if (!dofs.empty()) stats_.condensed_size = static_cast<int>(dofs.size());
 }
 
 const std::vector<GO>& DirectSolver::condensed() const { return d_->cset; }

@@ -54,6 +54,7 @@ struct DirectSolverStats {
   int condensed_solves = 0;       // solves by the updated Schur complement
   int condensed_rank = 0;         // the largest number of dofs an update D touched
   int condensed_columns = 0;      // columns of S^-1 computed (since the last factorisation)
+  bool condensed_fell_back = false;   // condensation given up (a singular Schur complement)
 };
 
 class DirectSolver {
