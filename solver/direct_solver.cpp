@@ -77,11 +77,12 @@ struct DirectSolver::Impl {
   std::vector<double> redrhs;        // rank 0: the reduced right-hand side / the set's solution
   std::vector<MUMPS_INT> oi, oj;     // this rank's entries outside the C x C block at the
   std::vector<double> oa;            // factorisation, in for_each_entry's order
-  double rcond = 0;                  // rank 0: LAPACK's estimate of 1 / cond_1(S)
   int m() const { return static_cast<int>(cset.size()); }
   bool in_set(MUMPS_INT one_based) const { return cpos[one_based - 1] >= 0; }
   void gather_rhs(const Vector& b);
   void scatter_solution(Vector& x);
+  int solve_schur(const std::vector<long long>& keys, const std::vector<double>& values, bool symmetric,
+                  int& touched, int& fresh_columns);
 
   void call(int job) {
     id.job = job;
@@ -116,47 +117,39 @@ void DirectSolver::set_condensed(const std::vector<GO>& dofs, bool own_order) {
   if (!dofs.empty()) stats_.condensed_size = static_cast<int>(dofs.size());
 }
 
-const std::vector<GO>& DirectSolver::condensed() const { return d_->cset; }
-
 namespace {
 
 // f(row, column, value) for this rank's entries in global 1-based indices (the upper triangle
-// if symmetric), row after row, in the order MUMPS is given them; stops where f returns false
-// (then false).
-template <class F>
-bool for_each_entry(const Matrix& A, bool symmetric, const F& f) {
+// if upper) in the rows keep(global row) accepts, row after row, in the order MUMPS is given
+// them; stops where f returns false (then false)
+template <class Keep, class F>
+bool for_each_entry_of_rows(const Matrix& A, bool upper, const Keep& keep, const F& f) {
   auto lcl = A.getLocalMatrixHost();
   auto colmap = A.getColMap()->getLocalMap();
   auto lrow = A.getRowMap()->getLocalMap();
   for (LO r = 0; r < static_cast<LO>(lcl.numRows()); ++r) {
     const GO gr = lrow.getGlobalElement(r);
+    if (!keep(gr)) continue;
     auto row = lcl.row(r);
     for (int k = 0; k < row.length; ++k) {
       const GO gc = colmap.getGlobalElement(row.colidx(k));
-      if (symmetric && gc < gr) continue;
+      if (upper && gc < gr) continue;
       if (!f(static_cast<MUMPS_INT>(gr + 1), static_cast<MUMPS_INT>(gc + 1), row.value(k))) return false;
     }
   }
   return true;
 }
 
-// f(row, column, value) for this rank's entries in the rows whose position in the condensed
-// set cpos is not -1 (global 1-based indices; the upper triangle if upper, else every entry)
+// every row's entries (the upper triangle if symmetric)
 template <class F>
-void for_each_entry_in_set_rows(const Matrix& A, const std::vector<int>& cpos, bool upper, const F& f) {
-  auto lcl = A.getLocalMatrixHost();
-  auto colmap = A.getColMap()->getLocalMap();
-  auto lrow = A.getRowMap()->getLocalMap();
-  for (LO r = 0; r < static_cast<LO>(lcl.numRows()); ++r) {
-    const GO gr = lrow.getGlobalElement(r);
-    if (cpos[static_cast<size_t>(gr)] < 0) continue;
-    auto row = lcl.row(r);
-    for (int k = 0; k < row.length; ++k) {
-      const GO gc = colmap.getGlobalElement(row.colidx(k));
-      if (upper && gc < gr) continue;
-      f(static_cast<MUMPS_INT>(gr + 1), static_cast<MUMPS_INT>(gc + 1), row.value(k));
-    }
-  }
+bool for_each_entry(const Matrix& A, bool symmetric, const F& f) {
+  return for_each_entry_of_rows(A, symmetric, [](GO) { return true; }, f);
+}
+
+// the entries of the rows in the condensed set (cpos not -1)
+template <class F>
+bool for_each_entry_in_set_rows(const Matrix& A, const std::vector<int>& cpos, bool upper, const F& f) {
+  return for_each_entry_of_rows(A, upper, [&](GO gr) { return cpos[static_cast<size_t>(gr)] >= 0; }, f);
 }
 
 }  // namespace
@@ -306,6 +299,7 @@ LinearSolveResult DirectSolver::factorise(const Matrix& A, bool symmetric) {
     };
     if (condense && !d.own_order) ask_schur();
     d.call(1);
+    stats_.ordering = ordering_name(INFOG(d.id, 7));   // (own_order: the one the set's order follows)
     if (condense && d.own_order && INFOG(d.id, 1) >= 0) {
       // AMD, which MUMPS takes for a Schur analysis, fills far more in 3-D (the Hertz ball:
       // 71e6 entries in the factors, against 57e6 so): MUMPS' own choice for the whole matrix
@@ -322,7 +316,6 @@ LinearSolveResult DirectSolver::factorise(const Matrix& A, bool symmetric) {
         for (const auto& o : order) perm[static_cast<size_t>(o.second)] = next++;
         for (GO g : d.cset) perm[static_cast<size_t>(g)] = next++;
       }
-      stats_.ordering = ordering_name(INFOG(d.id, 7));
       ICNTL(d.id, 7) = 1;
       d.id.perm_in = d.rank == 0 ? perm.data() : nullptr;
       ask_schur();
@@ -337,7 +330,6 @@ LinearSolveResult DirectSolver::factorise(const Matrix& A, bool symmetric) {
     d.analysed = true;
     d.factorised = false;
     ++stats_.analyses;
-    if (!condense || !d.own_order) stats_.ordering = ordering_name(INFOG(d.id, 7));
   }
   if (factorise) {
     Teuchos::TimeMonitor t(*timer("4b) Direct: factorisation"));
@@ -389,10 +381,12 @@ LinearSolveResult DirectSolver::factorise(const Matrix& A, bool symmetric) {
       // elastic stiffness's, constant at small strain (the caller's condition for a set)
       d.oi.clear(); d.oj.clear(); d.oa.clear();
       for_each_entry_in_set_rows(A, d.cpos, false, [&](MUMPS_INT i, MUMPS_INT j, double v) {
-        if (d.in_set(j)) return;
-        d.oi.push_back(i);
-        d.oj.push_back(j);
-        d.oa.push_back(v);
+        if (!d.in_set(j)) {
+          d.oi.push_back(i);
+          d.oj.push_back(j);
+          d.oa.push_back(v);
+        }
+        return true;
       });
       gather_block(A, symmetric, d.k0, d.v0);
       int info = 0;
@@ -414,7 +408,6 @@ LinearSolveResult DirectSolver::factorise(const Matrix& A, bool symmetric) {
         if (info == 0) {
           double rcond = 0;
           lapack.GECON('1', d.m(), d.S.data(), d.m(), norm, &rcond, work.data(), iwork.data(), &info);
-          d.rcond = rcond;
           if (info == 0 && !(rcond > kSchurMinRcond)) info = 1;
         }
         d.slot.assign(static_cast<size_t>(d.m()), -1);
@@ -527,6 +520,7 @@ void DirectSolver::gather_block(const Matrix& A, bool symmetric, std::vector<lon
       mine.push_back(static_cast<double>(d.cpos[i - 1] + m * pj));
       mine.push_back(v);
     }
+    return true;
   });
   const int count = static_cast<int>(mine.size());
   std::vector<int> counts(d.rank == 0 ? d.size : 0), displs(d.rank == 0 ? d.size : 0);
@@ -557,17 +551,108 @@ bool DirectSolver::condensed_ready(const Matrix& A, bool symmetric) const {
   if (!local) {
     size_t k = 0;
     const size_t n = d.oa.size();
-    bool same = true;
-    for_each_entry_in_set_rows(A, d.cpos, false, [&](MUMPS_INT i, MUMPS_INT j, double v) {
-      if (!same || d.in_set(j)) return;
-      if (k == n || d.oi[k] != i || d.oj[k] != j || d.oa[k] != v) same = false;
+    const bool same = for_each_entry_in_set_rows(A, d.cpos, false, [&](MUMPS_INT i, MUMPS_INT j, double v) {
+      if (d.in_set(j)) return true;
+      if (k == n || d.oi[k] != i || d.oj[k] != j || d.oa[k] != v) return false;
       ++k;
+      return true;
     });
     local = same && k == n ? 0 : 1;
   }
   int any = 0;
   MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, d.comm);
   return any == 0;
+}
+
+// Rank 0: redrhs = y on entry, x_C = (S + D)^-1 y on return, D = the condensed block of A
+// (keys, values) less the factorised one's, by the Woodbury identity on the dofs D touches;
+// touched: how many, fresh_columns: the columns of S^-1 made for them. Returns LAPACK's info.
+int DirectSolver::Impl::solve_schur(const std::vector<long long>& keys, const std::vector<double>& values,
+                                    bool symmetric, int& touched, int& fresh_columns) {
+  Impl& d = *this;
+  const int m = d.m();
+  int info = 0;
+  Teuchos::LAPACK<int, double> lapack;
+  Teuchos::BLAS<int, double> blas;
+  const size_t M = static_cast<size_t>(m);
+  // the update D = A_CC - A0_CC, entry by entry (the same pattern as at the factorisation
+  // unless the tangent's graph was rebuilt since: then matched by key)
+  std::vector<std::pair<long long, double>> D;
+  if (keys == d.k0) {
+    for (size_t k = 0; k < keys.size(); ++k)
+      if (values[k] != d.v0[k]) D.emplace_back(keys[k], values[k] - d.v0[k]);
+  } else {
+    std::vector<std::pair<long long, double>> now, then;
+    for (size_t k = 0; k < keys.size(); ++k) now.emplace_back(keys[k], values[k]);
+    for (size_t k = 0; k < d.k0.size(); ++k) then.emplace_back(d.k0[k], -d.v0[k]);
+    now.insert(now.end(), then.begin(), then.end());
+    std::sort(now.begin(), now.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    for (size_t k = 0; k < now.size();) {
+      double sum = 0;
+      size_t e = k;
+      for (; e < now.size() && now[e].first == now[k].first; ++e) sum += now[e].second;
+      if (sum != 0) D.emplace_back(now[k].first, sum);
+      k = e;
+    }
+  }
+  // the dofs whose rows or columns D touches, and their place among them
+  std::vector<int> place(M, -1), act;
+  for (const auto& e : D)
+    for (long long p : {e.first % m, e.first / m})
+      if (place[static_cast<size_t>(p)] < 0) {
+        place[static_cast<size_t>(p)] = 0;
+        act.push_back(static_cast<int>(p));
+      }
+  std::sort(act.begin(), act.end());
+  for (size_t k = 0; k < act.size(); ++k) place[static_cast<size_t>(act[k])] = static_cast<int>(k);
+  const int a = static_cast<int>(act.size());
+  touched = a;
+  // z = S^-1 y
+  lapack.GETRS('N', m, 1, d.S.data(), m, d.ipiv.data(), d.redrhs.data(), m, &info);
+  if (info == 0 && a > 0) {
+    // the columns of S^-1 of the touched dofs not computed yet
+    std::vector<int> fresh;
+    for (int p : act)
+      if (d.slot[static_cast<size_t>(p)] < 0) fresh.push_back(p);
+    if (!fresh.empty()) {
+      const size_t old = d.G.size();
+      const int first = static_cast<int>(old / M);
+      d.G.resize(old + fresh.size() * M, 0.0);
+      for (size_t k = 0; k < fresh.size(); ++k) {
+        d.G[old + k * M + static_cast<size_t>(fresh[k])] = 1.0;
+        d.slot[static_cast<size_t>(fresh[k])] = first + static_cast<int>(k);
+      }
+      lapack.GETRS('N', m, static_cast<int>(fresh.size()), d.S.data(), m, d.ipiv.data(), d.G.data() + old, m, &info);
+      fresh_columns = static_cast<int>(fresh.size());
+    }
+    if (info == 0) {
+      // W = I + D_AA G_AA, w = D_AA z_A; solve W w' = w; x_C = z - G_A w'
+      const size_t A_ = static_cast<size_t>(a);
+      std::vector<double> Daa(A_ * A_, 0.0), Gaa(A_ * A_), W(A_ * A_, 0.0), w(A_, 0.0);
+      for (const auto& e : D) {
+        const size_t r = static_cast<size_t>(place[static_cast<size_t>(e.first % m)]);
+        const size_t c = static_cast<size_t>(place[static_cast<size_t>(e.first / m)]);
+        Daa[r + c * A_] = e.second;
+        if (symmetric) Daa[c + r * A_] = e.second;   // (the upper triangle was gathered)
+      }
+      for (size_t c = 0; c < A_; ++c) {
+        const double* gcol = d.G.data() + static_cast<size_t>(d.slot[static_cast<size_t>(act[c])]) * M;
+        for (size_t r = 0; r < A_; ++r) Gaa[r + c * A_] = gcol[static_cast<size_t>(act[r])];
+        W[c + c * A_] = 1.0;
+      }
+      blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, a, a, a, 1.0, Daa.data(), a, Gaa.data(), a, 1.0, W.data(), a);
+      std::vector<double> zA(A_);
+      for (size_t r = 0; r < A_; ++r) zA[r] = d.redrhs[static_cast<size_t>(act[r])];
+      blas.GEMV(Teuchos::NO_TRANS, a, a, 1.0, Daa.data(), a, zA.data(), 1, 0.0, w.data(), 1);
+      std::vector<int> piv(A_);
+      lapack.GESV(a, 1, W.data(), a, piv.data(), w.data(), a, &info);
+      if (info == 0)
+        for (size_t c = 0; c < A_; ++c)
+          blas.AXPY(m, -w[c], d.G.data() + static_cast<size_t>(d.slot[static_cast<size_t>(act[c])]) * M, 1,
+                    d.redrhs.data(), 1);
+    }
+  }
+  return info;
 }
 
 LinearSolveResult DirectSolver::solve_condensed(const Matrix& A, Vector& x, const Vector& b, bool symmetric) {
@@ -596,90 +681,10 @@ LinearSolveResult DirectSolver::solve_condensed(const Matrix& A, Vector& x, cons
   ICNTL(d.id, 26) = 0;
   if (INFOG(d.id, 1) < 0) return failed("reduction: INFOG(1) = " + std::to_string(INFOG(d.id, 1)));
   int info = 0, rank_d = 0, fresh_columns = 0;
-  auto tq = Teuchos::rcp(new Teuchos::TimeMonitor(*Teuchos::TimeMonitor::getNewTimer("5.2) Linear solve: condensed, Schur update")));
-  if (d.rank == 0) {
-    Teuchos::LAPACK<int, double> lapack;
-    Teuchos::BLAS<int, double> blas;
-    const size_t M = static_cast<size_t>(m);
-    // the update D = A_CC - A0_CC, entry by entry (the same pattern as at the factorisation
-    // unless the tangent's graph was rebuilt since: then matched by key)
-    std::vector<std::pair<long long, double>> D;
-    if (keys == d.k0) {
-      for (size_t k = 0; k < keys.size(); ++k)
-        if (values[k] != d.v0[k]) D.emplace_back(keys[k], values[k] - d.v0[k]);
-    } else {
-      std::vector<std::pair<long long, double>> now, then;
-      for (size_t k = 0; k < keys.size(); ++k) now.emplace_back(keys[k], values[k]);
-      for (size_t k = 0; k < d.k0.size(); ++k) then.emplace_back(d.k0[k], -d.v0[k]);
-      now.insert(now.end(), then.begin(), then.end());
-      std::sort(now.begin(), now.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-      for (size_t k = 0; k < now.size();) {
-        double sum = 0;
-        size_t e = k;
-        for (; e < now.size() && now[e].first == now[k].first; ++e) sum += now[e].second;
-        if (sum != 0) D.emplace_back(now[k].first, sum);
-        k = e;
-      }
-    }
-    // the dofs whose rows or columns D touches, and their place among them
-    std::vector<int> place(M, -1), act;
-    for (const auto& e : D)
-      for (long long p : {e.first % m, e.first / m})
-        if (place[static_cast<size_t>(p)] < 0) {
-          place[static_cast<size_t>(p)] = 0;
-          act.push_back(static_cast<int>(p));
-        }
-    std::sort(act.begin(), act.end());
-    for (size_t k = 0; k < act.size(); ++k) place[static_cast<size_t>(act[k])] = static_cast<int>(k);
-    const int a = static_cast<int>(act.size());
-    rank_d = a;
-    // z = S^-1 y
-    lapack.GETRS('N', m, 1, d.S.data(), m, d.ipiv.data(), d.redrhs.data(), m, &info);
-    if (info == 0 && a > 0) {
-      // the columns of S^-1 of the touched dofs not computed yet
-      std::vector<int> fresh;
-      for (int p : act)
-        if (d.slot[static_cast<size_t>(p)] < 0) fresh.push_back(p);
-      if (!fresh.empty()) {
-        const size_t old = d.G.size();
-        const int first = static_cast<int>(old / M);
-        d.G.resize(old + fresh.size() * M, 0.0);
-        for (size_t k = 0; k < fresh.size(); ++k) {
-          d.G[old + k * M + static_cast<size_t>(fresh[k])] = 1.0;
-          d.slot[static_cast<size_t>(fresh[k])] = first + static_cast<int>(k);
-        }
-        lapack.GETRS('N', m, static_cast<int>(fresh.size()), d.S.data(), m, d.ipiv.data(), d.G.data() + old, m, &info);
-        fresh_columns = static_cast<int>(fresh.size());
-      }
-      if (info == 0) {
-        // W = I + D_AA G_AA, w = D_AA z_A; solve W w' = w; x_C = z - G_A w'
-        const size_t A_ = static_cast<size_t>(a);
-        std::vector<double> Daa(A_ * A_, 0.0), Gaa(A_ * A_), W(A_ * A_, 0.0), w(A_, 0.0);
-        for (const auto& e : D) {
-          const size_t r = static_cast<size_t>(place[static_cast<size_t>(e.first % m)]);
-          const size_t c = static_cast<size_t>(place[static_cast<size_t>(e.first / m)]);
-          Daa[r + c * A_] = e.second;
-          if (symmetric) Daa[c + r * A_] = e.second;   // (the upper triangle was gathered)
-        }
-        for (size_t c = 0; c < A_; ++c) {
-          const double* gcol = d.G.data() + static_cast<size_t>(d.slot[static_cast<size_t>(act[c])]) * M;
-          for (size_t r = 0; r < A_; ++r) Gaa[r + c * A_] = gcol[static_cast<size_t>(act[r])];
-          W[c + c * A_] = 1.0;
-        }
-        blas.GEMM(Teuchos::NO_TRANS, Teuchos::NO_TRANS, a, a, a, 1.0, Daa.data(), a, Gaa.data(), a, 1.0, W.data(), a);
-        std::vector<double> zA(A_);
-        for (size_t r = 0; r < A_; ++r) zA[r] = d.redrhs[static_cast<size_t>(act[r])];
-        blas.GEMV(Teuchos::NO_TRANS, a, a, 1.0, Daa.data(), a, zA.data(), 1, 0.0, w.data(), 1);
-        std::vector<int> piv(A_);
-        lapack.GESV(a, 1, W.data(), a, piv.data(), w.data(), a, &info);
-        if (info == 0)
-          for (size_t c = 0; c < A_; ++c)
-            blas.AXPY(m, -w[c], d.G.data() + static_cast<size_t>(d.slot[static_cast<size_t>(act[c])]) * M, 1,
-                      d.redrhs.data(), 1);
-      }
-    }
+  {
+    Teuchos::TimeMonitor tq(*Teuchos::TimeMonitor::getNewTimer("5.2) Linear solve: condensed, Schur update"));
+    if (d.rank == 0) info = d.solve_schur(keys, values, symmetric, rank_d, fresh_columns);
   }
-  tq = Teuchos::null;
   {
     int out[3] = {info, rank_d, fresh_columns};   // every rank learns the outcome and the counts
     MPI_Bcast(out, 3, MPI_INT, 0, d.comm);

@@ -82,7 +82,6 @@ class DirectSolver {
   /// 3-D the factors are far smaller than with the AMD MUMPS takes for a Schur analysis, in
   /// 2-D a little larger: the 77k wheel 23.4e6 against 22.5e6 entries)
   void set_condensed(const std::vector<GO>& dofs, bool own_order = false);
-  const std::vector<GO>& condensed() const;
   /// Factors with a usable Schur complement exist and A equals the factorised matrix outside
   /// the condensed set's block (pattern and values; collective).
   bool condensed_ready(const Matrix& A, bool symmetric) const;

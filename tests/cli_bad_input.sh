@@ -34,6 +34,13 @@ esac
 "$exe" run 2>/dev/null; [ $? = 2 ] || { echo "FAIL: no file should exit 2"; fail=1; }
 "$exe" run x.yaml --bogus 2>/dev/null; [ $? = 2 ] || { echo "FAIL: unknown option should exit 2"; fail=1; }
 "$exe" run "$ok" --output '' --quiet 2>/dev/null; [ $? = 2 ] || { echo "FAIL: an empty --output should exit 2"; fail=1; }
+# expect_warning LABEL FILE TEXT: `check FILE` exits 0 with a warning: line holding TEXT
+expect_warning() {
+  local err rc
+  err=$("$exe" check "$2" 2>&1 >/dev/null); rc=$?
+  [ "$rc" = 0 ] || { echo "FAIL $1: exit $rc: $err"; fail=1; }
+  echo "$err" | grep -q "^warning: .*$3" || { echo "FAIL $1: no warning: $err"; fail=1; }
+}
 # a GeoPDEs interface declared in the same direction whose sides run opposite ways: accepted
 # (the geometry decides), with one warning naming it (it was silent; found by a problem
 # written from the docs)
@@ -45,10 +52,8 @@ bodies:
     geometry: {file: $(cd "$dir/../geometry_files" && pwd)/orientation_contradicts.txt}
     boundary: {patch0.west: {displacement: {x: 0.0, y: 0.0}}}
 YAML
-err=$("$exe" check "$tmp/orient.yaml" 2>&1 >/dev/null); rc=$?
-[ "$rc" = 0 ] || { echo "FAIL orientation: exit $rc: $err"; fail=1; }
-echo "$err" | grep -q "^warning: .*body 'sq': the interface patch1.north / patch3.south is declared in the same direction but its sides run opposite ways; the geometry is used" ||
-  { echo "FAIL orientation: no warning: $err"; fail=1; }
+expect_warning "orientation" "$tmp/orient.yaml" \
+  "body 'sq': the interface patch1.north / patch3.south is declared in the same direction but its sides run opposite ways; the geometry is used"
 # 3-D: a face interface declared in an orientation its control points do not have (a G+Smo
 # flag flipped in examples/geometry/sphere_octant2.xml): one warning, the geometry used
 cat > "$tmp/orient3.yaml" <<YAML
@@ -59,9 +64,7 @@ bodies:
     geometry: {file: $(cd "$dir/../geometry_files" && pwd)/orientation_contradicts_3d.xml}
     boundary: {inner: {pressure: 1.0}, x0: {displacement: {x: 0.0}}, y0: {displacement: {y: 0.0}}, z0: {displacement: {z: 0.0}}}
 YAML
-err=$("$exe" check "$tmp/orient3.yaml" 2>&1 >/dev/null); rc=$?
-[ "$rc" = 0 ] || { echo "FAIL orientation 3-D: exit $rc: $err"; fail=1; }
-echo "$err" | grep -q "^warning: .*body 'shell': the interface patch0.east / patch1.south is declared in an orientation in which its faces' control points do not coincide" ||
-  { echo "FAIL orientation 3-D: no warning: $err"; fail=1; }
+expect_warning "orientation 3-D" "$tmp/orient3.yaml" \
+  "body 'shell': the interface patch0.east / patch1.south is declared in an orientation in which its faces' control points do not coincide"
 echo "$n bad inputs checked"
 exit $fail
